@@ -1,0 +1,48 @@
+#pragma once
+/// @file bench_support.hpp
+/// Shared pieces of the benchmarks: a wall clock, peak resident memory, and the one table
+/// format every benchmark prints, so that their outputs add up to one speed-against-error report:
+///
+///   | case | resolution | error vs reference | wall time [s] | peak memory [MB] |
+#include <fmt/core.h>
+
+#include <chrono>
+#include <string>
+
+#include <sys/resource.h>
+
+namespace tetfsi::bench {
+
+/// Seconds since construction (steady clock).
+class Stopwatch {
+ public:
+  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_;
+};
+
+/// Peak resident set size of this process so far [MB] (getrusage ru_maxrss, in KiB on Linux).
+inline double peak_memory_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+/// Prints the table header (Markdown, so reports can paste it as is).
+inline void print_header() {
+  fmt::print("| case | resolution | error vs reference | wall time [s] | peak memory [MB] |\n");
+  fmt::print("|---|---|---|---|---|\n");
+}
+
+/// Prints one row. `error` is free text such as "2.3e-3 rel. (tip deflection)".
+inline void print_row(const std::string& name, const std::string& resolution, const std::string& error,
+                      double wall_seconds) {
+  fmt::print("| {} | {} | {} | {:.3f} | {:.1f} |\n", name, resolution, error, wall_seconds, peak_memory_mb());
+  std::fflush(stdout);
+}
+
+}  // namespace tetfsi::bench

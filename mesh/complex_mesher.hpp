@@ -1,0 +1,46 @@
+#pragma once
+/// @file complex_mesher.hpp
+/// Tetrahedral meshing with CGAL Mesh_3 behind plain arrays (no CGAL type crosses this header).
+///
+/// build_complex() meshes a fluid box with every solid inside it as ONE complex
+/// (CGAL Polyhedral_complex_mesh_domain_3): fluid is subdomain kFluidSubdomain, solid i is
+/// solid_subdomain(i). Every interface triangle is therefore shared by exactly one fluid tet and
+/// one solid tet, and each solid's FEM mesh is its own subdomain's tets (shared/design.md).
+/// CGAL resamples the input surfaces: the interface approximates the input (about 1e-3 of its
+/// size at 100k tets); it does not keep the input triangles.
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mesh/surface_mesh.hpp"
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::mesh {
+
+/// Thrown for invalid geometry input (open, non-manifold, self-intersecting surfaces, solids
+/// outside the box, overlapping solids). what() names the input and the defect.
+struct MeshError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Size controls [m]. The cell size grows linearly with distance from the solids, from
+/// `edge_length_near_solids` at their surface to `edge_length` at distance `grading_distance`.
+struct MeshSizing {
+  double edge_length = 0.1;              ///< target edge length far from solids [m]
+  double edge_length_near_solids = 0.0;  ///< target edge length at solid surfaces; 0: = edge_length
+  double grading_distance = 0.0;         ///< distance over which the size grades [m]; 0: no grading
+  double facet_distance = 0.0;           ///< max surface approximation error [m]; 0: edge/10
+};
+
+/// Meshes the box [lo, hi] filled with fluid and containing the given closed, outward-oriented,
+/// pairwise disjoint solid surfaces.
+/// @throws MeshError if a solid is not strictly inside the box, or meshing loses a subdomain
+TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing);
+
+/// Meshes the inside of one closed, outward-oriented surface alone (solid-only scenes build no
+/// fluid mesh). All tets get `subdomain`.
+TetMesh mesh_solid(const SurfaceMesh& surface, const MeshSizing& sizing, int subdomain = solid_subdomain(0));
+
+}  // namespace tetfsi::mesh
