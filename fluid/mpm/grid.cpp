@@ -1,0 +1,85 @@
+#include "fluid/mpm/grid.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace tetfsi::mpm {
+
+Grid Grid::covering(const Vec3& lo, const Vec3& hi, double h) {
+  if (!(h > 0.0)) throw std::invalid_argument("mpm::Grid: cell size must be positive");
+  Grid g;
+  g.lo = lo;
+  g.h = h;
+  for (int a = 0; a < 3; ++a) {
+    if (!(hi[a] > lo[a])) throw std::invalid_argument("mpm::Grid: empty box on axis " + std::to_string(a));
+    g.cells[a] = std::max(1, static_cast<int>(std::ceil((hi[a] - lo[a]) / h - 1e-9)));
+  }
+  return g;
+}
+
+Vec3 Grid::node_position(std::int64_t id) const {
+  const std::int64_t nx = cells[0] + 1, ny = cells[1] + 1;
+  const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
+  return lo + h * Vec3(double(i), double(j), double(k));
+}
+
+bool Grid::contains(const Vec3& x) const {
+  for (int a = 0; a < 3; ++a) {
+    const double s = (x[a] - lo[a]) / h;
+    if (!(s >= 0.0) || !(s < cells[a])) return false;
+  }
+  return true;
+}
+
+Stencil Grid::stencil(const Vec3& x) const {
+  int base[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a) {
+    const double s = (x[a] - lo[a]) / h;
+    if (!(s >= 0.0) || !(s < cells[a])) {
+      std::ostringstream msg;
+      msg << "mpm::Grid: point (" << x.transpose() << ") is outside the background grid";
+      throw std::out_of_range(msg.str());
+    }
+    base[a] = static_cast<int>(s);
+    f[a] = s - base[a];
+  }
+  Stencil st;
+  int c = 0;
+  for (int dk = 0; dk < 2; ++dk)
+    for (int dj = 0; dj < 2; ++dj)
+      for (int di = 0; di < 2; ++di, ++c) {
+        // 1D linear hat functions and their derivatives along each axis.
+        const double wx = di ? f[0] : 1.0 - f[0], gx = (di ? 1.0 : -1.0) / h;
+        const double wy = dj ? f[1] : 1.0 - f[1], gy = (dj ? 1.0 : -1.0) / h;
+        const double wz = dk ? f[2] : 1.0 - f[2], gz = (dk ? 1.0 : -1.0) / h;
+        st.node[c] = node_index(base[0] + di, base[1] + dj, base[2] + dk);
+        st.N[c] = wx * wy * wz;
+        st.dN[c] = Vec3(gx * wy * wz, wx * gy * wz, wx * wy * gz);
+      }
+  return st;
+}
+
+std::vector<std::array<bool, 3>> Grid::build_constraint_mask() const {
+  std::vector<std::array<bool, 3>> mask(static_cast<size_t>(num_nodes()), {false, false, false});
+  for (int k = 0; k <= cells[2]; ++k)
+    for (int j = 0; j <= cells[1]; ++j)
+      for (int i = 0; i <= cells[0]; ++i) {
+        auto& m = mask[static_cast<size_t>(node_index(i, j, k))];
+        const int idx[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a) {
+          if (constrained_axes[a]) m[a] = true;
+          for (int side = 0; side < 2; ++side) {
+            const bool on_face = side == 0 ? idx[a] == 0 : idx[a] == cells[a];
+            const FaceBc bc = faces[2 * a + side];
+            if (!on_face || bc == FaceBc::Free) continue;
+            if (bc == FaceBc::Slip) m[a] = true;
+            if (bc == FaceBc::Fixed) m = {true, true, true};
+          }
+        }
+      }
+  return mask;
+}
+
+}  // namespace tetfsi::mpm

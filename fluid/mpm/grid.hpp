@@ -1,0 +1,68 @@
+#pragma once
+/// @file grid.hpp
+/// Regular background grid of the material point method (Lian, Liu & Zhang 2014, section 3).
+///
+/// Layout choice: a dense box of (nx+1)(ny+1)(nz+1) nodes covering the whole computational domain,
+/// rebuilt (zeroed) every step (section 6, steps 1 and 6). Dense storage keeps the particle-to-grid
+/// scatter a plain indexed add and the node loops trivially parallel; the paper's examples fit a
+/// box of at most a few 10^5 nodes. Shape functions are trilinear (8 nodes per particle).
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace tetfsi::mpm {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+/// Boundary condition on one face of the grid box, applied to grid nodal momentum and force
+/// (section 6, steps 2b and 2e: "if node I is fixed in direction i, set p_iI = 0, f_iI = 0").
+enum class FaceBc : std::uint8_t {
+  Free,   ///< nothing imposed
+  Slip,   ///< normal component zero (symmetry plane or frictionless wall)
+  Fixed,  ///< all components zero
+};
+
+/// Shape-function data of one point: the 8 nodes of its cell, weights N_I and gradients N_I,j.
+struct Stencil {
+  std::array<std::int64_t, 8> node{};
+  std::array<double, 8> N{};
+  std::array<Vec3, 8> dN{};
+};
+
+/// The regular grid: origin `lo`, cubic cell size `h` [m], `cells` cells per axis.
+struct Grid {
+  Vec3 lo = Vec3::Zero();
+  double h = 1.0;
+  std::array<int, 3> cells{1, 1, 1};
+  /// Face conditions, order x-lo, x-hi, y-lo, y-hi, z-lo, z-hi.
+  std::array<FaceBc, 6> faces{FaceBc::Free, FaceBc::Free, FaceBc::Free,
+                              FaceBc::Free, FaceBc::Free, FaceBc::Free};
+  /// Axes on which the motion is suppressed everywhere (1D: {false,true,true}; plane strain in
+  /// x-y: {false,false,true}). Implemented as a zero momentum/force component on every node.
+  std::array<bool, 3> constrained_axes{false, false, false};
+
+  /// Builds a grid covering [lo, hi] with cells of size h (the upper bound is rounded up).
+  /// @throws std::invalid_argument if h <= 0 or hi <= lo on some axis
+  static Grid covering(const Vec3& lo, const Vec3& hi, double h);
+
+  Vec3 hi() const { return lo + h * Vec3(cells[0], cells[1], cells[2]); }
+  std::int64_t num_nodes() const {
+    return std::int64_t(cells[0] + 1) * (cells[1] + 1) * (cells[2] + 1);
+  }
+  std::int64_t node_index(int i, int j, int k) const {
+    return i + std::int64_t(cells[0] + 1) * (j + std::int64_t(cells[1] + 1) * k);
+  }
+  Vec3 node_position(std::int64_t id) const;
+  /// True if x lies inside the grid box (closed at the low end, open at the high end).
+  bool contains(const Vec3& x) const;
+  /// Trilinear shape functions of the cell containing x (eq. 15 uses N_Ip; eq. 17 uses N_Ip,j).
+  /// @throws std::out_of_range if x is outside the grid
+  Stencil stencil(const Vec3& x) const;
+  /// Per-node mask of components held at zero by faces and constrained axes (3 bools per node).
+  std::vector<std::array<bool, 3>> build_constraint_mask() const;
+};
+
+}  // namespace tetfsi::mpm
