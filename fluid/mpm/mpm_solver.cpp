@@ -199,6 +199,12 @@ void MpmSolver::finish_step(double dt) {
   ++steps_;
 }
 
+void MpmSolver::apply_grid_conditions() {
+  for (auto id : active_)
+    for (int a = 0; a < 3; ++a)
+      if (mask_[id][a]) mom_new_[id][a] = 0.0;
+}
+
 void MpmSolver::step(double dt) {
   trial_step(dt);
   finish_step(dt);

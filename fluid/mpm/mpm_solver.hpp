@@ -66,8 +66,12 @@ class MpmSolver {
   std::vector<Vec3>& node_momentum() { return mom_new_; }
   const std::vector<Vec3>& node_momentum() const { return mom_new_; }
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
-  /// Mass gradient n_I^s = sum_p N_Ip,i m_p (eq. 51): points into the body.
+  /// n_I^s = sum_p N_Ip,i m_p (eq. 51): the (unnormalised) outward normal of the particle body.
   const std::vector<Vec3>& node_mass_gradient() const { return mass_grad_; }
+  /// Shape-function stencils of the particles at the start of the current step.
+  const std::vector<Stencil>& stencils() const { return stencils_; }
+  /// Re-applies the grid conditions to p^{n+1/2} (after a contact changed it).
+  void apply_grid_conditions();
   /// Grid nodes with mass, ascending.
   const std::vector<std::int64_t>& active_nodes() const { return active_; }
   /// Node components held at zero by the grid conditions.

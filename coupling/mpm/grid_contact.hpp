@@ -1,0 +1,87 @@
+#pragma once
+/// @file grid_contact.hpp
+/// Contact between an MPM body s and a membrane body r on the MPM background grid
+/// (Lian, Liu & Zhang 2014, sections 5 and 6):
+///   1. trial solutions of both bodies (MPM eqs. 60-64, membrane eq. 46);
+///   2. FE node masses and momenta mapped to the grid with the trilinear N_IK (step 4a);
+///   3. at nodes carrying both bodies, contact if the momentum-form test (eq. 52)
+///        (m_I^s p_I^r - m_I^r p_I^s) . n_I^r > 0
+///      holds AND the bodies are really close there (the real-distance check of Ma, Zhang et al.
+///      2010): the gap between the membrane (mass centre xbar_I^r of its points around I) and the
+///      surface of the nearest particle p in the support of I (radius r_p = V_p^{1/3} / 2),
+///        g_I = min_p (x_p - xbar_I^r) . n_I^r - r_p,
+///      is below `distance_factor` * h (so the membrane is stopped at most that far from the
+///      particles, and false contacts one or two cells away are rejected);
+///   4. stick force (eq. 55) or Coulomb slip (eqs. 56-58), f^s = -f^r;
+///   5. MPM grid momentum += dt f^s (eq. 53); membrane velocity += dt sum_I N_IK f_I^r / m_I^r
+///      (eq. 59), then membrane positions (eq. 47) and particles (eqs. 65, 19).
+/// n_I^r is the sum of the membrane's area-weighted node normals mapped to the node (the membrane
+/// is two-sided: it is oriented to point into body s, i.e. against the outward normal of eq. 51).
+/// Sign: eq. (55) is printed as the force that would *increase* the approach; the force applied
+/// to r here is f^r = -(m^s p^r - m^r p^s)/((m^r + m^s) dt), which brings both to the common
+/// velocity (p^r + p^s)/(m^r + m^s), i.e. eq. (54).
+#include <Eigen/Core>
+
+#include "fluid/mpm/mpm_solver.hpp"
+#include "solid/membrane/membrane.hpp"
+
+namespace tetfsi::mpm_contact {
+
+using Vec3 = Eigen::Vector3d;
+
+struct ContactOptions {
+  enum class Mode { Stick, Slip };
+  Mode mode = Mode::Slip;
+  double friction = 0.0;         ///< Coulomb coefficient mu of eq. (58) (slip mode)
+  double distance_factor = 0.25;  ///< real-distance confirmation threshold, in cells
+};
+
+/// What the contact did in one step.
+struct ContactReport {
+  int contact_nodes = 0;
+  Vec3 impulse_on_mpm = Vec3::Zero();       ///< dt sum_I f_I^s [N s]
+  Vec3 impulse_on_membrane = Vec3::Zero();  ///< dt sum_I f_I^r [N s]
+  double dissipated = 0;  ///< grid kinetic energy removed at the contact nodes [J]
+};
+
+/// Energies of the coupled system [J].
+struct CoupledEnergies {
+  mpm::MpmEnergies mpm;
+  membrane::MembraneEnergies membrane;
+  double contact = 0;  ///< accumulated contact dissipation
+  /// kinetic + internal + gravity potential of MPM, kinetic + strain + hourglass of the membrane,
+  /// minus the work of the membrane's external loads, plus contact and damping losses: constant
+  /// for an exactly conservative scheme.
+  double balance() const {
+    return mpm.total() + membrane.kinetic + membrane.strain + membrane.hourglass - membrane.external_work +
+           membrane.damping_loss + contact;
+  }
+};
+
+class MpmMembraneCoupling {
+ public:
+  MpmMembraneCoupling(mpm::MpmSolver& mpm, membrane::Membrane& membrane, ContactOptions options = {});
+
+  /// Smaller of the two critical steps (section 4.4).
+  double critical_time_step() const;
+  /// One coupled step of section 6.
+  /// @throws std::runtime_error on non-finite states (from either body)
+  ContactReport step(double dt);
+
+  CoupledEnergies energies() const;
+  Vec3 total_momentum() const { return mpm_.total_momentum() + mem_.total_momentum(); }
+  double time() const { return mpm_.time(); }
+
+ private:
+  mpm::MpmSolver& mpm_;
+  membrane::Membrane& mem_;
+  ContactOptions opt_;
+  double contact_energy_ = 0;
+  // Per-step grid fields of the membrane (dense, like the MPM grid).
+  std::vector<double> mr_;
+  std::vector<Vec3> pr_, nr_, xr_, fr_;
+  std::vector<double> gap_;  // NaN except at candidate contact nodes during a step
+  std::vector<std::int64_t> touched_;
+};
+
+}  // namespace tetfsi::mpm_contact
