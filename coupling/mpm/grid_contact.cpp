@@ -118,9 +118,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     }
     fr_[id] = f;
     const Vec3 ps_new = p_s - dt * f;  // eq. (53) with f^s = -f^r
-    const Vec3 pr_new = pr + dt * f;
-    rep.dissipated += 0.5 * (pr.squaredNorm() / mr + p_s.squaredNorm() / m_s) -
-                      0.5 * (pr_new.squaredNorm() / mr + ps_new.squaredNorm() / m_s);
+    rep.dissipated += 0.5 * (p_s.squaredNorm() - ps_new.squaredNorm()) / m_s;  // MPM side, on the grid
     ps[id] = ps_new;
     rep.impulse_on_mpm -= dt * f;
     rep.impulse_on_membrane += dt * f;
@@ -140,9 +138,11 @@ ContactReport MpmMembraneCoupling::step(double dt) {
         const auto id = st.node[c];
         if (mr_[id] > 0) dv += st.N[c] * fr_[id] / mr_[id];
       }
+      const double ke_before = 0.5 * M[k] * Vm[k].squaredNorm();
       Vm[k] += dt * dv;
       for (int a = 0; a < 3; ++a)
         if (fixed[k][a]) Vm[k][a] = 0;
+      rep.dissipated += ke_before - 0.5 * M[k] * Vm[k].squaredNorm();  // membrane side, at its nodes
     }
   }
   mem_.update_positions(dt);

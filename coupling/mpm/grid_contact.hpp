@@ -41,7 +41,10 @@ struct ContactReport {
   int contact_nodes = 0;
   Vec3 impulse_on_mpm = Vec3::Zero();       ///< dt sum_I f_I^s [N s]
   Vec3 impulse_on_membrane = Vec3::Zero();  ///< dt sum_I f_I^r [N s]
-  double dissipated = 0;  ///< grid kinetic energy removed at the contact nodes [J]
+  /// Kinetic energy removed by the contact [J]: MPM side measured on the grid momenta, membrane
+  /// side on its node velocities (eq. 59). Can be negative: eq. (59) conserves momentum but not
+  /// kinetic energy.
+  double dissipated = 0;
 };
 
 /// Energies of the coupled system [J].

@@ -60,6 +60,8 @@ GasExpansionResult run_gas_expansion(const GasExpansionParams& prm,
     r.time = t;
     r.dt = dt;
     r.contact_nodes = contacts;
+    r.mpm = &gas;
+    r.membrane = &mem;
     r.energies = coupling.energies();
     double rmin = 1e9, rmax = 0;
     for (const auto& x : mem.positions()) {

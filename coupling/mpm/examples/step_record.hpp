@@ -16,6 +16,10 @@ struct StepRecord {
   double dt = 0;    ///< [s]
   int contact_nodes = 0;
   CoupledEnergies energies;
+  /// The bodies at this instant (valid during the callback only), e.g. for writing frames:
+  /// particles as a point cloud, membrane quads as VtkCell::Quad.
+  const mpm::MpmSolver* mpm = nullptr;
+  const membrane::Membrane* membrane = nullptr;
   /// Named probe values of the example (tracked z of points, radii, ...), see each example.
   std::vector<std::pair<std::string, double>> probes;
 };
