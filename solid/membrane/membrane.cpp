@@ -97,16 +97,20 @@ void Membrane::compute_forces(double dt) {
   for (std::size_t e = 0; e < quads_.size(); ++e) {
     const auto& ids = quads_[e];
     const QuadFrame fr = quad_frame(corners(x_, ids));
-    // Eq. (41): local nodal velocities; eq. (40): centre strain rate.
+    // Eq. (41): local nodal velocities; eq. (40): centre strain rate. v^{n-1/2} is evaluated on
+    // the mid-step geometry x^{n-1/2} = x^n - dt/2 v^{n-1/2} (second-order consistent rate).
+    std::array<Vec3, 4> xh;
+    for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * dt * v_[ids[k]];
+    const QuadFrame frh = quad_frame(xh);
     std::array<Vec3, 4> vl;
-    for (int k = 0; k < 4; ++k) vl[k] = fr.q.transpose() * v_[ids[k]];
+    for (int k = 0; k < 4; ++k) vl[k] = frh.q.transpose() * v_[ids[k]];
     double dxx = 0, dyy = 0, gxy = 0;
     Vec3 qdot = Vec3::Zero();
     for (int k = 0; k < 4; ++k) {
-      dxx += fr.b1[k] * vl[k][0];
-      dyy += fr.b2[k] * vl[k][1];
-      gxy += fr.b2[k] * vl[k][0] + fr.b1[k] * vl[k][1];  // engineering shear rate 2 D_xy
-      qdot += fr.gamma[k] * vl[k];
+      dxx += frh.b1[k] * vl[k][0];
+      dyy += frh.b2[k] * vl[k][1];
+      gxy += frh.b2[k] * vl[k][0] + frh.b1[k] * vl[k][1];  // engineering shear rate 2 D_xy
+      qdot += frh.gamma[k] * vl[k];
     }
     // Plane-stress elastic law in the co-rotational frame (no objective rate needed there).
     auto& s = stress_[e];

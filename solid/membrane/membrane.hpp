@@ -8,6 +8,8 @@
 /// Step structure (section 6, step 3): compute_forces(dt) with x^n and v^{n-1/2} updates the stress
 /// to t^n and assembles f^n; trial_velocities(dt) gives v^{n+1/2} (eq. 46) with constraints; a
 /// contact may then correct v (eq. 59); update_positions(dt) gives x^{n+1} (eq. 47).
+/// The strain rate of eq. (40) is evaluated on the mid-step geometry x^{n-1/2} = x^n - dt/2 v^{n-1/2}
+/// (evaluating it on x^n gained ~20% energy in 0.3 ms in a point-impact test; mid-step conserves it).
 /// The thickness is kept constant (no thickness update).
 #include <Eigen/Core>
 

@@ -45,8 +45,13 @@ TEST(Membrane, DistortedPatchUniformStretchGivesUniformStress) {
   Mat3 L = Mat3::Zero();
   L.topLeftCorner<2, 2>() = L2;
   const Mat3 Lg = R * L * R.transpose();
-  for (int i = 0; i < mem.num_nodes(); ++i) mem.velocities()[i] = Lg * mem.positions()[i];
-  const double dt = 1e-3;
+  // Velocities v = L x on the mid-step geometry x^{n-1/2} = reference; positions x^n = x + dt/2 v,
+  // so the strain rate the element sees (evaluated at x^{n-1/2}) is exactly sym(L).
+  const double dt = 1e-6;
+  for (int i = 0; i < mem.num_nodes(); ++i) {
+    mem.velocities()[i] = Lg * mesh.nodes[i];
+    mem.positions()[i] = mesh.nodes[i] + 0.5 * dt * mem.velocities()[i];
+  }
   mem.compute_forces(dt);
   // Expected plane-stress increment: sigma = C : sym(L) dt in the plane.
   const auto& m = mem.material();
@@ -58,11 +63,18 @@ TEST(Membrane, DistortedPatchUniformStretchGivesUniformStress) {
   s(1, 1) = dt * (C12 * dxx + C11 * dyy);
   s(0, 1) = s(1, 0) = dt * 2 * G * dxy;
   const Mat3 expected = R * s * R.transpose();
-  for (int e = 0; e < mem.num_elements(); ++e)
-    EXPECT_LT((mem.global_stress(e) - expected).norm(), 1e-10 * expected.norm()) << "element " << e;
-  // Uniform stress: the interior nodes are in equilibrium.
+  for (int e = 0; e < mem.num_elements(); ++e) {
+    // The stress lives in the co-rotational frame of the mid-step geometry (the reference here).
+    const auto& q = mesh.quads[e];
+    const Mat3 fq = quad_frame({mesh.nodes[q[0]], mesh.nodes[q[1]], mesh.nodes[q[2]], mesh.nodes[q[3]]}).q;
+    const Mat3 loc = fq.transpose() * expected * fq;
+    const Eigen::Vector3d want(loc(0, 0), loc(1, 1), loc(0, 1));
+    EXPECT_LT((mem.local_stress(e) - want).norm(), 1e-10 * expected.norm()) << "element " << e;
+  }
+  // Uniform stress: the interior nodes are in equilibrium, up to the frame change between
+  // x^{n-1/2} and x^n (a rotation of order dt |L| = 3e-7 here).
   const double f_scale = expected.norm() * m.thickness * (1.0 / 3.0);
-  for (int id : {5, 6, 9, 10}) EXPECT_LT(mem.forces()[id].norm(), 1e-10 * f_scale) << "node " << id;
+  for (int id : {5, 6, 9, 10}) EXPECT_LT(mem.forces()[id].norm(), 1e-5 * f_scale) << "node " << id;
 }
 
 TEST(Membrane, RigidMotionsGiveNoForceAndHourglassModesAreResisted) {
@@ -80,8 +92,10 @@ TEST(Membrane, RigidMotionsGiveNoForceAndHourglassModesAreResisted) {
   const Vec3 motions[4] = {Vec3(1, -2, 0.5), Vec3(3, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 3)};
   for (int k = 0; k < 4; ++k) {
     Membrane mem = make();
-    for (int i = 0; i < 4; ++i)
-      mem.velocities()[i] = k == 0 ? motions[0] : Vec3(motions[k].cross(mem.positions()[i] - c));
+    for (int i = 0; i < 4; ++i) {
+      mem.velocities()[i] = k == 0 ? motions[0] : Vec3(motions[k].cross(mesh.nodes[i] - c));
+      mem.positions()[i] = mesh.nodes[i] + 0.5 * dt * mem.velocities()[i];  // x^{n-1/2} = reference
+    }
     mem.compute_forces(dt);
     for (int i = 0; i < 4; ++i) EXPECT_LT(mem.forces()[i].norm(), 1e-12) << "motion " << k << " node " << i;
     EXPECT_LT(mem.local_stress(0).norm(), 1e-12);
@@ -152,4 +166,36 @@ TEST(Membrane, BadInputIsReported) {
   EXPECT_THROW(Membrane(mesh.nodes, mesh.quads, material()), std::invalid_argument);
   auto flat = rectangle_mesh(Vec3::Zero(), Vec3(1, 0, 0), Vec3(2, 0, 0), 1, 1);
   EXPECT_THROW(Membrane(flat.nodes, flat.quads, material()), std::runtime_error);
+}
+
+TEST(Membrane, PointImpactConservesEnergy) {
+  // Clamped 50 x 50 mm membrane (E = 7e10, rho = 750, t = 0.1 mm as in section 7.1), the nodes
+  // within 4.5 mm of the centre start at 10 m/s out of plane; no damping, no load: kinetic +
+  // strain + hourglass energy must stay constant through large local deflections (0.3 ms).
+  const double half = 0.025;
+  auto mesh = rectangle_mesh(Vec3(-half, -half, 0), Vec3(2 * half, 0, 0), Vec3(0, 2 * half, 0), 25, 25);
+  auto m = material();
+  m.rho = 750;
+  m.youngs = 7e10;
+  m.thickness = 1e-4;
+  Membrane mem(mesh.nodes, mesh.quads, m);
+  mem.fix_where([&](const Vec3& x) { return std::abs(std::abs(x[0]) - half) < 1e-9 || std::abs(std::abs(x[1]) - half) < 1e-9; },
+                {true, true, true});
+  for (int k = 0; k < mem.num_nodes(); ++k)
+    if (mem.positions()[k].head<2>().norm() < 4.5e-3) mem.velocities()[k] = Vec3(0, 0, -10);
+  auto total = [&] {
+    const auto e = mem.energies();
+    return e.kinetic + e.strain + e.hourglass;
+  };
+  const double e0 = total();
+  const double dt = mem.critical_time_step();
+  double zmin = 0, worst = 0;
+  for (double t = 0; t < 0.3e-3; t += dt) {
+    mem.step(dt);
+    worst = std::max(worst, std::abs(total() / e0 - 1));
+    for (const auto& x : mem.positions()) zmin = std::min(zmin, x[2]);
+  }
+  std::printf("[impact] max |E/E0 - 1| = %.3e, deepest point %.3f mm\n", worst, zmin * 1e3);
+  EXPECT_GT(-zmin, 1e-4);  // about 0.2 mm: element rotations of order 0.1 rad
+  EXPECT_LT(worst, 0.02);
 }
