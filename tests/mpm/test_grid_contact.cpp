@@ -147,3 +147,26 @@ TEST(GasExpansion, EarlyExpansionKeepsGasInsideAndBalancesEnergy) {
   EXPECT_LT(worst_balance, 0.01);
   EXPECT_GT(res.radius_0deg, 0.8);  // the short side was pushed out from 0.5
 }
+
+#include "coupling/mpm/examples/frames.hpp"
+#include "tests/test_support.hpp"
+
+TEST(GasExpansion, FramesAreReadableVtu) {
+  mpm_contact::GasExpansionParams prm;
+  prm.particle_spacing = 0.05;
+  prm.t_end = 0.01;
+  prm.record_every = 1000000;  // only the first and the last records
+  test::TempDir dir("mpm_frames");
+  int written = 0;
+  mpm_contact::run_gas_expansion(prm, [&](const mpm_contact::StepRecord& r) {
+    if (written++ > 0) return;
+    mesh::io::write_vtu(dir.path() / "particles.vtu", mpm_contact::particle_frame(*r.mpm));
+    mesh::io::write_vtu(dir.path() / "membrane.vtu", mpm_contact::membrane_frame(*r.membrane));
+  });
+  int status = 0;
+  EXPECT_EQ(test::vtk_describe(dir.path() / "particles.vtu", &status),
+            "342 342 p:velocity:3 p:pressure:1 p:density:1 p:internal_energy:1\n");
+  EXPECT_EQ(status, 0);
+  EXPECT_EQ(test::vtk_describe(dir.path() / "membrane.vtu", &status), "32 15 p:velocity:3 c:stress:9\n");
+  EXPECT_EQ(status, 0);
+}
