@@ -182,9 +182,10 @@ void bench_sphere(mpm_contact::SphereMembraneParams::Case which, double cell, do
   if (print_history) fmt::print("# {} cell {} mm: tracked points (Figs. 6, 9, 11, 12)\n{}", name, cell * 1e3, hist.str());
   bench::print_row(name, fmt::format("cell {} mm, spacing 0.5 mm, {} particles, {} quads, t {} ms", cell * 1e3,
                                      res.particles, res.elements, t_end * 1e3),
-                   fmt::format("no reference curve (figures only); min centre z {:+.4f} mm; {:.3g} particle upd/s, "
-                               "cpu {:.1f} s",
-                               res.min_membrane_center_z * 1e3, res.particle_updates / wall, cpu),
+                   fmt::format("no reference curve (figures only); min centre z {:+.4f} mm; stored energy {:+.1f}%; "
+                               "{:.3g} particle upd/s, cpu {:.1f} s",
+                               res.min_membrane_center_z * 1e3, 100 * (res.energy_final / res.energy_initial - 1),
+                               res.particle_updates / wall, cpu),
                    wall);
 }
 

@@ -68,6 +68,12 @@ SphereMembraneResult run_sphere_membrane(const SphereMembraneParams& prm,
   res.particles = P.size();
   res.elements = mem.num_elements();
   res.min_membrane_center_z = mem.positions()[centre_node][2];
+  auto stored = [&] {
+    const auto e = coupling.energies();
+    return e.mpm.kinetic + e.mpm.internal + e.mpm.gravity + e.membrane.kinetic + e.membrane.strain +
+           e.membrane.hourglass;
+  };
+  res.energy_initial = stored();
   auto second = [&] { return drop_membrane ? mem.positions()[corner_node][2] : solver.particles().x[top][2]; };
   auto record = [&](long step, double t, double dt, int contacts) {
     if (!on_record) return;
@@ -98,6 +104,7 @@ SphereMembraneResult run_sphere_membrane(const SphereMembraneParams& prm,
   res.particle_updates = step * static_cast<long>(P.size());
   res.membrane_center_z = mem.positions()[centre_node][2];
   res.second_probe_z = second();
+  res.energy_final = stored();
   return res;
 }
 

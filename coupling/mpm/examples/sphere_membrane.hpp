@@ -36,6 +36,8 @@ struct SphereMembraneResult {
   double membrane_center_z = 0;  ///< final [m]
   double min_membrane_center_z = 0;
   double second_probe_z = 0;  ///< final corner z (7.1a) or sphere top z (7.1b, 7.2) [m]
+  /// Stored energy (kinetic + internal of both bodies, membrane hourglass) at start and end [J].
+  double energy_initial = 0, energy_final = 0;
 };
 
 /// @throws std::invalid_argument on bad sizes, std::runtime_error on instability
