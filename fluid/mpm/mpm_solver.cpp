@@ -77,6 +77,10 @@ void MpmSolver::trial_step(double dt) {
   const std::size_t n = P.size();
   // Step 1: reset the nodes used in the previous step (the grid is "rebuilt" each step).
   for (auto id : active_) {
+    if (!vel_.empty()) {
+      vel_[id].setZero();
+      dvel_[id].setZero();
+    }
     mass_[id] = 0;
     mom_old_[id].setZero();
     mom_new_[id].setZero();
@@ -100,10 +104,14 @@ void MpmSolver::trial_step(double dt) {
   }
   std::sort(active_.begin(), active_.end());
   active_.erase(std::unique(active_.begin(), active_.end()), active_.end());
-  // Step 2b: essential conditions on p^{n-1/2}.
-  for (auto id : active_)
+  // Step 2b: essential conditions on p^{n-1/2}; grid velocities v_I = p_I / m_I (0 if empty).
+  if (vel_.size() != mass_.size()) vel_.assign(mass_.size(), Vec3::Zero());
+  if (dvel_.size() != mass_.size()) dvel_.assign(mass_.size(), Vec3::Zero());
+  for (auto id : active_) {
     for (int a = 0; a < 3; ++a)
       if (mask_[id][a]) mom_old_[id][a] = 0.0;
+    vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
+  }
 
   // Step 2c (eqs. 62, 63, 22, 25, 26): stress update with the grid velocities.
   for_each_particle(n, [&](std::size_t p) { update_particle_stress(p, dt); });
@@ -128,11 +136,7 @@ void MpmSolver::update_particle_stress(std::size_t p, double dt) {
   const auto& st = stencils_[p];
   // Velocity gradient L_ij = sum_I v_iI N_I,j; D = sym L (eq. 23), W = skew L (eq. 24).
   Mat3 L = Mat3::Zero();
-  for (int c = 0; c < 8; ++c) {
-    const auto id = st.node[c];
-    if (mass_[id] <= mass_eps_) continue;
-    L += (mom_old_[id] / mass_[id]) * st.dN[c].transpose();
-  }
+  for (int c = 0; c < 8; ++c) L += vel_[st.node[c]] * st.dN[c].transpose();
   const Mat3 D = 0.5 * (L + L.transpose());
   const Mat3 W = 0.5 * (L - L.transpose());
   const double trD = D.trace();
@@ -169,14 +173,18 @@ void MpmSolver::update_particle_stress(std::size_t p, double dt) {
 void MpmSolver::finish_step(double dt) {
   auto& P = particles_;
   const std::size_t n = P.size();
+  // Per node: velocity change (p^{n+1/2} - p^{n-1/2}) / m (eq. 65) and new velocity (eq. 19).
+  for (auto id : active_) {
+    const bool full = mass_[id] > mass_eps_;
+    dvel_[id] = full ? Vec3((mom_new_[id] - mom_old_[id]) / mass_[id]) : Vec3::Zero();
+    vel_[id] = full ? Vec3(mom_new_[id] / mass_[id]) : Vec3::Zero();
+  }
   for_each_particle(n, [&](std::size_t p) {
     const auto& st = stencils_[p];
     Vec3 dv = Vec3::Zero(), vel = Vec3::Zero();
     for (int c = 0; c < 8; ++c) {
-      const auto id = st.node[c];
-      if (mass_[id] <= mass_eps_) continue;
-      dv += st.N[c] * (mom_new_[id] - mom_old_[id]) / mass_[id];   // eq. (65)
-      vel += st.N[c] * mom_new_[id] / mass_[id];                    // eq. (19)
+      dv += st.N[c] * dvel_[st.node[c]];
+      vel += st.N[c] * vel_[st.node[c]];
     }
     P.v[p] += dv;
     P.x[p] += dt * vel;

@@ -95,6 +95,7 @@ class MpmSolver {
   std::vector<Stencil> stencils_;
   std::vector<double> mass_;
   std::vector<Vec3> mom_old_, mom_new_, force_, mass_grad_;
+  std::vector<Vec3> vel_, dvel_;  // per-node grid velocities of the current phase
   std::vector<std::int64_t> active_;
   double mass_eps_ = 0;
   double time_ = 0;
