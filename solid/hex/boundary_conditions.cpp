@@ -1,5 +1,7 @@
 #include "solid/hex/boundary_conditions.hpp"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <stdexcept>
 #include <string>

@@ -1,5 +1,7 @@
 #include "solid/hex/hex_model.hpp"
 
+#include <Eigen/LU>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>

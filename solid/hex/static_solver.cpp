@@ -137,6 +137,7 @@ class LinearSolver {
  public:
   bool factorize(const SparseMatrix& A) {
     if (!analysed_) {
+      llt_.cholmod().print = 1;  // errors only: an indefinite K_T is handled by the LDLT fallback
       llt_.analyzePattern(A);
       analysed_ = true;
     }
@@ -159,7 +160,7 @@ class LinearSolver {
 }  // namespace
 
 StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, const StaticOptions& options,
-                          double final_load_factor) {
+                          double final_load_factor, const StepCallback& on_step) {
   if (options.load_steps < 1 || options.max_iterations < 1) {
     throw std::invalid_argument("solve_static: load_steps and max_iterations must be >= 1");
   }
@@ -251,6 +252,7 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
     if (converged) {
       result.total_iterations += step.iterations;
       result.steps.push_back(step);
+      if (on_step) on_step(step, u);
       lambda = target;
       cuts = 0;
       increment = std::min(2.0 * increment, nominal);
@@ -269,22 +271,30 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
     if (options.log) spdlog::warn("hex static: step to lambda {:.6g} failed ({}), cutting to {:.3g}", target, cause, increment);
   }
 
-  // Reactions of the rotating faces.
-  model.evaluate(u, force, nullptr);
   for (const auto& face : bc.rotating_faces) {
-    Eigen::Vector3d xc = Eigen::Vector3d::Zero(), F = Eigen::Vector3d::Zero(), M = Eigen::Vector3d::Zero();
-    for (int v : face.nodes) xc += model.mesh().vertices[v] + u.segment<3>(3 * v);
-    xc /= static_cast<double>(face.nodes.size());
-    for (int v : face.nodes) {
-      const Eigen::Vector3d x = model.mesh().vertices[v] + u.segment<3>(3 * v);
-      F += force.segment<3>(3 * v);
-      M += (x - xc).cross(Eigen::Vector3d(force.segment<3>(3 * v)));
-    }
+    Eigen::Vector3d F, M;
+    face_reaction(model, face, u, F, M);
     result.face_forces.push_back(F);
     result.face_moments.push_back(M);
   }
   result.displacement = u;
   return result;
+}
+
+void face_reaction(const HexModel& model, const RotatingFace& face, const Eigen::VectorXd& u,
+                   Eigen::Vector3d& force, Eigen::Vector3d& moment) {
+  Eigen::VectorXd f;
+  if (!model.evaluate(u, f, nullptr)) throw std::runtime_error("face_reaction: inverted element at u");
+  Eigen::Vector3d xc = Eigen::Vector3d::Zero();
+  for (int v : face.nodes) xc += model.mesh().vertices[v] + u.segment<3>(3 * v);
+  xc /= static_cast<double>(face.nodes.size());
+  force.setZero();
+  moment.setZero();
+  for (int v : face.nodes) {
+    const Eigen::Vector3d x = model.mesh().vertices[v] + u.segment<3>(3 * v);
+    force += f.segment<3>(3 * v);
+    moment += (x - xc).cross(Eigen::Vector3d(f.segment<3>(3 * v)));
+  }
 }
 
 }  // namespace tetfsi::solid::hex

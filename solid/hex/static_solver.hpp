@@ -19,6 +19,7 @@
 /// The linear solves use CHOLMOD's supernodal Cholesky (through Eigen::CholmodSupernodalLLT),
 /// the pattern analysed once; if K_T is not positive definite there, Eigen::SimplicialLDLT.
 #include <Eigen/Core>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,6 +37,10 @@ struct StaticOptions {
   int max_step_cuts = 8;             ///< successive halvings of one increment before giving up
   bool log = false;                  ///< print each iteration's residual ratio (spdlog, info)
 };
+
+struct StepLog;
+/// Called after each converged load step with its log and the displacement [m].
+using StepCallback = std::function<void(const StepLog&, const Eigen::VectorXd&)>;
 
 /// One converged load step.
 struct StepLog {
@@ -61,12 +66,18 @@ class NonConvergence : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Solves the static problem. Also the place to set `steps_to` for an intermediate lambda.
+/// Solves the static problem from u = 0 to lambda = final_load_factor in options.load_steps steps.
 /// @throws std::invalid_argument for inconsistent boundary conditions (a dof constrained twice,
 ///         out-of-range dofs, a force vector of the wrong size, no constraint against rigid motion
 ///         is not detected here but shows up as a failed factorisation -> NonConvergence)
 /// @throws NonConvergence with the load factor, the cause and the last residuals
 StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, const StaticOptions& options = {},
-                          double final_load_factor = 1.0);
+                          double final_load_factor = 1.0, const StepCallback& on_step = {});
+
+/// Net force [N] and moment about its current centroid [N m] that the constraint of `face` applies
+/// to the body at displacement u: sum over its nodes of F_int and (x - x_c) x F_int (at
+/// equilibrium the constrained nodes carry no other load).
+void face_reaction(const HexModel& model, const RotatingFace& face, const Eigen::VectorXd& u,
+                   Eigen::Vector3d& force, Eigen::Vector3d& moment);
 
 }  // namespace tetfsi::solid::hex
