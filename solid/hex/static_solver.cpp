@@ -1,6 +1,7 @@
 #include "solid/hex/static_solver.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <spdlog/spdlog.h>
@@ -132,12 +133,20 @@ void expand_add(const Reduction& r, const Eigen::VectorXd& q, Eigen::VectorXd& f
   }
 }
 
-// Factorises T^T K T, CHOLMOD supernodal first (analysed once), SimplicialLDLT if it fails.
+// Factorises T^T K T: CHOLMOD supernodal first (analysed once), SimplicialLDLT if it fails; or
+// preconditioned CG (Eigen, incomplete Cholesky) for meshes too large for a direct solve.
 class LinearSolver {
  public:
+  explicit LinearSolver(const StaticOptions& o) : options_(o) {}
   bool factorize(const SparseMatrix& A) {
+    if (options_.linear_solver == LinearSolverKind::ConjugateGradient) {
+      cg_.setTolerance(options_.cg_tolerance);
+      cg_.setMaxIterations(options_.cg_max_iterations);
+      cg_.compute(A);
+      return cg_.info() == Eigen::Success;
+    }
     if (!analysed_) {
-      llt_.cholmod().print = 1;  // errors only: an indefinite K_T is handled by the LDLT fallback
+      llt_.cholmod().print = 0;  // silent: failures are read from info(); indefinite K_T -> LDLT
       llt_.analyzePattern(A);
       analysed_ = true;
     }
@@ -149,11 +158,22 @@ class LinearSolver {
     }
     return true;
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const { return use_ldlt_ ? ldlt_->solve(b) : Eigen::VectorXd(llt_.solve(b)); }
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    if (options_.linear_solver == LinearSolverKind::ConjugateGradient) {
+      x = cg_.solve(b);
+      cg_iterations += static_cast<int>(cg_.iterations());
+      return cg_.info() == Eigen::Success;
+    }
+    x = use_ldlt_ ? Eigen::VectorXd(ldlt_->solve(b)) : Eigen::VectorXd(llt_.solve(b));
+    return true;
+  }
+  int cg_iterations = 0;
 
  private:
+  const StaticOptions& options_;
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt_;
   std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix>> ldlt_;
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg_;
   bool analysed_ = false, use_ldlt_ = false;
 };
 
@@ -174,7 +194,7 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
   StaticResult result;
   Eigen::VectorXd u = Eigen::VectorXd::Zero(ndof), force(ndof);
   SparseMatrix K;
-  LinearSolver solver;
+  LinearSolver solver(options);
   const double nominal = final_load_factor / options.load_steps;
   double lambda = 0.0, increment = nominal;
   int cuts = 0;
@@ -188,8 +208,7 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
     for (std::size_t k = 0; k < red.slot.size(); ++k) {
       if (red.slot[k] >= 0) red.reduced.valuePtr()[red.slot[k]] += K.valuePtr()[k];
     }
-    const bool ok = solver.factorize(red.reduced);
-    if (ok) dq = solver.solve(rhs);
+    const bool ok = solver.factorize(red.reduced) && solver.solve(rhs, dq);
     result.solve_seconds += now() - t0;
     return ok && dq.allFinite();
   };
@@ -221,7 +240,9 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
       double first = 0.0;
       for (int it = 0; it < options.max_iterations; ++it) {
         if (!newton_solve(rhs, dq)) {
-          cause = "singular or non-finite tangent (missing supports?)";
+          cause = options.linear_solver == LinearSolverKind::ConjugateGradient
+                      ? "CG did not reach its tolerance (indefinite or ill-conditioned K_T?)"
+                      : "singular or non-finite tangent (missing supports?)";
           break;
         }
         if (it == 0) u += dg;
@@ -278,6 +299,7 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
     result.face_moments.push_back(M);
   }
   result.displacement = u;
+  result.cg_iterations = solver.cg_iterations;
   return result;
 }
 
