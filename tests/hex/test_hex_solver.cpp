@@ -8,6 +8,7 @@
 #include "../test_support.hpp"
 #include "mesh/io/vtu_reader.hpp"
 #include "solid/hex/block_mesh.hpp"
+#include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
 #include "solid/hex/static_solver.hpp"
 
@@ -180,4 +181,37 @@ TEST(HexStatic, WritesDisplacementAndStress) {
   Eigen::VectorXd nan = r.displacement;
   nan(0) = std::nan("");
   EXPECT_THROW(write_hex_vtu(dir.path() / "nan.vtu", model, nan), std::runtime_error);
+}
+
+// A scene-style problem (block_problem.hpp): a neo-Hookean cube on rollers under a dead uniform
+// pressure traction t on its top. Exact: homogeneous uniaxial state with first Piola-Kirchhoff
+// stress P_zz = F_zz S_zz = t (traction per reference area), P_xx = P_yy = 0, in every element.
+TEST(HexStatic, BlockProblemUnderDeadTraction) {
+  BlockProblem p;
+  p.lo = {0, 0, 0};
+  p.hi = {1, 1, 1};
+  p.nx = p.ny = p.nz = 3;
+  p.material = neo_hookean();
+  const double t = -2.0e5;  // 20 % of E: large strain
+  using K = RegionCondition::Kind;
+  RegionCondition bottom{K::Fixed, {-1, -1, 0}, {2, 2, 0}, "z"};
+  RegionCondition pin{K::Fixed, {0, 0, 0}, {0, 0, 0}, "xy"};
+  RegionCondition pin2{K::Fixed, {1, 0, 0}, {1, 0, 0}, "y"};
+  RegionCondition top{K::Traction, {-1, -1, 1}, {2, 2, 1}};
+  top.value = {0, 0, t};
+  p.conditions = {bottom, pin, pin2, top};
+  p.options.load_steps = 4;
+  const auto model = make_model(p);
+  const auto bc = make_conditions(p, model->mesh());
+  const auto r = solve_static(*model, bc, p.options);
+  std::vector<double> cauchy, pk2;
+  model->element_stresses(r.displacement, cauchy, pk2);
+  const double Fzz = 1.0 + r.displacement(3 * (model->num_nodes() - 1) + 2);  // top corner z / 1
+  for (int e = 0; e < model->mesh().num_hexes(); ++e) {
+    EXPECT_NEAR(Fzz * pk2[6 * e + 2], t, 1e-7 * std::abs(t));
+    EXPECT_NEAR(pk2[6 * e + 0], 0.0, 1e-7 * std::abs(t));
+  }
+  RegionCondition nowhere{K::Fixed, {5, 5, 5}, {6, 6, 6}};
+  p.conditions.push_back(nowhere);
+  EXPECT_THROW(make_conditions(p, model->mesh()), std::invalid_argument);
 }

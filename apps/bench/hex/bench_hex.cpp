@@ -1,10 +1,15 @@
 // bench_hex: Total Lagrangian hex8 (solid/hex) performance and accuracy.
-//  1. Newton iterations per load step and seconds per iteration (assembly + CHOLMOD solve) for a
+//  1. Newton iterations per load step and seconds per iteration (assembly + linear solve) for a
 //     neo-Hookean cube compressed by 20 % in 2 load steps, at ~1k, ~10k, ~50k hexes;
 //  2. TBB assembly speed-up (F_int + K_T) on 1 vs 2 threads at the largest size;
 //  3. the cantilever roll-up (benchmarks.md sec. 3.2, M = 2 pi EI / L as a prescribed end rotation
 //     of 2 pi) at the benchmark resolution: tip-root gap, worst tip error along the path, moment error.
-// Usage: bench_hex [--max-cells N] [--out DIR]  (DIR: write the rolled-up cantilever as .vtu)
+// Usage: bench_hex [--max-cells N] [--direct-10k] [--out DIR]
+//   --direct-10k: also the ~10k case with CHOLMOD (minutes: ~23 GFlop per factorisation);
+//   DIR: write the rolled-up cantilever as .vtu.
+// Linear solver: CHOLMOD (exact, robust to indefinite K_T via LDLT) where a direct factorisation is
+// affordable; Eigen IC-preconditioned CG for the larger 3D blocks, whose direct factorisation
+// costs ~ dofs^2 flops.
 #include <fmt/core.h>
 #include <tbb/global_control.h>
 
@@ -23,7 +28,7 @@ namespace bench = tetfsi::bench;
 
 namespace {
 
-void compression_case(int n) {
+void compression_case(int n, LinearSolverKind solver) {
   const auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, n, n, n);
   Material m;
   m.law = MaterialLaw::NeoHookean;
@@ -39,6 +44,7 @@ void compression_case(int n) {
   const HexModel model(mesh, m);
   StaticOptions opt;
   opt.load_steps = 2;
+  opt.linear_solver = solver;
   const auto r = solve_static(model, bc, opt);
   const double wall = watch.seconds();
   std::string its;
@@ -52,7 +58,9 @@ void compression_case(int n) {
     lateral = std::max({lateral, std::abs(cauchy[6 * e]), std::abs(cauchy[6 * e + 1])});
     axial = std::max(axial, std::abs(cauchy[6 * e + 2]));
   }
-  bench::print_row(fmt::format("compression 20%, NH; Newton its/step {}; s/it {:.3f} (assembly {:.3f} + solve {:.3f})",
+  const bool cg = solver == LinearSolverKind::ConjugateGradient;
+  bench::print_row(fmt::format("compression 20%, NH, {}; Newton its/step {}; s/it {:.3f} (assembly {:.3f} + solve {:.3f})",
+                               cg ? fmt::format("IC-CG ({} CG its/solve)", r.cg_iterations / r.total_iterations) : "CHOLMOD",
                                its, (r.assembly_seconds + r.solve_seconds) / r.total_iterations,
                                r.assembly_seconds / r.total_iterations, r.solve_seconds / r.total_iterations),
                    fmt::format("{}^3 = {} hexes, {} dofs", n, mesh.num_hexes(), 3 * mesh.num_vertices()),
@@ -139,13 +147,16 @@ void rollup_case(int nx, int ny, int nz, const std::string& out) {
 int main(int argc, char** argv) {
   int max_cells = 60000;
   std::string out;
+  bool direct_10k = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--max-cells") && i + 1 < argc) {
       max_cells = std::stoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--direct-10k")) {
+      direct_10k = true;
     } else if (!std::strcmp(argv[i], "--out") && i + 1 < argc) {
       out = argv[++i];
     } else {
-      fmt::print(stderr, "usage: bench_hex [--max-cells N] [--out DIR]\n");
+      fmt::print(stderr, "usage: bench_hex [--max-cells N] [--direct-10k] [--out DIR]\n");
       return 2;
     }
   }
@@ -153,8 +164,10 @@ int main(int argc, char** argv) {
     bench::print_header();
     rollup_case(100, 2, 1, out);
     rollup_case(200, 4, 2, out);
+    compression_case(10, LinearSolverKind::Cholmod);
+    if (direct_10k) compression_case(22, LinearSolverKind::Cholmod);
     for (int n : {10, 22, 37}) {
-      if (n * n * n <= max_cells) compression_case(n);
+      if (n * n * n <= max_cells) compression_case(n, LinearSolverKind::ConjugateGradient);
     }
     const int big = std::cbrt(static_cast<double>(max_cells)) >= 37 ? 37 : 22;
     assembly_speedup(big);
