@@ -134,7 +134,9 @@ void expand_add(const Reduction& r, const Eigen::VectorXd& q, Eigen::VectorXd& f
 }
 
 // Factorises T^T K T: CHOLMOD supernodal first (analysed once), SimplicialLDLT if it fails; or
-// preconditioned CG (Eigen, incomplete Cholesky) for meshes too large for a direct solve.
+// Jacobi-preconditioned CG (Eigen) for meshes too large for a direct solve. Jacobi rather than
+// Eigen's IncompleteCholesky: on a 16^3 block (14k dofs) IC-CG took 0.54 s (98 its, setup 0.21 s),
+// Jacobi-CG 0.19 s (191 its), CHOLMOD 0.68 s, measured on the shared 2-core machine.
 class LinearSolver {
  public:
   explicit LinearSolver(const StaticOptions& o) : options_(o) {}
@@ -173,7 +175,7 @@ class LinearSolver {
   const StaticOptions& options_;
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt_;
   std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix>> ldlt_;
-  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg_;
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> cg_;  // Jacobi preconditioner
   bool analysed_ = false, use_ldlt_ = false;
 };
 

@@ -19,7 +19,7 @@
 /// The linear solves use CHOLMOD's supernodal Cholesky (through Eigen::CholmodSupernodalLLT),
 /// the pattern analysed once; if K_T is not positive definite there, Eigen::SimplicialLDLT.
 /// Direct factorisation of a 3D block costs ~ dofs^2 flops (23 GFlop at 36k dofs), so large blocks
-/// can use Eigen's incomplete-Cholesky preconditioned CG instead (LinearSolverKind).
+/// can use Eigen's Jacobi-preconditioned CG instead (LinearSolverKind).
 #include <Eigen/Core>
 #include <functional>
 #include <stdexcept>
@@ -34,7 +34,7 @@ namespace tetfsi::solid::hex {
 /// Linear solver for the Newton systems.
 enum class LinearSolverKind {
   Cholmod,            ///< CHOLMOD supernodal Cholesky (SimplicialLDLT if K_T is indefinite): exact, default
-  ConjugateGradient,  ///< Eigen CG with incomplete-Cholesky preconditioner: for large 3D blocks
+  ConjugateGradient,  ///< Eigen CG with Jacobi preconditioner: for large 3D blocks
 };
 
 struct StaticOptions {
