@@ -226,7 +226,16 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
     return ok;
   };
 
+  const int max_attempts = options.max_step_attempts > 0
+                               ? options.max_step_attempts
+                               : 10 * options.load_steps + 2 * options.max_step_cuts + 10;
+  int attempts = 0;
   while (lambda < final_load_factor * (1.0 - 1e-12)) {
+    if (++attempts > max_attempts) {
+      throw NonConvergence("hex static solve did not converge: " + std::to_string(max_attempts) +
+                           " load-step attempts used up at lambda = " + std::to_string(lambda) +
+                           " (the step size keeps being cut; last cause: " + cause + ")");
+    }
     const double target = std::min(lambda + increment, final_load_factor);
     const Eigen::VectorXd u_start = u;
     StepLog step;

@@ -43,6 +43,9 @@ struct StaticOptions {
   double residual_tolerance = 1e-9;  ///< relative, see the file comment
   double increment_tolerance = 1e-8; ///< relative, see the file comment
   int max_step_cuts = 8;             ///< successive halvings of one increment before giving up
+  /// Load-step attempts (converged or cut) before giving up, so that a hopeless problem cannot
+  /// crawl on with tiny increments; 0 = 10 load_steps + 2 max_step_cuts + 10.
+  int max_step_attempts = 0;
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
   double cg_tolerance = 1e-10;       ///< relative residual of each CG solve
   int cg_max_iterations = 5000;
