@@ -1,5 +1,6 @@
 #include "solid/tet/constitutive.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include "solid/solid_error.hpp"
