@@ -2,7 +2,7 @@
 /// @file linear_analysis.hpp
 /// Small-displacement analyses of an ElasticModel about its rest state, with K0 = K'(0) and
 /// the lumped mass M: linear statics K0 d = f and the lowest vibration mode K0 x = omega^2 M x
-/// (inverse iteration). Used by the cantilever validation and the benchmark.
+/// (subspace iteration). Used by the cantilever validation and the benchmark.
 #include <Eigen/Core>
 #include <vector>
 
@@ -22,9 +22,9 @@ struct Mode {
   int iterations = 0;
 };
 
-/// Lowest mode reached by inverse iteration from `start` (choose a start in the wanted
-/// mode's direction, e.g. a static deflection, when the lowest frequency is repeated).
-/// Stops when the Rayleigh quotient changes by less than `tolerance` (relative).
+/// Lowest mode by subspace iteration (block of 3, Rayleigh-Ritz) seeded with `start` (e.g. a
+/// static deflection). Stops when the lowest Ritz value changes by less than `tolerance`
+/// (relative). With a repeated lowest frequency any vector of its eigenspace may be returned.
 Mode lowest_mode(const ElasticModel& model, const std::vector<char>& fixed, const Eigen::VectorXd& start,
                  double tolerance = 1e-12, int max_iterations = 200);
 

@@ -3,9 +3,15 @@
 //     a cube of StVK tets clamped at the bottom, sagging under gravity (h = 1/30 s).
 //  2. Cantilever (L = 1 m, b = 0.1 m, E = 1 MPa, nu = 0) against Euler-Bernoulli
 //     (benchmarks.md 3.4): static tip deflection and first bending frequency per refinement level.
-// Usage: bench_solid [--max-level N] [--steps N]
+//  3. With --calculix: the same static cantilever meshes in CalculiX (ccx, C3D4), side by side.
+// Usage: bench_solid [--max-level N] [--steps N] [--calculix]
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <stdlib.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 #include "apps/bench/bench_support.hpp"
 #include "mesh/structured_box.hpp"
@@ -71,13 +77,84 @@ void bench_cantilever(int m) {
   const double err_w = w / beam.euler_bernoulli_deflection(P) - 1;
   bench::print_row("cantilever static tip deflection vs PL^3/(3EI)",
                    fmt::format("{}x{}x{} cells, {} tets", 10 * m, m, m, beam.model->num_tets()),
-                   fmt::format("{:+.4f} rel.", err_w), static_seconds);
+                   fmt::format("{:+.4f} rel. (tip {:.6e} m)", err_w, w), static_seconds);
   bench::Stopwatch modal;
   const Mode mode = lowest_mode(*beam.model, beam.fixed_dofs, d, 1e-9);
   const double err_f = mode.omega / beam.euler_bernoulli_omega1() - 1;
   bench::print_row("cantilever first bending frequency vs 1.875104^2 sqrt(EI/(rho A L^4))",
                    fmt::format("{}x{}x{} cells, {} tets", 10 * m, m, m, beam.model->num_tets()),
-                   fmt::format("{:+.4f} rel. ({} inverse iterations)", err_f, mode.iterations), modal.seconds());
+                   fmt::format("{:+.4f} rel. ({} subspace iterations)", err_f, mode.iterations), modal.seconds());
+}
+
+/// Same static cantilever in CalculiX (C3D4 linear tets, identical mesh, clamp and tip
+/// loads), when `ccx` is on the PATH (Debian package calculix-ccx). Returns false if absent.
+bool bench_calculix(int m) {
+  if (std::system("command -v ccx > /dev/null 2>&1") != 0) return false;
+  CantileverSpec spec;
+  spec.cells_across = m;
+  spec.cells_along = 10 * m;
+  spec.material.youngs_modulus = 1e6;
+  spec.material.poisson_ratio = 0.0;
+  spec.material.density = 1000;
+  const auto beam = make_cantilever(spec);
+  const double P = 1e-3;
+  char dir_template[] = "/tmp/tetfsi_ccx_XXXXXX";
+  const char* dir = mkdtemp(dir_template);
+  if (!dir) return false;
+  const std::string base = std::string(dir) + "/beam";
+  {
+    std::ofstream inp(base + ".inp");
+    inp.precision(12);  // ccx reads numbers from fields of at most 20 characters
+    inp << "*NODE\n";
+    for (int v = 0; v < beam.mesh.num_vertices(); ++v) {
+      const auto& x = beam.mesh.vertices[v];
+      inp << v + 1 << ", " << x.x() << ", " << x.y() << ", " << x.z() << "\n";
+    }
+    inp << "*ELEMENT, TYPE=C3D4, ELSET=EALL\n";
+    for (int t = 0; t < beam.mesh.num_tets(); ++t) {
+      const auto& e = beam.mesh.tets[t];
+      inp << t + 1 << ", " << e[0] + 1 << ", " << e[1] + 1 << ", " << e[2] + 1 << ", " << e[3] + 1 << "\n";
+    }
+    auto write_set = [&](const std::string& name, const std::vector<int>& nodes) {
+      inp << "*NSET, NSET=" << name << "\n";
+      for (size_t k = 0; k < nodes.size(); ++k) inp << nodes[k] + 1 << ((k % 8 == 7 || k + 1 == nodes.size()) ? "\n" : ", ");
+    };
+    std::vector<int> tip;
+    for (int v = 0; v < beam.mesh.num_vertices(); ++v)
+      if (beam.tip_weights[v] > 0) tip.push_back(v);
+    write_set("FIX", beam.clamped_nodes);
+    write_set("TIP", tip);
+    inp << "*BOUNDARY\nFIX, 1, 3\n*MATERIAL, NAME=M\n*ELASTIC\n" << spec.material.youngs_modulus << ", 0.0\n"
+        << "*SOLID SECTION, ELSET=EALL, MATERIAL=M\n*STEP\n*STATIC\n*CLOAD\n";
+    for (int v : tip) inp << v + 1 << ", 3, " << -P * beam.tip_weights[v] << "\n";
+    inp << "*NODE PRINT, NSET=TIP\nU\n*END STEP\n";
+  }
+  bench::Stopwatch sw;
+  const int rc = std::system(("cd " + std::string(dir) + " && OMP_NUM_THREADS=1 ccx -i beam > ccx.log 2>&1").c_str());
+  const double seconds = sw.seconds();
+  std::ifstream dat(base + ".dat");
+  std::string line;
+  double w = 0;
+  int count = 0;
+  while (std::getline(dat, line)) {
+    std::istringstream ls(line);
+    int node;
+    double ux, uy, uz;
+    if (ls >> node >> ux >> uy >> uz) {
+      w += beam.tip_weights[node - 1] * -uz;
+      ++count;
+    }
+  }
+  if (rc != 0 || count == 0) {
+    bench::print_row("CalculiX ccx static cantilever (C3D4)", fmt::format("{} tets", beam.model->num_tets()),
+                     fmt::format("FAILED (exit {}, see {}/ccx.log)", rc, dir), seconds);
+    return true;
+  }
+  bench::print_row("CalculiX ccx 2.20 static cantilever, same mesh (C3D4), 1 thread",
+                   fmt::format("{}x{}x{} cells, {} tets", 10 * m, m, m, beam.model->num_tets()),
+                   fmt::format("{:+.4f} rel. vs EB (tip {:.6e} m)", w / beam.euler_bernoulli_deflection(P) - 1, w), seconds);
+  std::system(("rm -rf " + std::string(dir)).c_str());
+  return true;
 }
 
 }  // namespace
@@ -88,6 +165,8 @@ int main(int argc, char** argv) {
   int steps = 10;
   app.add_option("--max-level", max_level, "finest cantilever level m (10m x m x m cells)");
   app.add_option("--steps", steps, "timed steps per size");
+  bool calculix = false;
+  app.add_flag("--calculix", calculix, "also run CalculiX (ccx) on the static cantilever");
   CLI11_PARSE(app, argc, argv);
   const bool openblas = limit_blas_threads(1);
   fmt::print("BLAS threads limited to 1: {}\n\n", openblas ? "yes (OpenBLAS)" : "no OpenBLAS found");
@@ -97,5 +176,8 @@ int main(int argc, char** argv) {
   bench_steps(12, steps, SolverKind::kConjugateGradient);
   for (int m : {2, 4, 6, 8, 10, 12, 14})
     if (m <= max_level) bench_cantilever(m);
+  if (calculix)
+    for (int m : {4, 8})
+      if (m <= max_level && !bench_calculix(m)) fmt::print("(ccx not found: CalculiX comparison skipped)\n");
   return 0;
 }
