@@ -8,6 +8,8 @@
 
 #include "mesh/structured_box.hpp"
 #include "solid/integrator/trapezoidal.hpp"
+#include "solid/output/solid_output.hpp"
+#include "tests/test_support.hpp"
 #include "solid/solid_error.hpp"
 #include "solid/tet/tet_model.hpp"
 
@@ -152,4 +154,18 @@ TEST(SolidRobustness, BadSettingsAreRejected) {
   EXPECT_THROW(integ.set_external_forces(Eigen::VectorXd::Constant(12, std::nan(""))), SolidError);
   EXPECT_THROW(integ.obstacles().add_plane({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}), SolidError);
   EXPECT_THROW(integ.obstacles().add_box({Eigen::Vector3d::Ones(), Eigen::Vector3d::Zero()}), SolidError);
+}
+
+TEST(SolidOutput, WritesDeformedGridWithFieldsAndRefusesNaN) {
+  const auto mesh = mesh::structured_box({0, 0, 0}, {0.2, 0.1, 0.1}, 2, 1, 1);
+  TetModel model(mesh, soft(ConstitutiveLaw::kStVK));
+  Eigen::VectorXd d = Eigen::VectorXd::Constant(3 * model.num_nodes(), 0.01), u = d;
+  tetfsi::test::TempDir dir("solid_out");
+  mesh::io::write_vtu(dir.path() / "s.vtu", solid_grid(model, d, u));
+  int status = 0;
+  const std::string info = tetfsi::test::vtk_describe(dir.path() / "s.vtu", &status);
+  ASSERT_EQ(status, 0) << info;
+  EXPECT_EQ(info, "12 12 p:displacement:3 p:velocity:3 c:cauchy_stress:6 c:von_mises:1 c:volume_ratio:1\n");
+  d[4] = std::nan("");
+  EXPECT_THROW(solid_grid(model, d, u), SolidError);
 }
