@@ -13,7 +13,8 @@ namespace tetfsi::solid {
 SolverKind parse_solver_kind(const std::string& name) {
   if (name == "cholmod") return SolverKind::kCholmod;
   if (name == "cg") return SolverKind::kConjugateGradient;
-  throw SolidError("unknown solid solver '" + name + "' (expected \"cholmod\" or \"cg\")");
+  if (name == "cg_ic") return SolverKind::kConjugateGradientIC;
+  throw SolidError("unknown solid solver '" + name + "' (expected \"cholmod\", \"cg\" or \"cg_ic\")");
 }
 
 bool limit_blas_threads(int threads) {
@@ -28,7 +29,8 @@ struct SpdSolver::Impl {
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
                            Eigen::IncompleteCholesky<double>>
-      cg;
+      cg_ic;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg_jacobi;
   Eigen::Index analyzed_rows = -1, analyzed_nnz = -1;
 };
 
@@ -37,6 +39,23 @@ SpdSolver::SpdSolver(SolverKind kind, double cg_tolerance, int cg_max_iterations
 SpdSolver::~SpdSolver() = default;
 SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
 SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
+
+template <class Solver>
+void SpdSolver::run_cg(Solver& cg, const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                       bool reanalyze, const std::string& where) {
+  cg.setTolerance(cg_tolerance_);
+  cg.setMaxIterations(cg_max_iterations_);
+  if (reanalyze) cg.analyzePattern(A);
+  cg.factorize(A);
+  if (cg.info() != Eigen::Success) throw SolidError(where + "CG preconditioner set-up failed");
+  if (x.size() != b.size()) x.setZero(b.size());
+  x = cg.solveWithGuess(b, x);
+  stats_.iterations = static_cast<int>(cg.iterations());
+  stats_.residual = cg.error();
+  if (cg.info() != Eigen::Success)
+    throw SolidError(where + "conjugate gradient did not converge in " + std::to_string(cg_max_iterations_) +
+                     " iterations (relative residual " + std::to_string(stats_.residual) + ")");
+}
 
 void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                       const std::string& context) {
@@ -55,19 +74,10 @@ void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorX
     x = impl_->cholmod.solve(b);
     stats_.iterations = 1;
     stats_.residual = 0;
+  } else if (kind_ == SolverKind::kConjugateGradientIC) {
+    run_cg(impl_->cg_ic, A, b, x, reanalyze, where);
   } else {
-    impl_->cg.setTolerance(cg_tolerance_);
-    impl_->cg.setMaxIterations(cg_max_iterations_);
-    if (reanalyze) impl_->cg.analyzePattern(A);
-    impl_->cg.factorize(A);
-    if (impl_->cg.info() != Eigen::Success) throw SolidError(where + "incomplete Cholesky preconditioner failed");
-    if (x.size() != b.size()) x.setZero(b.size());
-    x = impl_->cg.solveWithGuess(b, x);
-    stats_.iterations = static_cast<int>(impl_->cg.iterations());
-    stats_.residual = impl_->cg.error();
-    if (impl_->cg.info() != Eigen::Success)
-      throw SolidError(where + "conjugate gradient did not converge in " + std::to_string(cg_max_iterations_) +
-                       " iterations (relative residual " + std::to_string(stats_.residual) + ")");
+    run_cg(impl_->cg_jacobi, A, b, x, reanalyze, where);
   }
   impl_->analyzed_rows = A.rows();
   impl_->analyzed_nnz = A.nonZeros();

@@ -2,17 +2,23 @@
 /// @file spd_solver.hpp
 /// Sparse symmetric positive definite solver for the solid system A u = b: CHOLMOD supernodal
 /// Cholesky (SuiteSparse through Eigen's CholmodSupport; the symbolic analysis is reused while
-/// the pattern stays the same) or Eigen's conjugate gradient with an incomplete Cholesky
-/// preconditioner (warm-started). Records the time and iterations of the last solve.
+/// the pattern stays the same) or Eigen's conjugate gradient, warm-started, with a Jacobi or an
+/// incomplete Cholesky preconditioner. Records the time and iterations of the last solve.
+/// Measured on a 10k-tet cube (E = 100 kPa, h = 1/30 s): CHOLMOD 52 ms (666 Mflop), Jacobi CG
+/// 13 ms (77 iterations to 1e-8), IC CG slower than Jacobi (Eigen's IC factorization dominates).
 #include <Eigen/SparseCore>
 #include <memory>
 #include <string>
 
 namespace tetfsi::solid {
 
-enum class SolverKind { kCholmod, kConjugateGradient };
+enum class SolverKind {
+  kCholmod,             ///< "cholmod": direct, robust, cost grows fast with size (3D fill)
+  kConjugateGradient,   ///< "cg": CG + Jacobi preconditioner
+  kConjugateGradientIC  ///< "cg_ic": CG + incomplete Cholesky (fewer iterations, costly set-up)
+};
 
-/// Parses "cholmod" or "cg". @throws SolidError otherwise.
+/// Parses "cholmod", "cg" or "cg_ic". @throws SolidError otherwise.
 SolverKind parse_solver_kind(const std::string& name);
 
 struct SolveStats {
@@ -45,6 +51,9 @@ class SpdSolver {
 
  private:
   struct Impl;
+  template <class Solver>
+  void run_cg(Solver& cg, const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+              bool reanalyze, const std::string& where);
   SolverKind kind_;
   double cg_tolerance_;
   int cg_max_iterations_;

@@ -145,7 +145,7 @@ TEST(Trapezoidal, DampedRunSettlesToLinearStatics) {
 
 TEST(Trapezoidal, PrescribedVelocityAndSolverChoice) {
   auto beam = make_cantilever(small_beam());
-  for (auto kind : {SolverKind::kCholmod, SolverKind::kConjugateGradient}) {
+  for (auto kind : {SolverKind::kCholmod, SolverKind::kConjugateGradient, SolverKind::kConjugateGradientIC}) {
     TrapezoidalSettings settings;
     settings.time_step = 0.01;
     settings.solver = kind;

@@ -26,9 +26,23 @@ using namespace tetfsi::solid;
 
 namespace {
 
-void bench_steps(int cells, int steps, SolverKind solver) {
+/// CPU time of this process (all threads) [s]: on the shared 2-core machine the wall time of a
+/// step depends on the other jobs; the CPU time much less.
+double cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+double load_average() {
+  double load[1] = {0};
+  return getloadavg(load, 1) == 1 ? load[0] : -1;
+}
+
+void bench_steps(int cells, int steps, SolverKind solver, int beam_ratio = 1) {
   bench::Stopwatch total;
-  const auto mesh = mesh::structured_box({0, 0, 0}, {1, 1, 1}, cells, cells, cells);
+  // beam_ratio > 1: a slender beam (beam_ratio * cells) x cells x cells instead of the cube.
+  const auto mesh = mesh::structured_box({0, 0, 0}, {double(beam_ratio), 1, 1}, beam_ratio * cells, cells, cells);
   TetMaterial mat;
   mat.youngs_modulus = 1e5;
   mat.poisson_ratio = 0.3;
@@ -41,10 +55,14 @@ void bench_steps(int cells, int steps, SolverKind solver) {
   settings.cg_tolerance = 1e-8;
   settings.track_energy = false;
   TrapezoidalIntegrator integ(model, settings);
-  integ.fix_nodes(integ.nodes_in_box({-1, -1, -1e-9}, {2, 2, 1e-9}));
+  if (beam_ratio > 1)
+    integ.fix_nodes(integ.nodes_in_box({-1e-9, -1, -1}, {1e-9, 2, 2}));
+  else
+    integ.fix_nodes(integ.nodes_in_box({-1, -1, -1e-9}, {2, 2, 1e-9}));
   integ.step();  // first step includes the symbolic analysis; not timed
   double assembly = 0, solve = 0, iterations = 0;
   bench::Stopwatch sw;
+  const double cpu0 = cpu_seconds();
   for (int n = 0; n < steps; ++n) {
     const auto& st = integ.step();
     assembly += st.assembly_seconds;
@@ -52,11 +70,14 @@ void bench_steps(int cells, int steps, SolverKind solver) {
     iterations += st.solver_iterations;
   }
   const double per_step = sw.seconds() / steps;
+  const double cpu_per_step = (cpu_seconds() - cpu0) / steps;
   const double sag = -integ.displacement().minCoeff();
-  bench::print_row(fmt::format("implicit step, StVK cube, {} (per step: {:.1f} ms; assembly {:.1f} ms, solve {:.1f} ms, "
-                               "{:.0f} it.)",
-                               solver == SolverKind::kCholmod ? "CHOLMOD" : "CG+IC", 1e3 * per_step,
-                               1e3 * assembly / steps, 1e3 * solve / steps, iterations / steps),
+  bench::print_row(fmt::format("implicit step, StVK {}, {} (per step: {:.1f} ms; assembly {:.1f} ms, solve {:.1f} ms, "
+                               "{:.0f} it.; CPU {:.1f} ms/step; load avg {:.1f})",
+                               beam_ratio > 1 ? "beam, clamped end" : "cube, clamped base",
+                               solver == SolverKind::kCholmod ? "CHOLMOD" : solver == SolverKind::kConjugateGradient ? "CG+Jacobi" : "CG+IC", 1e3 * per_step,
+                               1e3 * assembly / steps, 1e3 * solve / steps, iterations / steps, 1e3 * cpu_per_step,
+                               load_average()),
                    fmt::format("{} tets, {} nodes", model.num_tets(), model.num_nodes()),
                    fmt::format("n/a (max sag {:.3g} m)", sag), total.seconds());
 }
@@ -173,7 +194,10 @@ int main(int argc, char** argv) {
   bench::print_header();
   for (int cells : {6, 12}) bench_steps(cells, steps, SolverKind::kCholmod);
   bench_steps(26, std::min(steps, 3), SolverKind::kCholmod);
+  bench_steps(6, steps, SolverKind::kCholmod, 10);   // 60x6x6 cells, 12960 tets
   bench_steps(12, steps, SolverKind::kConjugateGradient);
+  bench_steps(12, steps, SolverKind::kConjugateGradientIC);
+  bench_steps(26, std::min(steps, 3), SolverKind::kConjugateGradient);
   for (int m : {2, 4, 6, 8, 10, 12, 14})
     if (m <= max_level) bench_cantilever(m);
   if (calculix)
