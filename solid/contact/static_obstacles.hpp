@@ -3,7 +3,11 @@
 /// Contact of solid nodes with static obstacles: half-spaces (floor planes) and axis-aligned
 /// boxes.
 ///
-/// Method: a post-step projection (in the spirit of Bridson, Fedkiw & Anderson 2002, applied
+/// The primary contact treatment is inside the implicit solve (TrapezoidalIntegrator::step():
+/// active set of landing constraints, inelastic normal, Coulomb friction from the constraint
+/// force). This class gives the geometry (signed distance, normal) and the fallback used after
+/// every update (and the only one when a caller uses form_system/advance directly):
+/// a post-step projection (in the spirit of Bridson, Fedkiw & Anderson 2002, applied
 /// to static obstacles). After the update of eq. (5), every node x = X + d inside an obstacle
 /// (signed distance phi < 0, outward normal n) is moved to the surface, d += -phi n, and if it
 /// approaches (v_n = u.n < 0) its normal velocity is removed (perfectly inelastic contact).
