@@ -70,7 +70,8 @@ void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorX
     impl_->cholmod.factorize(A);
     if (impl_->cholmod.info() != Eigen::Success)
       throw SolidError(where + "CHOLMOD factorization failed: the solid system matrix M/h + C + (h/2) K' is "
-                               "not positive definite (strongly compressed elements with an indefinite K'?)");
+                               "not positive definite (strongly compressed elements with an indefinite K': use "
+                               "project_spd; or a diverging run)");
     x = impl_->cholmod.solve(b);
     stats_.iterations = 1;
     stats_.residual = 0;

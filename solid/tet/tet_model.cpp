@@ -84,7 +84,7 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   tbb::parallel_for(0, nt, [&](int t) {
     const Eigen::Matrix3d F = deformation_gradient(d, t);
     const double J = F.determinant();
-    const bool bad = !std::isfinite(J) || (stvk && J <= options_.min_det);
+    const bool bad = !std::isfinite(J) || (stvk && J <= options_.min_det) || F.norm() > options_.max_stretch;
     if (J <= 0) inverted.fetch_add(1, std::memory_order_relaxed);
     if (bad) {
       int cur = first_bad.load();
@@ -119,12 +119,16 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   last_inverted_ = inverted.load();
   const int bad = first_bad.load();
   if (bad != std::numeric_limits<int>::max()) {
-    const double J = deformation_gradient(d, bad).determinant();
+    const Eigen::Matrix3d F = deformation_gradient(d, bad);
+    const double J = F.determinant();
     std::ostringstream msg;
     msg << "tet " << bad << " (vertices " << tets_[bad][0] << ' ' << tets_[bad][1] << ' ' << tets_[bad][2]
         << ' ' << tets_[bad][3] << ") ";
     if (!std::isfinite(J))
       msg << "has a non-finite deformation gradient";
+    else if (F.norm() > options_.max_stretch)
+      msg << "is stretched by a factor " << F.norm() << " > " << options_.max_stretch
+          << ": the simulation diverged (reduce the time step, add damping, or use scheme \"chentanez\")";
     else
       msg << "is inverted or degenerate (det F = " << J << " <= " << options_.min_det
           << "); St. Venant-Kirchhoff cannot recover from inversion, use model \"stable_neohookean\"";

@@ -31,6 +31,9 @@ struct TetModelOptions {
   /// stays positive definite under strong compression, so the Cholesky solve cannot fail.
   /// Recommended with kStableNeoHookean for large time steps; costs a 9x9 eigensolve per tet.
   bool project_spd = false;
+  /// Divergence guard: an element with |F|_2 (largest stretch, bounded by the Frobenius norm)
+  /// above this stops the run with an error naming it, for every law.
+  double max_stretch = 100.0;
 };
 
 class TetModel : public ElasticModel {
@@ -49,7 +52,8 @@ class TetModel : public ElasticModel {
   const std::vector<std::array<int, 4>>& tets() const { return tets_; }
 
   /// K(d) and optionally K'(d). Returns false, with last_error() naming the first such
-  /// element, if an element has non-finite F, or (StVK only) det F <= options.min_det.
+  /// element, if an element has non-finite F, is stretched beyond options.max_stretch
+  /// (diverged), or (StVK only) has det F <= options.min_det.
   bool evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const override;
   double strain_energy(const Eigen::VectorXd& d) const override;
   std::string last_error() const override { return last_error_; }
