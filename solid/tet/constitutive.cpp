@@ -88,6 +88,44 @@ Eigen::Matrix3d first_piola_differential(const ConstitutiveParams& p, const Eige
   return p.mu * dF + lp * (cof.cwiseProduct(dF).sum() * cof + (J - a) * dcof);
 }
 
+Eigen::Matrix<double, 9, 9> first_piola_tangent(const ConstitutiveParams& p, const Eigen::Matrix3d& F) {
+  Eigen::Matrix<double, 9, 9> C;
+  if (p.law == ConstitutiveLaw::kStVK) {
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d E = 0.5 * (F.transpose() * F - I);
+    const Eigen::Matrix3d S = p.lambda * E.trace() * I + 2.0 * p.mu * E;
+    for (int b = 0; b < 3; ++b)
+      for (int a = 0; a < 3; ++a) {
+        // dF = e_a e_b^T: dF S = e_a S.row(b); dE = (F.row(a)^T e_b^T + e_b F.row(a)) / 2.
+        Eigen::Matrix3d dE = Eigen::Matrix3d::Zero();
+        dE.col(b) += 0.5 * F.row(a).transpose();
+        dE.row(b) += 0.5 * F.row(a);
+        Eigen::Matrix3d dP = F * (p.lambda * F(a, b) * I + 2.0 * p.mu * dE);
+        dP.row(a) += S.row(b);
+        C.col(a + 3 * b) = dP.reshaped();
+      }
+    return C;
+  }
+  const auto [lp, a0] = nh_constants(p);
+  const Eigen::Matrix3d cof = cofactor(F);
+  const double J = F.determinant();
+  const Eigen::Matrix<double, 9, 1> g = cof.reshaped();
+  C = lp * g * g.transpose();
+  C.diagonal().array() += p.mu;
+  // (J - a) d cof(F): the Hessian of J. Column (a, b): d cof for dF = e_a e_b^T.
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF(a, b) = 1.0;
+      Eigen::Matrix3d dcof;
+      dcof.col(0) = dF.col(1).cross(F.col(2)) + F.col(1).cross(dF.col(2));
+      dcof.col(1) = dF.col(2).cross(F.col(0)) + F.col(2).cross(dF.col(0));
+      dcof.col(2) = dF.col(0).cross(F.col(1)) + F.col(0).cross(dF.col(1));
+      C.col(a + 3 * b) += lp * (J - a0) * dcof.reshaped();
+    }
+  return C;
+}
+
 Eigen::Matrix3d cauchy_stress(const ConstitutiveParams& p, const Eigen::Matrix3d& F) {
   const double J = F.determinant();
   const Eigen::Matrix3d PFt = first_piola(p, F) * F.transpose();

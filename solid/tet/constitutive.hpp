@@ -33,6 +33,11 @@ Eigen::Matrix3d first_piola(const ConstitutiveParams& p, const Eigen::Matrix3d& 
 Eigen::Matrix3d first_piola_differential(const ConstitutiveParams& p, const Eigen::Matrix3d& F,
                                          const Eigen::Matrix3d& dF);
 
+/// The full tangent dP/dF as a 9 x 9 matrix over column-major vec(F): column k is
+/// vec(dP) for dF = the k-th unit matrix. Same values as first_piola_differential, with the
+/// stress and cofactor computed once (the assembly hot path).
+Eigen::Matrix<double, 9, 9> first_piola_tangent(const ConstitutiveParams& p, const Eigen::Matrix3d& F);
+
 /// Second Piola-Kirchhoff stress S = F^{-1} P [Pa] for StVK (exact), and the Cauchy stress
 /// sigma = P F^T / J [Pa] for output (requires J > 0; returns P F^T otherwise).
 Eigen::Matrix3d cauchy_stress(const ConstitutiveParams& p, const Eigen::Matrix3d& F);

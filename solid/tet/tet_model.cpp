@@ -98,12 +98,7 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
       Eigen::Map<Eigen::Vector3d>(fe + 3 * i) = V * P * g.row(i).transpose();
     if (!tangent) return;
     // Material tangent C = dP/dF as a 9 x 9 matrix over column-major vec(F).
-    Eigen::Matrix<double, 9, 9> C;
-    for (int k = 0; k < 9; ++k) {
-      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
-      dF(k % 3, k / 3) = 1.0;
-      C.col(k) = first_piola_differential(params_, F, dF).reshaped();
-    }
+    Eigen::Matrix<double, 9, 9> C = first_piola_tangent(params_, F);
     if (options_.project_spd) C = project_to_psd(C);
     // K_e(3i+a, 3j+c) = V [dP(e_c g_j^T) g_i]_a, with vec(dP) = sum_b C(:, c + 3b) g_jb.
     double* ke = element_matrices_.data() + static_cast<size_t>(t) * 144;

@@ -9,6 +9,7 @@
 
 #include "mesh/structured_box.hpp"
 #include "solid/solid_error.hpp"
+#include "solid/tet/constitutive.hpp"
 #include "solid/tet/extract_subdomain.hpp"
 #include "solid/tet/tet_model.hpp"
 
@@ -217,4 +218,18 @@ TEST(TetElement, ExtractSubdomainKeepsTheSolidAndMapsBack) {
   }
   EXPECT_NEAR(volume, expected, 1e-15);
   EXPECT_THROW(extract_subdomain(mesh, mesh::solid_subdomain(1)), SolidError);
+}
+
+TEST(TetElement, TangentMatrixMatchesDirectionalDerivative) {
+  const Eigen::Matrix3d F = Eigen::Matrix3d::Identity() + 0.3 * Eigen::Matrix3d::Random();
+  for (auto law : {ConstitutiveLaw::kStVK, ConstitutiveLaw::kStableNeoHookean}) {
+    const auto p = ConstitutiveParams::from(material(law));
+    const Eigen::Matrix<double, 9, 9> C = first_piola_tangent(p, F);
+    for (int k = 0; k < 9; ++k) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF(k % 3, k / 3) = 1.0;
+      const Eigen::Matrix3d dP = first_piola_differential(p, F, dF);
+      EXPECT_LT((C.col(k) - dP.reshaped()).norm(), 1e-12 * C.norm());
+    }
+  }
 }
