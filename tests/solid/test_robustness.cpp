@@ -219,3 +219,35 @@ TEST(SolidRobustness, DivergingRunStopsWithClearMessage) {
     EXPECT_NE(msg.find("solid step"), std::string::npos) << msg;
   }
 }
+
+// A block dropped onto a box obstacle (a table) comes to rest on its top face, with no node
+// ever inside the box; the signed distance of the box is exact on faces and corners.
+TEST(SolidRobustness, BlockRestsOnBoxObstacle) {
+  StaticObstacles probe;
+  probe.add_box({Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 0)});
+  Eigen::Vector3d n;
+  EXPECT_NEAR(probe.signed_distance({0, 0, 0.3}, n), 0.3, 1e-15);
+  EXPECT_NEAR((n - Eigen::Vector3d::UnitZ()).norm(), 0, 1e-15);
+  EXPECT_NEAR(probe.signed_distance({0.2, 0, -0.1}, n), -0.1, 1e-15);
+  EXPECT_NEAR(probe.signed_distance({2, 2, 1}, n), std::sqrt(3.0), 1e-15);
+
+  const auto mesh = mesh::structured_box({-0.05, -0.05, 0.2}, {0.05, 0.05, 0.3}, 2, 2, 2);
+  TetMaterial mat = soft(ConstitutiveLaw::kStableNeoHookean);
+  mat.youngs_modulus = 1e5;
+  TetModel model(mesh, mat);
+  TrapezoidalSettings settings;
+  settings.time_step = 1.0 / 60.0;
+  settings.gravity = {0, 0, -9.81};
+  TrapezoidalIntegrator integ(model, settings);
+  integ.obstacles().add_box({Eigen::Vector3d(-0.5, -0.5, -1), Eigen::Vector3d(0.5, 0.5, 0)});
+  for (int n = 0; n < 90; ++n) {
+    integ.step();
+    const Eigen::VectorXd x = integ.positions();
+    for (int v = 0; v < model.num_nodes(); ++v) {
+      Eigen::Vector3d normal;
+      ASSERT_GT(integ.obstacles().signed_distance(x.segment<3>(3 * v), normal), -1e-12) << "step " << n;
+    }
+  }
+  EXPECT_NEAR(min_z(integ), 0.0, 1e-6);
+  EXPECT_LT(integ.velocity().norm(), 0.05);
+}
