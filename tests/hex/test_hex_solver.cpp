@@ -165,7 +165,7 @@ TEST(HexStatic, CrushingReportsNonConvergence) {
   }
 }
 
-// Output: the written .vtu reads back (our reader) with the displacement and stress fields.
+// Output: the written .vtu reads back (VTK's reader and ours) with the displacement and stress fields.
 TEST(HexStatic, WritesDisplacementAndStress) {
   Compression c(-0.1);
   const HexModel model(c.mesh, neo_hookean());
@@ -173,6 +173,10 @@ TEST(HexStatic, WritesDisplacementAndStress) {
   tetfsi::test::TempDir dir("hex_out");
   const auto file = dir.path() / "block.vtu";
   write_hex_vtu(file, model, r.displacement);
+  int status = -1;
+  const std::string described = tetfsi::test::vtk_describe(file, &status);  // VTK's own reader
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(described.find("125 64 p:displacement:3 c:cauchy_stress:6"), std::string::npos) << described;
   const auto grid = tetfsi::mesh::io::read_vtu(file);
   ASSERT_EQ(grid.num_cells(), 64);
   ASSERT_EQ(grid.point_data.size(), 1u);
