@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <tbb/global_control.h>
 #include <random>
 
 #include "solid/hex/block_mesh.hpp"
@@ -178,4 +179,23 @@ TEST(Hex8Element, PatchTestConstantStrainOnDistortedHexes) {
   Eigen::VectorXd f;
   ASSERT_TRUE(model.evaluate(d, f, nullptr));
   EXPECT_LT(f.segment<3>(3 * 13).norm(), 1e-10 * f.norm());
+}
+
+// Coloured assembly: F_int and K_T are bitwise the same on 1 and 2 threads.
+TEST(HexModel, AssemblyIsBitwiseIndependentOfThreadCount) {
+  auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, 6, 5, 4);
+  const HexModel model(mesh, make_material(MaterialLaw::StVenantKirchhoff));
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> dist(-0.02, 0.02);
+  Eigen::VectorXd d(3 * model.num_nodes());
+  for (int i = 0; i < d.size(); ++i) d(i) = dist(rng);
+  Eigen::VectorXd f[2];
+  tetfsi::solid::SparseMatrix K[2];
+  for (int t = 1; t <= 2; ++t) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
+    ASSERT_TRUE(model.evaluate(d, f[t - 1], &K[t - 1]));
+  }
+  EXPECT_EQ((f[0] - f[1]).cwiseAbs().maxCoeff(), 0.0);
+  ASSERT_EQ(K[0].nonZeros(), K[1].nonZeros());  // same pattern (the model's), compare the values
+  for (Eigen::Index k = 0; k < K[0].nonZeros(); ++k) ASSERT_EQ(K[0].valuePtr()[k], K[1].valuePtr()[k]) << k;
 }
