@@ -1,0 +1,301 @@
+#include "mesh/io/vtu_reader.hpp"
+
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace tetfsi::mesh::io {
+namespace {
+
+using Attributes = std::map<std::string, std::string>;
+
+struct Parser {
+  const std::string& text;
+  std::string name;
+
+  [[noreturn]] void fail(const std::string& why) const { throw std::runtime_error("read_vtu(" + name + "): " + why); }
+
+  // Attributes of the tag starting at `pos` (which points at '<'); `end` receives the index after '>'.
+  Attributes attributes(std::size_t pos, std::size_t& end) const {
+    end = text.find('>', pos);
+    if (end == std::string::npos) fail("unterminated tag");
+    Attributes a;
+    std::size_t i = text.find_first_of(" \t\r\n/>", pos + 1);
+    while (i < end) {
+      const std::size_t eq = text.find('=', i);
+      if (eq == std::string::npos || eq > end) break;
+      std::size_t k0 = text.find_first_not_of(" \t\r\n", i);
+      std::string key = text.substr(k0, eq - k0);
+      while (!key.empty() && std::isspace(static_cast<unsigned char>(key.back()))) key.pop_back();
+      const std::size_t q0 = text.find_first_of("\"'", eq);
+      if (q0 == std::string::npos || q0 > end) fail("malformed attribute '" + key + "'");
+      const std::size_t q1 = text.find(text[q0], q0 + 1);
+      if (q1 == std::string::npos) fail("unterminated attribute '" + key + "'");
+      a[key] = text.substr(q0 + 1, q1 - q0 - 1);
+      i = q1 + 1;
+      if (q1 >= end) end = text.find('>', q1);
+    }
+    ++end;
+    return a;
+  }
+
+  std::size_t find_tag(const std::string& tag, std::size_t from, std::size_t to) const {
+    std::size_t p = from;
+    while ((p = text.find("<" + tag, p)) != std::string::npos && p < to) {
+      const char c = text[p + 1 + tag.size()];
+      if (c == ' ' || c == '>' || c == '/' || c == '\n' || c == '\t' || c == '\r') return p;
+      ++p;
+    }
+    return std::string::npos;
+  }
+};
+
+std::vector<unsigned char> base64_decode(const std::string& s, std::size_t begin, std::size_t end, const Parser& p) {
+  static const auto table = [] {
+    std::array<int, 256> t{};
+    t.fill(-1);
+    const char* chars = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for (int i = 0; i < 64; ++i) t[static_cast<unsigned char>(chars[i])] = i;
+    return t;
+  }();
+  std::vector<unsigned char> out;
+  int quad[4];
+  int n = 0, pad = 0;
+  for (std::size_t i = begin; i < end; ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (std::isspace(c)) continue;
+    if (c == '=') {
+      quad[n++] = 0;
+      ++pad;
+    } else {
+      if (table[c] < 0 || pad) p.fail("invalid base64 data");
+      quad[n++] = table[c];
+    }
+    if (n == 4) {  // each 4-character group decodes on its own, so separately encoded blocks work
+      const unsigned v = (quad[0] << 18) | (quad[1] << 12) | (quad[2] << 6) | quad[3];
+      out.push_back(static_cast<unsigned char>(v >> 16));
+      if (pad < 2) out.push_back(static_cast<unsigned char>(v >> 8));
+      if (pad < 1) out.push_back(static_cast<unsigned char>(v));
+      n = 0;
+      pad = 0;
+    }
+  }
+  if (n != 0) p.fail("truncated base64 data");
+  return out;
+}
+
+template <class T>
+void convert(const unsigned char* data, std::size_t count, std::vector<double>& out) {
+  for (std::size_t i = 0; i < count; ++i) {
+    T v;
+    std::memcpy(&v, data + i * sizeof(T), sizeof(T));
+    out.push_back(static_cast<double>(v));
+  }
+}
+
+std::size_t type_size(const std::string& type) {
+  static const std::map<std::string, std::size_t> sizes = {
+      {"Int8", 1}, {"UInt8", 1}, {"Int16", 2}, {"UInt16", 2}, {"Int32", 4}, {"UInt32", 4},
+      {"Int64", 8}, {"UInt64", 8}, {"Float32", 4}, {"Float64", 8}};
+  const auto it = sizes.find(type);
+  return it == sizes.end() ? 0 : it->second;
+}
+
+struct Array {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
+// Parses the DataArray whose tag starts at `pos`.
+Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
+  std::size_t body = 0;
+  Attributes a = p.attributes(pos, body);
+  Array out;
+  out.name = a.count("Name") ? a["Name"] : "";
+  out.components = a.count("NumberOfComponents") ? std::stoi(a["NumberOfComponents"]) : 1;
+  const std::string type = a["type"];
+  const std::size_t size = type_size(type);
+  if (size == 0) p.fail("DataArray '" + out.name + "' has unsupported type '" + type + "'");
+  const std::string format = a.count("format") ? a["format"] : "ascii";
+  if (p.text[body - 2] == '/') return out;  // <DataArray ... />: empty
+  const std::size_t close = p.text.find("</DataArray>", body);
+  if (close == std::string::npos) p.fail("DataArray '" + out.name + "' is not closed");
+  if (format == "ascii") {
+    std::istringstream in(p.text.substr(body, close - body));
+    double v;
+    while (in >> v) out.values.push_back(v);
+    if (!in.eof()) p.fail("DataArray '" + out.name + "' has a non-numeric ASCII value");
+  } else if (format == "binary") {
+    const auto bytes = base64_decode(p.text, body, close, p);
+    if (bytes.size() < header_bytes) p.fail("DataArray '" + out.name + "' has no size header");
+    std::uint64_t n = 0;
+    if (header_bytes == 8) {
+      std::memcpy(&n, bytes.data(), 8);
+    } else {
+      std::uint32_t n32 = 0;
+      std::memcpy(&n32, bytes.data(), 4);
+      n = n32;
+    }
+    if (n % size != 0 || bytes.size() < header_bytes + n) {
+      p.fail("DataArray '" + out.name + "' declares " + std::to_string(n) + " bytes but holds " +
+             std::to_string(bytes.size() - header_bytes));
+    }
+    const unsigned char* d = bytes.data() + header_bytes;
+    const std::size_t count = n / size;
+    out.values.reserve(count);
+    if (type == "Int8") convert<std::int8_t>(d, count, out.values);
+    else if (type == "UInt8") convert<std::uint8_t>(d, count, out.values);
+    else if (type == "Int16") convert<std::int16_t>(d, count, out.values);
+    else if (type == "UInt16") convert<std::uint16_t>(d, count, out.values);
+    else if (type == "Int32") convert<std::int32_t>(d, count, out.values);
+    else if (type == "UInt32") convert<std::uint32_t>(d, count, out.values);
+    else if (type == "Int64") convert<std::int64_t>(d, count, out.values);
+    else if (type == "UInt64") convert<std::uint64_t>(d, count, out.values);
+    else if (type == "Float32") convert<float>(d, count, out.values);
+    else convert<double>(d, count, out.values);
+  } else {
+    p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii and inline binary are supported)");
+  }
+  if (out.components < 1 || out.values.size() % out.components != 0) {
+    p.fail("DataArray '" + out.name + "' has " + std::to_string(out.values.size()) +
+           " values, not a multiple of " + std::to_string(out.components) + " components");
+  }
+  return out;
+}
+
+}  // namespace
+UnstructuredGrid parse_vtu(const std::string& text, const std::string& name) {
+  Parser p{text, name};
+  const std::size_t file_pos = p.find_tag("VTKFile", 0, text.size());
+  if (file_pos == std::string::npos) p.fail("no <VTKFile> element (not a VTK XML file)");
+  std::size_t after = 0;
+  Attributes file = p.attributes(file_pos, after);
+  if (file["type"] != "UnstructuredGrid") p.fail("VTKFile type is '" + file["type"] + "', expected UnstructuredGrid");
+  if (file.count("compressor") && !file["compressor"].empty()) {
+    p.fail("compressed data (" + file["compressor"] + ") is not supported");
+  }
+  if (file.count("byte_order") && file["byte_order"] != "LittleEndian") p.fail("only LittleEndian files are supported");
+  std::size_t header_bytes = 4;
+  if (file.count("header_type")) {
+    if (file["header_type"] == "UInt64") header_bytes = 8;
+    else if (file["header_type"] != "UInt32") p.fail("unsupported header_type '" + file["header_type"] + "'");
+  }
+  if (text.find("<AppendedData") != std::string::npos) p.fail("format=\"appended\" data is not supported");
+  const std::size_t piece_pos = p.find_tag("Piece", after, text.size());
+  if (piece_pos == std::string::npos) p.fail("no <Piece> element");
+  if (p.find_tag("Piece", piece_pos + 1, text.size()) != std::string::npos) p.fail("more than one <Piece> is not supported");
+  Attributes piece = p.attributes(piece_pos, after);
+  long long num_points = -1, num_cells = -1;
+  try {
+    num_points = std::stoll(piece.at("NumberOfPoints"));
+    num_cells = std::stoll(piece.at("NumberOfCells"));
+  } catch (const std::exception&) {
+    p.fail("<Piece> lacks a valid NumberOfPoints or NumberOfCells");
+  }
+  if (num_points < 0 || num_cells < 0) p.fail("negative NumberOfPoints or NumberOfCells");
+
+  // The DataArrays inside <Section> ... </Section>.
+  auto section = [&](const std::string& tag) {
+    std::vector<Array> arrays;
+    const std::size_t open = p.find_tag(tag, after, text.size());
+    if (open == std::string::npos) return arrays;
+    std::size_t body = 0;
+    p.attributes(open, body);
+    if (text[body - 2] == '/') return arrays;
+    const std::size_t close = text.find("</" + tag + ">", body);
+    if (close == std::string::npos) p.fail("<" + tag + "> is not closed");
+    for (std::size_t pos = p.find_tag("DataArray", body, close); pos != std::string::npos;
+         pos = p.find_tag("DataArray", pos + 1, close)) {
+      arrays.push_back(read_array(p, pos, header_bytes));
+    }
+    return arrays;
+  };
+
+  UnstructuredGrid grid;
+  const auto points = section("Points");
+  if (points.size() != 1 || points[0].components != 3 ||
+      points[0].values.size() != 3 * static_cast<std::size_t>(num_points)) {
+    p.fail("<Points> must hold one 3-component array of NumberOfPoints = " + std::to_string(num_points) + " points");
+  }
+  for (long long i = 0; i < num_points; ++i) {
+    grid.points.emplace_back(points[0].values[3 * i], points[0].values[3 * i + 1], points[0].values[3 * i + 2]);
+  }
+  const Array* connectivity = nullptr;
+  const Array* offsets = nullptr;
+  const Array* types = nullptr;
+  const auto cells = section("Cells");
+  for (const auto& a : cells) {
+    if (a.name == "connectivity") connectivity = &a;
+    if (a.name == "offsets") offsets = &a;
+    if (a.name == "types") types = &a;
+  }
+  if (!connectivity || !offsets || !types) p.fail("<Cells> needs the arrays connectivity, offsets and types");
+  if (offsets->values.size() != static_cast<std::size_t>(num_cells) ||
+      types->values.size() != static_cast<std::size_t>(num_cells)) {
+    p.fail("offsets/types do not have NumberOfCells = " + std::to_string(num_cells) + " entries");
+  }
+  double previous = 0.0;
+  for (double o : offsets->values) {
+    if (o < previous || o > static_cast<double>(connectivity->values.size())) p.fail("offsets are not increasing within the connectivity");
+    previous = o;
+  }
+  if (num_cells > 0 && previous != static_cast<double>(connectivity->values.size())) {
+    p.fail("the last offset does not match the connectivity length");
+  }
+  for (double c : connectivity->values) {
+    if (c < 0 || c >= static_cast<double>(num_points) || c != std::floor(c)) {
+      p.fail("connectivity refers to point " + std::to_string(c) + " of " + std::to_string(num_points));
+    }
+    grid.connectivity.push_back(static_cast<std::int64_t>(c));
+  }
+  for (double o : offsets->values) grid.offsets.push_back(static_cast<std::int64_t>(o));
+  for (double t : types->values) grid.types.push_back(static_cast<std::uint8_t>(t));
+  for (auto& a : section("PointData")) {
+    if (a.values.size() != static_cast<std::size_t>(num_points) * a.components) p.fail("point field '" + a.name + "' has the wrong size");
+    grid.point_data.push_back({a.name, a.components, std::move(a.values)});
+  }
+  for (auto& a : section("CellData")) {
+    if (a.values.size() != static_cast<std::size_t>(num_cells) * a.components) p.fail("cell field '" + a.name + "' has the wrong size");
+    grid.cell_data.push_back({a.name, a.components, std::move(a.values)});
+  }
+  return grid;
+}
+
+UnstructuredGrid read_vtu(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("read_vtu(" + path.string() + "): cannot open the file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return parse_vtu(buffer.str(), path.string());
+}
+
+HexMesh to_hex_mesh(const UnstructuredGrid& grid, const std::string& name) {
+  HexMesh mesh;
+  mesh.vertices = grid.points;
+  std::int64_t begin = 0;
+  for (int c = 0; c < grid.num_cells(); ++c) {
+    const std::int64_t end = grid.offsets[c];
+    if (grid.types[c] != static_cast<std::uint8_t>(VtkCell::Hexahedron) || end - begin != 8) {
+      throw std::runtime_error("read_hex_mesh_vtu(" + name + "): cell " + std::to_string(c) + " has VTK type " +
+                               std::to_string(grid.types[c]) + " with " + std::to_string(end - begin) +
+                               " points; only hexahedra (type 12, 8 points) are supported");
+    }
+    std::array<int, 8> h{};
+    for (int a = 0; a < 8; ++a) h[a] = static_cast<int>(grid.connectivity[begin + a]);
+    mesh.hexes.push_back(h);
+    begin = end;
+  }
+  if (mesh.hexes.empty()) throw std::runtime_error("read_hex_mesh_vtu(" + name + "): the file has no cells");
+  return mesh;
+}
+
+HexMesh read_hex_mesh_vtu(const std::filesystem::path& path) { return to_hex_mesh(read_vtu(path), path.string()); }
+
+}  // namespace tetfsi::mesh::io
