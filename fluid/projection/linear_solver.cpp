@@ -1,3 +1,6 @@
+// Only the C API of MPI is used: keep Open MPI's C++ bindings (libmpi_cxx) out of the link.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
 #include "fluid/projection/linear_solver.hpp"
 
 #include <HYPRE.h>
