@@ -56,7 +56,7 @@ StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions
   rep.assemble_seconds += now() - t0;
   t0 = now();
   AdvectionReport adv;
-  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv);
+  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection);
   mesh_ = std::move(new_mesh);
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;

@@ -29,6 +29,14 @@ struct FluidFields {
   Eigen::VectorXd temperature;   ///< [K]
 };
 
+/// kSemiLagrangian: one back-trace and interpolation (first order in space, dissipative).
+/// kBfecc: back and forth error compensation and correction (Kim, Liu, Llamas, Rossignac 2005;
+///   Selle et al. 2008 for the limiter): f^ = A(f) (old -> new), f~ = A^R(f^) (new -> old, tracing
+///   forward through the same old velocity), f_new = A(f + (f - f~)/2), reverting to f^ where the
+///   result leaves [min, max] of the old nodal values around the foot. Cancels the leading
+///   smoothing error of A (node averaging + interpolation); costs about 2.5 plain advections.
+enum class AdvectionScheme { kSemiLagrangian, kBfecc };
+
 struct AdvectionReport {
   int clamped = 0;          ///< traces cut at the fluid boundary
   int outside_start = 0;    ///< new samples not inside the old fluid
@@ -38,6 +46,6 @@ struct AdvectionReport {
 /// Deterministic: samples are processed in fixed blocks, each walk starting from the previous
 /// sample's tet in the block (new-mesh order is spatially coherent) or from the grid.
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
-                   AdvectionReport* report = nullptr);
+                   AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian);
 
 }  // namespace tetfsi::fluid
