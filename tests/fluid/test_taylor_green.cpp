@@ -88,8 +88,9 @@ TEST(FluidTaylorGreen, NumericalDissipationShrinksWithRefinement) {
         const double h = std::acos(-1.0) / ns[a];
         EXPECT_LT(rate[0][j][a][b], 2.0 * 0.29 * h * h * 2.0 / dts[b]) << "jitter " << j << " n " << ns[a];
         EXPECT_LT(rate[1][j][a][b], rate[0][j][a][b]) << "jitter " << j << " n " << ns[a];
-        if (a == 0)
+        if (a == 0) {
           EXPECT_GT(rate[1][j][0][b] / rate[1][j][1][b], rate[0][j][0][b] / rate[0][j][1][b]) << "jitter " << j;
+        }
       }
 }
 
