@@ -24,7 +24,7 @@ struct FluidParams {
   bool apply_gravity = true;  ///< add g to u (smoke scenes may leave it off: it only adds hydrostatic p)
   BuoyancyParams buoyancy;
   double vorticity_epsilon = 0.0;
-  AdvectionScheme advection = AdvectionScheme::kBfecc;
+  AdvectionScheme advection = AdvectionScheme::kLinear;  ///< see semi_lagrangian.hpp and the TG test
   SolverOptions solver;
 };
 

@@ -18,9 +18,22 @@
 namespace tetfsi::fluid {
 namespace {
 
+constexpr double kA = 0.5, kL = 1.0;
+
+/// The two CI meshes (h_near/a = 0.24 and 0.16), each built at most once per process: CGAL meshing
+/// dominates the test time.
+const mesh::TetMesh& sphere_mesh(int level) {
+  if (level == 0) {
+    static const mesh::TetMesh coarse = validation::sphere_in_box(kA, kL, 0.12, 0.24);
+    return coarse;
+  }
+  static const mesh::TetMesh fine = validation::sphere_in_box(kA, kL, 0.08, 0.16);
+  return fine;
+}
+
 TEST(FluidSphere, PotentialFlowSurfacePressureCoefficient) {
-  const validation::PotentialFlowResult coarse = validation::potential_flow(0.5, 1.0, 0.14, 0.25);
-  const validation::PotentialFlowResult fine = validation::potential_flow(0.5, 1.0, 0.09, 0.2);
+  const validation::PotentialFlowResult coarse = validation::potential_flow(sphere_mesh(0), kA, kL);
+  const validation::PotentialFlowResult fine = validation::potential_flow(sphere_mesh(1), kA, kL);
   for (const auto* r : {&coarse, &fine})
     std::printf("potential flow: %d tets, h_surface %.3f: surface Cp rms error %.4f (max %.4f); Cp at tet centroids "
                 "rms error %.4f; stagnation Cp %.3f (exact 1), equator Cp %.3f (exact -1.25); max|div| h/U %.1e\n",
@@ -36,14 +49,19 @@ TEST(FluidSphere, PotentialFlowSurfacePressureCoefficient) {
 }
 
 TEST(FluidSphere, AddedMassOfAnOscillatingSphere) {
-  for (auto scheme : {AdvectionScheme::kSemiLagrangian, AdvectionScheme::kBfecc, AdvectionScheme::kLinear}) {
-  const validation::AddedMassResult r = validation::added_mass(0.5, 1.0, 0.12, 0.25, 40, scheme);
-  std::printf("added mass: %d tets: measured %.5f kg (impulsive start %.5f kg), 1/2 rho V = %.5f kg: rel. error %.4f; max|div| h/U %.1e\n",
-              r.tets, r.measured, r.impulsive, r.ideal, r.measured / r.ideal - 1.0, r.max_div_scaled);
-  // CI-sized band (the benchmark checks 5% at a finer mesh): 10%.
-  EXPECT_NEAR(r.measured / r.ideal, 1.0, 0.10);
-  EXPECT_LE(r.max_div_scaled, 1e-8);
-  }
+  const validation::AddedMassResult fine = validation::added_mass(sphere_mesh(1), kA, kL, 20);
+  for (const auto* r : {&fine})
+    std::printf("added mass: %d tets: oscillating %.2f kg, impulsive start %.2f kg, 1/2 rho V = %.2f kg: rel. error "
+                "%+.4f (impulsive %+.4f); max|div| h/U %.1e\n",
+                r->tets, r->measured, r->impulsive, r->ideal, r->measured / r->ideal - 1.0,
+                r->impulsive / r->ideal - 1.0, r->max_div_scaled);
+  // The discrete added mass converges at about O(h^2) (bench_fluid: -10.7%, -4.8%, -2.4% at
+  // h_near/a = 0.24, 0.16, 0.11); the benchmark checks 5% at 0.11. CI band at h_near/a = 0.16: 8%.
+  EXPECT_NEAR(fine.measured / fine.ideal, 1.0, 0.08);
+  // Time stepping (advection + projection every step) must not distort it: within 2% of the single
+  // impulsive projection on the same mesh.
+  EXPECT_NEAR(fine.measured / fine.impulsive, 1.0, 0.02);
+  EXPECT_LE(fine.max_div_scaled, 1e-8);
 }
 
 }  // namespace

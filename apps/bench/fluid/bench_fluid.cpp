@@ -128,9 +128,12 @@ void hydrostatic(int n) {
 
 void sphere_cases(double h_near, double h_far, int steps) {
   const double a = 0.5, L = 1.0;
+  tetfsi::bench::Stopwatch wm;
+  const mesh::TetMesh m = fluid::validation::sphere_in_box(a, L, h_near, h_far);
+  tetfsi::bench::print_row("CGAL complex mesh, sphere in box", fmt::format("{} tets", m.num_tets()), "-", wm.seconds());
   {
     tetfsi::bench::Stopwatch w;
-    const auto r = fluid::validation::potential_flow(a, L, h_near, h_far);
+    const auto r = fluid::validation::potential_flow(m, a, L);
     tetfsi::bench::print_row("potential flow past a sphere, surface Cp vs 1 - 9/4 sin^2",
                              fmt::format("{} tets, h_surface/a = {:.3f}", r.tets, r.h_surface / a),
                              fmt::format("rms {:.4f}, max {:.4f}; Cp stagnation {:.3f} (1), equator {:.3f} (-1.25)",
@@ -139,7 +142,7 @@ void sphere_cases(double h_near, double h_far, int steps) {
   }
   for (auto scheme : {fluid::AdvectionScheme::kLinear, fluid::AdvectionScheme::kBfecc}) {
     tetfsi::bench::Stopwatch w;
-    const auto r = fluid::validation::added_mass(a, L, h_near, h_far, steps, scheme);
+    const auto r = fluid::validation::added_mass(m, a, L, steps, scheme);
     tetfsi::bench::print_row(
         fmt::format("added mass, oscillating sphere, {} steps/period, {}", steps,
                     scheme == fluid::AdvectionScheme::kLinear ? "tet-linear" : "BFECC"),

@@ -44,14 +44,13 @@ struct PotentialFlowResult {
   double seconds = 0;         ///< projection only
 };
 
-/// One projection of u* = U e_x (irrotational, so the projection returns the potential flow) with the
+/// `m` = sphere_in_box(a, L, ...). One projection of u* = U e_x (irrotational, so the projection returns the potential flow) with the
 /// exact far field imposed as the normal velocity on all six box faces (BoundaryConditions::
 /// balance_inflow removes the O(h^2) quadrature imbalance): the truncated box then has the unbounded
 /// solution, no blockage correction needed. C_p = 1 - |u_t|^2 / U^2 from the tet next to each
 /// interface face; theta measured from the upstream axis.
-inline PotentialFlowResult potential_flow(double a, double L, double h_near, double h_far) {
+inline PotentialFlowResult potential_flow(const mesh::TetMesh& m, double a, double L) {
   const double U = 1.0;
-  const mesh::TetMesh m = sphere_in_box(a, L, h_near, h_far);
   FluidParams p;
   p.apply_gravity = false;
   p.solver.tolerance = 1e-12;
@@ -111,16 +110,15 @@ struct AddedMassResult {
   double seconds = 0;    ///< all steps
 };
 
-/// Sphere of radius a oscillating as x(t) = A sin(w t), A = 0.01 a, w = 2 pi, in water (rho = 1000)
+/// `m` = sphere_in_box(a, L, ...). Sphere of radius a oscillating as x(t) = A sin(w t), A = 0.01 a, w = 2 pi, in water (rho = 1000)
 /// at rest far away. The mesh stays fixed (A << h: linearised kinematics, the interface faces carry
 /// the solid velocity V(t)). The box faces carry the exact unbounded far field of the moving sphere,
 /// u = grad(-(V a^3 / 2) x / r^3) = -(V a^3 / 2)(e_x / r^3 - 3 x r / r^5) (balanced as in potential_flow), so the reference is the
 /// unbounded added mass 1/2 rho V. The projection's pressure is rho dphi/dt at mid-step, so the force
 /// of step n+1 is compared with x'' at t_n + dt/2. steps_per_period = 0: impulsive start only.
-inline AddedMassResult added_mass(double a, double L, double h_near, double h_far, int steps_per_period,
-                                  AdvectionScheme scheme = AdvectionScheme::kBfecc) {
+inline AddedMassResult added_mass(const mesh::TetMesh& m, double a, double L, int steps_per_period,
+                                  AdvectionScheme scheme = AdvectionScheme::kLinear) {
   const double rho = 1000.0, A = 0.01 * a, w = 2.0 * std::acos(-1.0), dt = 1.0 / std::max(1, steps_per_period);
-  const mesh::TetMesh m = sphere_in_box(a, L, h_near, h_far);
   double volume = 0;
   for (int t = 0; t < m.num_tets(); ++t)
     if (m.subdomain[t] == mesh::solid_subdomain(0)) volume += mesh::signed_volume(m, t);
