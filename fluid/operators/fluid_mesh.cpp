@@ -1,5 +1,7 @@
 #include "fluid/operators/fluid_mesh.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <stdexcept>
@@ -100,7 +102,8 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh) {
       std::sort(key.begin(), key.end());
       faces.push_back({key, t, k});
     }
-  std::sort(faces.begin(), faces.end(), [](const FaceRecord& a, const FaceRecord& b) {
+  // Keys are distinct (face, tet) pairs, so the order is total and the parallel sort deterministic.
+  tbb::parallel_sort(faces.begin(), faces.end(), [](const FaceRecord& a, const FaceRecord& b) {
     return a.key != b.key ? a.key < b.key : a.mesh_tet < b.mesh_tet;
   });
   fm.neighbor.assign(nf, {-1, -1, -1, -1});

@@ -1,5 +1,7 @@
 #include "fluid/projection/projection.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -52,15 +54,25 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
     for (int i = 0; i < n; ++i)
       if (unknown[i] >= 0) unknown[i] = m++;
   }
-  const Eigen::SparseMatrix<double> l = assemble_laplacian(mesh);
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(l.nonZeros());
-  for (int j = 0; j < l.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(l, j); it; ++it)
-      if (unknown[it.row()] >= 0 && unknown[it.col()] >= 0)
-        trip.emplace_back(unknown[it.row()], unknown[it.col()], it.value());
+  if (m == 0) throw std::invalid_argument("project: every fluid node is on an open boundary: nothing to solve");
+  // Reduced L (rows/columns of unknown nodes only), assembled per tet into fixed triplet slots:
+  // deterministic; equal to assemble_laplacian() restricted to the unknowns.
+  const int nt = mesh.num_tets();
+  std::vector<Eigen::Triplet<double>> trip(16 * static_cast<size_t>(nt), Eigen::Triplet<double>(0, 0, 0.0));
+  tbb::parallel_for(0, nt, [&](int t) {
+    for (int a = 0; a < 4; ++a) {
+      const int ra = unknown[mesh.tets[t][a]];
+      if (ra < 0) continue;
+      for (int b = 0; b < 4; ++b) {
+        const int cb = unknown[mesh.tets[t][b]];
+        if (cb >= 0)
+          trip[16 * static_cast<size_t>(t) + 4 * a + b] =
+              Eigen::Triplet<double>(ra, cb, mesh.volume[t] * mesh.grad[t][a].dot(mesh.grad[t][b]));
+      }
+    }
+  });
   Eigen::SparseMatrix<double> a(m, m);
-  a.setFromTriplets(trip.begin(), trip.end());
+  a.setFromTriplets(trip.begin(), trip.end());  // unused slots add 0 to (0, 0), which is on the diagonal
   Eigen::VectorXd b(m);
   for (int i = 0; i < n; ++i)
     if (unknown[i] >= 0) b[unknown[i]] = rhs[i];

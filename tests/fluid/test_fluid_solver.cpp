@@ -103,8 +103,12 @@ TEST(FluidSolver, InflowEmitterCarriesSmokeToTheOpenBoundary) {
   for (int t = 0; t < s.mesh().num_tets(); ++t) {
     const double x = s.mesh().centroid(t).x();
     ASSERT_LE((s.fields().velocity[t] - Eigen::Vector3d(1, 0, 0)).norm(), 1e-6);
-    if (x < 0.35) EXPECT_GT(s.fields().smoke[t], 0.9) << "x = " << x;
-    if (x > 0.65) EXPECT_LT(s.fields().smoke[t], 0.1) << "x = " << x;
+    if (x < 0.35) {
+      EXPECT_GT(s.fields().smoke[t], 0.9) << "x = " << x;
+    }
+    if (x > 0.65) {
+      EXPECT_LT(s.fields().smoke[t], 0.1) << "x = " << x;
+    }
   }
 }
 

@@ -28,6 +28,10 @@ mesh::TetMesh jittered(const mesh::TetMesh& base, const Eigen::Vector3d& lo, con
   return m;
 }
 
+const char* scheme_name(fluid::AdvectionScheme s) {
+  return s == fluid::AdvectionScheme::kBfecc ? "BFECC" : s == fluid::AdvectionScheme::kLinear ? "tet-linear" : "semi-Lagrangian";
+}
+
 /// Closed unit box with n^3 cells, a swirl, re-jittered every step: per-phase times.
 void scaling(int n, fluid::SolverBackend backend, fluid::AdvectionScheme scheme, int steps) {
   const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1);
@@ -59,8 +63,7 @@ void scaling(int n, fluid::SolverBackend backend, fluid::AdvectionScheme scheme,
     iters += r.iterations;
     div = std::max(div, r.max_divergence * h);
   }
-  const std::string name = fmt::format("step, jittered box, {}, {}", fluid::to_string(backend),
-                                       scheme == fluid::AdvectionScheme::kBfecc ? "BFECC" : "semi-Lagrangian");
+  const std::string name = fmt::format("step, jittered box, {}, {}", fluid::to_string(backend), scheme_name(scheme));
   tetfsi::bench::print_row(
       name, fmt::format("{} tets, {} nodes", s.mesh().num_tets(), s.mesh().num_nodes()),
       fmt::format("per step: advect {:.3f} s, assemble {:.3f} s, solve {:.3f} s ({} it); max|div| h/U {:.1e}",
@@ -90,7 +93,7 @@ void taylor_green(int n, double dt, fluid::AdvectionScheme scheme) {
   const int steps = static_cast<int>(std::lround(1.0 / dt));
   for (int k = 0; k < steps; ++k) e = s.step(jittered(base, lo, hi, h, rng), {}, dt).kinetic_energy;
   tetfsi::bench::print_row(
-      fmt::format("Taylor-Green, jittered every step, {}", scheme == fluid::AdvectionScheme::kBfecc ? "BFECC" : "semi-Lagrangian"),
+      fmt::format("Taylor-Green, jittered every step, {}", scheme_name(scheme)),
       fmt::format("{} tets, h = pi/{}, dt = {}", s.mesh().num_tets(), n, dt),
       fmt::format("KE loss rate {:.4f} /s (exact 0)", (e0 - e) / e0), w.seconds());
 }
@@ -144,8 +147,7 @@ void sphere_cases(double h_near, double h_far, int steps) {
     tetfsi::bench::Stopwatch w;
     const auto r = fluid::validation::added_mass(m, a, L, steps, scheme);
     tetfsi::bench::print_row(
-        fmt::format("added mass, oscillating sphere, {} steps/period, {}", steps,
-                    scheme == fluid::AdvectionScheme::kLinear ? "tet-linear" : "BFECC"),
+        fmt::format("added mass, oscillating sphere, {} steps/period, {}", steps, scheme_name(scheme)),
         fmt::format("{} tets, h_near/a = {:.2f}", r.tets, h_near / a),
         fmt::format("m/(rho V/2) - 1 = {:+.4f} (impulsive start {:+.4f})", r.measured / r.ideal - 1.0,
                     r.impulsive / r.ideal - 1.0),
@@ -166,11 +168,13 @@ int main(int argc, char** argv) {
   if (sphere_only) return 0;
   for (int n : {16, 26, 41}) {
     if (6L * n * n * n > max_tets) continue;
+    scaling(n, fluid::SolverBackend::kHypreAmgCg, fluid::AdvectionScheme::kLinear, 3);
+    scaling(n, fluid::SolverBackend::kEigenIcCg, fluid::AdvectionScheme::kLinear, 3);
     scaling(n, fluid::SolverBackend::kHypreAmgCg, fluid::AdvectionScheme::kBfecc, 3);
-    scaling(n, fluid::SolverBackend::kEigenIcCg, fluid::AdvectionScheme::kSemiLagrangian, 3);
   }
   for (int n : {16, 32, 64})
-    for (auto scheme : {fluid::AdvectionScheme::kSemiLagrangian, fluid::AdvectionScheme::kBfecc})
+    for (auto scheme : {fluid::AdvectionScheme::kSemiLagrangian, fluid::AdvectionScheme::kBfecc,
+                        fluid::AdvectionScheme::kLinear})
       taylor_green(n, 0.05, scheme);
   hydrostatic(std::min(20, static_cast<int>(std::cbrt(max_tets / 6.0))));
   return 0;
