@@ -5,9 +5,11 @@
 /// Samples: every quantity (velocity, smoke density, temperature) is stored per tet and sampled at
 /// the new tet centroids, so ONE back-trace per new tet serves all three.
 /// Reconstruction on the old mesh: tet values are averaged to nodes with volume weights and
-/// interpolated linearly (barycentric) inside tets. This averaging is a low-pass filter: it is the
-/// main source of numerical dissipation (about O(h^2) per step of kinetic energy for smooth flow;
-/// test_fluid_taylor_green reports the measured loss rate).
+/// interpolated linearly (barycentric) inside tets; the back-trace always uses this continuous
+/// velocity. Read at the foot as is (kSemiLagrangian) this averaging is a low-pass filter applied
+/// EVERY step, about 0.29 h^2 u'' per step, so the kinetic-energy loss per second grows as dt shrinks.
+/// Measured on inviscid Taylor-Green cells (test_fluid_taylor_green, h = pi/16, dt = 0.05 s, loss of
+/// energy per second): semi-Lagrangian 36%, BFECC 7%, tet-linear (default) below 1%.
 /// Back-trace: explicit midpoint rule (RK2), x_mid = x - dt/2 u(x), x_back = x - dt u(x_mid),
 /// second order in time. Clamping: when x_mid or x_back lies outside the old fluid (outside the box,
 /// inside a solid) the trace is cut back by bisection along the segment from x to the last point
