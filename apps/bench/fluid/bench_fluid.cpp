@@ -1,6 +1,6 @@
 // bench_fluid: seconds per phase of a fluid step (advect, assemble, solve) at ~25k, 100k and 400k
 // tets, and the validation errors of tests/fluid at finer resolutions.
-//   bench_fluid [--max-tets N]     (default 450000)
+//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only]   (max tets default 450000)
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -158,13 +158,15 @@ void sphere_cases(double h_near, double h_far, int steps) {
 
 int main(int argc, char** argv) {
   long max_tets = 450000;
-  bool sphere_only = false;
+  bool sphere_only = false, scaling_only = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--max-tets") == 0 && i + 1 < argc) max_tets = std::atol(argv[i + 1]);
     if (std::strcmp(argv[i], "--sphere-only") == 0) sphere_only = true;
+    if (std::strcmp(argv[i], "--scaling-only") == 0) scaling_only = true;
   }
   tetfsi::bench::print_header();
-  for (double hn : {0.12, 0.08, 0.055}) sphere_cases(hn, 2.0 * hn, sphere_only ? 0 : 40);
+  if (!scaling_only)
+    for (double hn : {0.12, 0.08, 0.055}) sphere_cases(hn, 2.0 * hn, sphere_only ? 0 : 40);
   if (sphere_only) return 0;
   for (int n : {16, 26, 41}) {
     if (6L * n * n * n > max_tets) continue;
@@ -172,6 +174,7 @@ int main(int argc, char** argv) {
     scaling(n, fluid::SolverBackend::kEigenIcCg, fluid::AdvectionScheme::kLinear, 3);
     scaling(n, fluid::SolverBackend::kHypreAmgCg, fluid::AdvectionScheme::kBfecc, 3);
   }
+  if (scaling_only) return 0;
   for (int n : {16, 32, 64})
     for (auto scheme : {fluid::AdvectionScheme::kSemiLagrangian, fluid::AdvectionScheme::kBfecc,
                         fluid::AdvectionScheme::kLinear})
