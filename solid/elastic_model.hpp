@@ -10,6 +10,7 @@
 /// Degrees of freedom are ordered node by node: [x0 y0 z0 x1 y1 z1 ...].
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <string>
 #include <vector>
 
 namespace tetfsi::solid {
@@ -39,6 +40,14 @@ class ElasticModel {
 
   /// Elastic (strain) energy at d [J].
   virtual double strain_energy(const Eigen::VectorXd& d) const = 0;
+
+  /// Why the last evaluate() returned false (names the element and the cause); empty if it
+  /// succeeded. Optional for implementations.
+  virtual std::string last_error() const { return {}; }
+
+  /// Number of inverted elements (det F <= 0) seen by the last evaluate() that the model
+  /// handled (inversion-robust laws); 0 for models that never report it.
+  virtual int last_inverted_count() const { return 0; }
 };
 
 }  // namespace tetfsi::solid

@@ -1,0 +1,82 @@
+#include "solid/contact/static_obstacles.hpp"
+
+#include <limits>
+
+#include "solid/solid_error.hpp"
+
+namespace tetfsi::solid {
+
+void StaticObstacles::add_plane(const PlaneObstacle& plane) {
+  const double n = plane.normal.norm();
+  if (!(n > 0) || !plane.point.allFinite()) throw SolidError("plane obstacle: normal must be non-zero and finite");
+  planes_.push_back({plane.point, plane.normal / n});
+}
+
+void StaticObstacles::add_box(const BoxObstacle& box) {
+  if (!((box.hi - box.lo).minCoeff() > 0)) throw SolidError("box obstacle: need hi > lo on every axis");
+  boxes_.push_back(box);
+}
+
+void StaticObstacles::set_friction(double mu) {
+  if (!(mu >= 0)) throw SolidError("contact friction coefficient must be >= 0");
+  friction_ = mu;
+}
+
+double StaticObstacles::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d& normal) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& p : planes_) {
+    const double phi = (x - p.point).dot(p.normal);
+    if (phi < best) {
+      best = phi;
+      normal = p.normal;
+    }
+  }
+  for (const auto& b : boxes_) {
+    // Inside: distance to the nearest face (negative); outside: Euclidean distance.
+    const Eigen::Vector3d c = 0.5 * (b.lo + b.hi), half = 0.5 * (b.hi - b.lo);
+    const Eigen::Vector3d q = (x - c).cwiseAbs() - half;
+    double phi;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    if (q.maxCoeff() < 0) {
+      int axis;
+      phi = q.maxCoeff(&axis);
+      n[axis] = x[axis] >= c[axis] ? 1.0 : -1.0;
+    } else {
+      const Eigen::Vector3d outside = q.cwiseMax(0.0);
+      phi = outside.norm();
+      for (int k = 0; k < 3; ++k) n[k] = (x[k] >= c[k] ? 1.0 : -1.0) * outside[k];
+      n /= phi > 0 ? phi : 1.0;
+    }
+    if (phi < best) {
+      best = phi;
+      normal = n;
+    }
+  }
+  return best;
+}
+
+int StaticObstacles::project(const Eigen::VectorXd& X, Eigen::VectorXd& d, Eigen::VectorXd& u,
+                             const std::vector<char>& fixed) const {
+  if (empty()) return 0;
+  int contacts = 0;
+  const int n = static_cast<int>(X.size() / 3);
+  for (int v = 0; v < n; ++v) {
+    if (!fixed.empty() && (fixed[3 * v] || fixed[3 * v + 1] || fixed[3 * v + 2])) continue;
+    Eigen::Vector3d normal;
+    const double phi = signed_distance(X.segment<3>(3 * v) + d.segment<3>(3 * v), normal);
+    if (!(phi < 0)) continue;
+    ++contacts;
+    d.segment<3>(3 * v) -= phi * normal;
+    Eigen::Vector3d vel = u.segment<3>(3 * v);
+    const double vn = vel.dot(normal);
+    if (vn < 0) {
+      vel -= vn * normal;
+      const double vt = vel.norm();
+      if (friction_ > 0 && vt > 0) vel *= std::max(0.0, 1.0 - friction_ * (-vn) / vt);
+      u.segment<3>(3 * v) = vel;
+    }
+  }
+  return contacts;
+}
+
+}  // namespace tetfsi::solid

@@ -1,0 +1,59 @@
+#pragma once
+/// @file static_obstacles.hpp
+/// Contact of solid nodes with static obstacles: half-spaces (floor planes) and axis-aligned
+/// boxes.
+///
+/// Method: a post-step projection (in the spirit of Bridson, Fedkiw & Anderson 2002, applied
+/// to static obstacles). After the update of eq. (5), every node x = X + d inside an obstacle
+/// (signed distance phi < 0, outward normal n) is moved to the surface, d += -phi n, and if it
+/// approaches (v_n = u.n < 0) its normal velocity is removed (perfectly inelastic contact).
+/// Coulomb friction with coefficient mu then reduces the tangential velocity u_t by the
+/// impulse the normal correction provides: u_t <- max(0, 1 - mu |v_n| / |u_t|) u_t.
+/// The projection only removes kinetic energy and moves nodes by at most their penetration,
+/// so it is stable for any time step (it does not enter the linear system, which keeps the
+/// coupled system of eq. (4) unchanged). Limitation: nodes only; an obstacle edge can still
+/// cut through a large solid face between nodes.
+#include <Eigen/Core>
+#include <vector>
+
+namespace tetfsi::solid {
+
+/// Solid lives on the side the normal points to: phi(x) = (x - point).n.
+struct PlaneObstacle {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< normalized on construction of StaticObstacles
+};
+
+/// Solid stays outside the box [lo, hi].
+struct BoxObstacle {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hi = Eigen::Vector3d::Ones();
+};
+
+class StaticObstacles {
+ public:
+  /// @throws SolidError on a zero normal, a box with hi <= lo, or a negative friction
+  void add_plane(const PlaneObstacle& plane);
+  void add_box(const BoxObstacle& box);
+  void set_friction(double mu);
+  double friction() const { return friction_; }
+  bool empty() const { return planes_.empty() && boxes_.empty(); }
+
+  /// Signed distance to the nearest obstacle surface (negative inside) and its outward normal.
+  double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d& normal) const;
+
+  /// Projects nodes out of the obstacles and corrects their velocities (see file comment).
+  /// @param X      reference positions, 3n [m]
+  /// @param d, u   displacement [m] and velocity [m/s], 3n, modified in place
+  /// @param fixed  per-DOF Dirichlet flags (nodes with any fixed DOF are left alone), or empty
+  /// @return number of nodes in contact
+  int project(const Eigen::VectorXd& X, Eigen::VectorXd& d, Eigen::VectorXd& u,
+              const std::vector<char>& fixed) const;
+
+ private:
+  std::vector<PlaneObstacle> planes_;
+  std::vector<BoxObstacle> boxes_;
+  double friction_ = 0;
+};
+
+}  // namespace tetfsi::solid

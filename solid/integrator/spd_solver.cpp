@@ -1,0 +1,68 @@
+#include "solid/integrator/spd_solver.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+#include <chrono>
+
+#include "solid/solid_error.hpp"
+
+namespace tetfsi::solid {
+
+SolverKind parse_solver_kind(const std::string& name) {
+  if (name == "cholmod") return SolverKind::kCholmod;
+  if (name == "cg") return SolverKind::kConjugateGradient;
+  throw SolidError("unknown solid solver '" + name + "' (expected \"cholmod\" or \"cg\")");
+}
+
+struct SpdSolver::Impl {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double>>
+      cg;
+  Eigen::Index analyzed_rows = -1, analyzed_nnz = -1;
+};
+
+SpdSolver::SpdSolver(SolverKind kind, double cg_tolerance, int cg_max_iterations)
+    : kind_(kind), cg_tolerance_(cg_tolerance), cg_max_iterations_(cg_max_iterations), impl_(std::make_unique<Impl>()) {}
+SpdSolver::~SpdSolver() = default;
+SpdSolver::SpdSolver(SpdSolver&&) noexcept = default;
+SpdSolver& SpdSolver::operator=(SpdSolver&&) noexcept = default;
+
+void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                      const std::string& context) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string where = context.empty() ? std::string() : context + ": ";
+  if (A.rows() != A.cols() || A.rows() != b.size()) throw SolidError(where + "solid system has inconsistent sizes");
+  // The pattern is fixed for a given model, so the symbolic analysis (ordering) is redone only
+  // when the size or the number of stored entries changes.
+  const bool reanalyze = A.rows() != impl_->analyzed_rows || A.nonZeros() != impl_->analyzed_nnz;
+  if (kind_ == SolverKind::kCholmod) {
+    if (reanalyze) impl_->cholmod.analyzePattern(A);
+    impl_->cholmod.factorize(A);
+    if (impl_->cholmod.info() != Eigen::Success)
+      throw SolidError(where + "CHOLMOD factorization failed: the solid system matrix M/h + C + (h/2) K' is "
+                               "not positive definite (strongly compressed elements with an indefinite K'?)");
+    x = impl_->cholmod.solve(b);
+    stats_.iterations = 1;
+    stats_.residual = 0;
+  } else {
+    impl_->cg.setTolerance(cg_tolerance_);
+    impl_->cg.setMaxIterations(cg_max_iterations_);
+    if (reanalyze) impl_->cg.analyzePattern(A);
+    impl_->cg.factorize(A);
+    if (impl_->cg.info() != Eigen::Success) throw SolidError(where + "incomplete Cholesky preconditioner failed");
+    if (x.size() != b.size()) x.setZero(b.size());
+    x = impl_->cg.solveWithGuess(b, x);
+    stats_.iterations = static_cast<int>(impl_->cg.iterations());
+    stats_.residual = impl_->cg.error();
+    if (impl_->cg.info() != Eigen::Success)
+      throw SolidError(where + "conjugate gradient did not converge in " + std::to_string(cg_max_iterations_) +
+                       " iterations (relative residual " + std::to_string(stats_.residual) + ")");
+  }
+  impl_->analyzed_rows = A.rows();
+  impl_->analyzed_nnz = A.nonZeros();
+  if (!x.allFinite()) throw SolidError(where + "the linear solve produced non-finite velocities");
+  stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace tetfsi::solid

@@ -1,0 +1,164 @@
+#include "solid/integrator/trapezoidal.hpp"
+
+#include <chrono>
+
+#include "solid/solid_error.hpp"
+
+namespace tetfsi::solid {
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+TrapezoidalIntegrator::TrapezoidalIntegrator(const ElasticModel& model, const TrapezoidalSettings& settings)
+    : model_(model), settings_(settings), solver_(settings.solver, settings.cg_tolerance) {
+  if (!(settings_.time_step > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
+  if (!(settings_.rayleigh_alpha >= 0) || !(settings_.rayleigh_beta >= 0))
+    throw SolidError("solid integrator: Rayleigh alpha and beta must be >= 0");
+  if (!settings_.gravity.allFinite()) throw SolidError("solid integrator: gravity must be finite");
+  const int n = 3 * model_.num_nodes();
+  d_.setZero(n);
+  u_.setZero(n);
+  f_ext_.setZero(n);
+  prescribed_.setZero(n);
+  fixed_.assign(n, 0);
+  u_next_.setZero(n);
+}
+
+void TrapezoidalIntegrator::fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity) {
+  for (int v : nodes) {
+    if (v < 0 || v >= model_.num_nodes()) throw SolidError("fix_nodes: node " + std::to_string(v) + " out of range");
+    for (int a = 0; a < 3; ++a) {
+      fixed_[3 * v + a] = 1;
+      prescribed_[3 * v + a] = velocity[a];
+      u_[3 * v + a] = velocity[a];
+    }
+  }
+}
+
+std::vector<int> TrapezoidalIntegrator::nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+  std::vector<int> nodes;
+  const auto& X = model_.reference_positions();
+  for (int v = 0; v < model_.num_nodes(); ++v) {
+    const Eigen::Vector3d x = X.segment<3>(3 * v);
+    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) nodes.push_back(v);
+  }
+  return nodes;
+}
+
+void TrapezoidalIntegrator::set_displacement(const Eigen::VectorXd& d) {
+  if (d.size() != d_.size() || !d.allFinite()) throw SolidError("set_displacement: wrong size or non-finite");
+  d_ = d;
+}
+
+void TrapezoidalIntegrator::set_velocity(const Eigen::VectorXd& u) {
+  if (u.size() != u_.size() || !u.allFinite()) throw SolidError("set_velocity: wrong size or non-finite");
+  for (Eigen::Index i = 0; i < u.size(); ++i) u_[i] = fixed_[i] ? prescribed_[i] : u[i];
+}
+
+void TrapezoidalIntegrator::set_uniform_velocity(const Eigen::Vector3d& v) {
+  set_velocity(v.replicate(model_.num_nodes(), 1));
+}
+
+void TrapezoidalIntegrator::set_external_forces(const Eigen::VectorXd& f) {
+  if (f.size() != f_ext_.size() || !f.allFinite()) throw SolidError("set_external_forces: wrong size or non-finite");
+  f_ext_ = f;
+}
+
+void TrapezoidalIntegrator::add_spring(const LinearSpring& s) {
+  if (s.node < 0 || s.node >= model_.num_nodes() || !(s.stiffness >= 0) || !s.anchor.allFinite())
+    throw SolidError("add_spring: bad node index, anchor or stiffness");
+  springs_.push_back(s);
+}
+
+void TrapezoidalIntegrator::form_system(SparseMatrix& A, Eigen::VectorXd& b) {
+  const double h = settings_.time_step;
+  const int next = step_ + 1;
+  if (!model_.evaluate(d_, K_force_, &K_tangent_))
+    throw SolidError("solid step " + std::to_string(next) + " (t = " + std::to_string(time_) +
+                     " s): " + model_.last_error());
+  const auto& X = model_.reference_positions();
+  for (const auto& s : springs_) {
+    const Eigen::Vector3d x = X.segment<3>(3 * s.node) + d_.segment<3>(3 * s.node);
+    K_force_.segment<3>(3 * s.node) += s.stiffness * (x - s.anchor);
+    for (int a = 0; a < 3; ++a) K_tangent_.coeffRef(3 * s.node + a, 3 * s.node + a) += s.stiffness;
+  }
+  const auto& m = model_.lumped_masses();
+  // A = (1/h + alpha) M + (beta + h/2) K'
+  A = K_tangent_ * (settings_.rayleigh_beta + 0.5 * h);
+  const double mass_coef = 1.0 / h + settings_.rayleigh_alpha;
+  for (int v = 0; v < model_.num_nodes(); ++v)
+    for (int a = 0; a < 3; ++a) A.coeffRef(3 * v + a, 3 * v + a) += mass_coef * m[v];
+  // b = (M/h) u - (h/2) K' u - K(d) + M g + f_ext
+  b = -0.5 * h * (K_tangent_ * u_) - K_force_ + f_ext_;
+  for (int v = 0; v < model_.num_nodes(); ++v)
+    b.segment<3>(3 * v) += m[v] * (u_.segment<3>(3 * v) / h + settings_.gravity);
+  // Symmetric elimination of Dirichlet DOFs.
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
+      const int row = static_cast<int>(it.row());
+      if (!fixed_[col] && !fixed_[row]) continue;
+      if (row == col) {
+        b[row] = it.value() * prescribed_[row];
+      } else {
+        if (fixed_[col] && !fixed_[row]) b[row] -= it.value() * prescribed_[col];
+        it.valueRef() = 0.0;
+      }
+    }
+  stats_.inverted = model_.last_inverted_count();
+}
+
+void TrapezoidalIntegrator::advance(const Eigen::VectorXd& u_next) {
+  const double h = settings_.time_step;
+  const int next = step_ + 1;
+  if (u_next.size() != u_.size()) throw SolidError("advance: velocity has the wrong size");
+  for (Eigen::Index i = 0; i < u_next.size(); ++i)
+    if (!std::isfinite(u_next[i]))
+      throw SolidError("solid step " + std::to_string(next) + ": non-finite velocity at node " +
+                       std::to_string(i / 3) + " (diverged)");
+  d_ += 0.5 * h * (u_ + u_next);  // eq. (5)
+  u_ = u_next;
+  for (Eigen::Index i = 0; i < u_.size(); ++i)
+    if (fixed_[i]) u_[i] = prescribed_[i];
+  stats_.contacts = obstacles_.project(model_.reference_positions(), d_, u_, fixed_);
+  ++step_;
+  time_ += h;
+}
+
+const StepStats& TrapezoidalIntegrator::step() {
+  auto t0 = std::chrono::steady_clock::now();
+  form_system(A_, b_);
+  const double assembly = seconds_since(t0);
+  u_next_ = u_;
+  solver_.solve(A_, b_, u_next_, "solid step " + std::to_string(step_ + 1));
+  advance(u_next_);
+  const int inverted = stats_.inverted, contacts = stats_.contacts;
+  if (settings_.track_energy) stats_ = energies();
+  stats_.step = step_;
+  stats_.time = time_;
+  stats_.assembly_seconds = assembly;
+  stats_.solve_seconds = solver_.last_stats().seconds;
+  stats_.solver_iterations = solver_.last_stats().iterations;
+  stats_.inverted = inverted;
+  stats_.contacts = contacts;
+  return stats_;
+}
+
+StepStats TrapezoidalIntegrator::energies() const {
+  StepStats s;
+  const auto& m = model_.lumped_masses();
+  const auto& X = model_.reference_positions();
+  for (int v = 0; v < model_.num_nodes(); ++v) {
+    s.kinetic += 0.5 * m[v] * u_.segment<3>(3 * v).squaredNorm();
+    s.gravity_potential -= m[v] * settings_.gravity.dot(X.segment<3>(3 * v) + d_.segment<3>(3 * v));
+  }
+  for (const auto& sp : springs_)
+    s.spring += 0.5 * sp.stiffness * (X.segment<3>(3 * sp.node) + d_.segment<3>(3 * sp.node) - sp.anchor).squaredNorm();
+  s.strain = model_.strain_energy(d_);
+  s.step = step_;
+  s.time = time_;
+  return s;
+}
+
+}  // namespace tetfsi::solid
