@@ -1,0 +1,143 @@
+// bench_fluid: seconds per phase of a fluid step (advect, assemble, solve) at ~25k, 100k and 400k
+// tets, and the validation errors of tests/fluid at finer resolutions.
+//   bench_fluid [--max-tets N]     (default 450000)
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+
+#include "apps/bench/bench_support.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "mesh/structured_box.hpp"
+
+namespace {
+
+using namespace tetfsi;
+
+mesh::TetMesh jittered(const mesh::TetMesh& base, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double h,
+                       std::mt19937& rng) {
+  mesh::TetMesh m = base;
+  std::uniform_real_distribution<double> d(-0.1 * h, 0.1 * h);
+  for (auto& x : m.vertices) {
+    const bool boundary = ((x - lo).array().abs() < 1e-9).any() || ((x - hi).array().abs() < 1e-9).any();
+    const Eigen::Vector3d off(d(rng), d(rng), d(rng));
+    if (!boundary) x += off;
+  }
+  return m;
+}
+
+/// Closed unit box with n^3 cells, a swirl, re-jittered every step: per-phase times.
+void scaling(int n, fluid::SolverBackend backend, fluid::AdvectionScheme scheme, int steps) {
+  const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1);
+  const double h = 1.0 / n, pi = std::acos(-1.0);
+  const mesh::TetMesh base = mesh::structured_box(lo, hi, n, n, n);
+  std::mt19937 rng(1);
+  fluid::FluidParams p;
+  p.solver.backend = backend;
+  p.advection = scheme;
+  p.solver.tolerance = 1e-8;
+  fluid::FluidSolver s(p);
+  s.initialize(jittered(base, lo, hi, h, rng));
+  for (int t = 0; t < s.mesh().num_tets(); ++t) {
+    const Eigen::Vector3d c = s.mesh().centroid(t);
+    s.fields().velocity[t] = Eigen::Vector3d(std::sin(pi * c.x()) * std::cos(pi * c.y()),
+                                             -std::cos(pi * c.x()) * std::sin(pi * c.y()), 0.3 * std::sin(pi * c.z()));
+  }
+  s.project_only({}, 0.01);
+  double adv = 0, asmb = 0, sol = 0, total = 0, div = 0;
+  int iters = 0;
+  for (int k = 0; k < steps; ++k) {
+    const mesh::TetMesh m = jittered(base, lo, hi, h, rng);
+    tetfsi::bench::Stopwatch w;
+    const fluid::StepReport r = s.step(m, {}, 0.5 * h);
+    total += w.seconds();
+    adv += r.advect_seconds;
+    asmb += r.assemble_seconds;
+    sol += r.solve_seconds;
+    iters += r.iterations;
+    div = std::max(div, r.max_divergence * h);
+  }
+  const std::string name = fmt::format("step, jittered box, {}, {}", fluid::to_string(backend),
+                                       scheme == fluid::AdvectionScheme::kBfecc ? "BFECC" : "semi-Lagrangian");
+  tetfsi::bench::print_row(
+      name, fmt::format("{} tets, {} nodes", s.mesh().num_tets(), s.mesh().num_nodes()),
+      fmt::format("per step: advect {:.3f} s, assemble {:.3f} s, solve {:.3f} s ({} it); max|div| h/U {:.1e}",
+                  adv / steps, asmb / steps, sol / steps, iters / steps, div),
+      total / steps);
+}
+
+/// Taylor-Green cells (tests/fluid/test_taylor_green.cpp) at finer meshes: KE loss rate over 1 s.
+void taylor_green(int n, double dt, fluid::AdvectionScheme scheme) {
+  const double pi = std::acos(-1.0), h = pi / n;
+  const Eigen::Vector3d lo(0, 0, 0), hi(pi, pi, 2 * h);
+  const mesh::TetMesh base = mesh::structured_box(lo, hi, n, n, 2);
+  std::mt19937 rng(9);
+  fluid::FluidParams p;
+  p.apply_gravity = false;
+  p.advection = scheme;
+  p.solver.tolerance = 1e-10;
+  fluid::FluidSolver s(p);
+  tetfsi::bench::Stopwatch w;
+  s.initialize(jittered(base, lo, hi, h, rng));
+  for (int t = 0; t < s.mesh().num_tets(); ++t) {
+    const Eigen::Vector3d c = s.mesh().centroid(t);
+    s.fields().velocity[t] = Eigen::Vector3d(std::sin(c.x()) * std::cos(c.y()), -std::cos(c.x()) * std::sin(c.y()), 0);
+  }
+  const double e0 = s.project_only({}, dt).kinetic_energy;
+  double e = e0;
+  const int steps = static_cast<int>(std::lround(1.0 / dt));
+  for (int k = 0; k < steps; ++k) e = s.step(jittered(base, lo, hi, h, rng), {}, dt).kinetic_energy;
+  tetfsi::bench::print_row(
+      fmt::format("Taylor-Green, jittered every step, {}", scheme == fluid::AdvectionScheme::kBfecc ? "BFECC" : "semi-Lagrangian"),
+      fmt::format("{} tets, h = pi/{}, dt = {}", s.mesh().num_tets(), n, dt),
+      fmt::format("KE loss rate {:.4f} /s (exact 0)", (e0 - e) / e0), w.seconds());
+}
+
+/// Still water, 20 jittered steps: max |u| / sqrt(gH) and pressure error vs rho g depth.
+void hydrostatic(int n) {
+  const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1);
+  const double h = 1.0 / n, g = 9.81, rho = 1000.0;
+  const mesh::TetMesh base = mesh::structured_box(lo, hi, n, n, n);
+  std::mt19937 rng(3);
+  fluid::FluidParams p;
+  p.density = rho;
+  p.solver.tolerance = 1e-12;
+  fluid::FluidSolver s(p);
+  tetfsi::bench::Stopwatch w;
+  s.initialize(jittered(base, lo, hi, h, rng));
+  double umax = 0, perr = 0;
+  for (int k = 0; k < 20; ++k) {
+    s.step(jittered(base, lo, hi, h, rng), {}, 0.01);
+    for (const auto& u : s.fields().velocity) umax = std::max(umax, u.norm());
+    double top = 0;
+    int ntop = 0;
+    for (int i = 0; i < s.mesh().num_nodes(); ++i)
+      if (std::abs(s.mesh().nodes[i].z() - 1.0) < 1e-12) top += s.pressure()[i], ++ntop;
+    top /= ntop;
+    for (int i = 0; i < s.mesh().num_nodes(); ++i)
+      perr = std::max(perr, std::abs(s.pressure()[i] - top - rho * g * (1.0 - s.mesh().nodes[i].z())) / (rho * g));
+  }
+  tetfsi::bench::print_row("hydrostatic, 20 jittered steps", fmt::format("{} tets", s.mesh().num_tets()),
+                           fmt::format("max|u|/sqrt(gH) {:.1e}, max|p - rho g d|/(rho g H) {:.1e}", umax / std::sqrt(g), perr),
+                           w.seconds());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  long max_tets = 450000;
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], "--max-tets") == 0) max_tets = std::atol(argv[i + 1]);
+  tetfsi::bench::print_header();
+  for (int n : {16, 26, 41}) {
+    if (6L * n * n * n > max_tets) continue;
+    scaling(n, fluid::SolverBackend::kHypreAmgCg, fluid::AdvectionScheme::kBfecc, 3);
+    scaling(n, fluid::SolverBackend::kEigenIcCg, fluid::AdvectionScheme::kSemiLagrangian, 3);
+  }
+  for (int n : {16, 32, 64})
+    for (auto scheme : {fluid::AdvectionScheme::kSemiLagrangian, fluid::AdvectionScheme::kBfecc})
+      taylor_green(n, 0.05, scheme);
+  hydrostatic(std::min(20, static_cast<int>(std::cbrt(max_tets / 6.0))));
+  return 0;
+}

@@ -1,0 +1,48 @@
+#pragma once
+/// @file point_locator.hpp
+/// Point location in a FluidMesh: a walk through tet adjacency from a hint tet, towards the face
+/// with the most negative barycentric coordinate (visibility walk), and, when the walk hits the
+/// fluid boundary (non-convex domains: holes, solids) or exceeds its step budget, a uniform grid
+/// whose cells list every tet whose bounding box overlaps them. The grid is complete (a tet that
+/// contains x overlaps x's cell), so "not found" means x is outside the fluid.
+#include <Eigen/Core>
+#include <vector>
+
+#include "fluid/operators/fluid_mesh.hpp"
+
+namespace tetfsi::fluid {
+
+/// A located point: its tet and barycentric coordinates (clamped to >= 0 if outside).
+struct Location {
+  int tet = -1;
+  Eigen::Vector4d bary = Eigen::Vector4d::Constant(0.25);
+  bool inside = false;  ///< false: x is outside the fluid; tet is the boundary tet nearest the walk's end
+};
+
+class PointLocator {
+ public:
+  /// Builds the grid (about one cell per two tets over the bounding box). The mesh must outlive this.
+  explicit PointLocator(const FluidMesh& mesh);
+
+  /// Locates x, walking from `hint` (a fluid tet, or -1 to start from the grid).
+  Location locate(const Eigen::Vector3d& x, int hint) const;
+
+  /// Barycentric coordinates of x with respect to tet t (may be negative outside t).
+  Eigen::Vector4d barycentric(int t, const Eigen::Vector3d& x) const;
+
+  /// The mesh this locator searches.
+  const FluidMesh& mesh() const { return mesh_; }
+
+ private:
+  int grid_find(const Eigen::Vector3d& x) const;   ///< containing tet or -1
+  int grid_nearest_tet(const Eigen::Vector3d& x) const;  ///< some tet from the nearest non-empty cell
+  Eigen::Vector3i cell_of(const Eigen::Vector3d& x) const;
+
+  const FluidMesh& mesh_;
+  Eigen::Vector3d lo_, cell_size_;
+  Eigen::Vector3i dims_;
+  std::vector<int> cell_start_;  ///< CSR over cells
+  std::vector<int> cell_tets_;
+};
+
+}  // namespace tetfsi::fluid

@@ -1,0 +1,167 @@
+#include "fluid/advection/semi_lagrangian.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <stdexcept>
+
+namespace tetfsi::fluid {
+namespace {
+
+constexpr int kBlock = 256;  ///< samples per deterministic work block
+
+/// Per-tet fields packed as 5 doubles (velocity, smoke, temperature), at tets or at nodes.
+using Packed = std::vector<Eigen::Matrix<double, 5, 1>>;
+
+Packed pack(const FluidFields& f) {
+  Packed p(f.velocity.size());
+  for (size_t t = 0; t < p.size(); ++t) p[t] << f.velocity[t], f.smoke[t], f.temperature[t];
+  return p;
+}
+
+FluidFields unpack(const Packed& p) {
+  FluidFields f;
+  f.velocity.resize(p.size());
+  f.smoke.resize(p.size());
+  f.temperature.resize(p.size());
+  for (size_t t = 0; t < p.size(); ++t) {
+    f.velocity[t] = p[t].head<3>();
+    f.smoke[t] = p[t][3];
+    f.temperature[t] = p[t][4];
+  }
+  return f;
+}
+
+/// Volume-weighted node averages of packed tet values (the reconstruction; see header).
+Packed to_nodes(const FluidMesh& m, const Packed& tet_values) {
+  Packed n(m.num_nodes());
+  tbb::parallel_for(0, m.num_nodes(), [&](int i) {
+    Eigen::Matrix<double, 5, 1> s = Eigen::Matrix<double, 5, 1>::Zero();
+    double w = 0.0;
+    for (int t : m.node_tets[i]) {
+      s += m.volume[t] * tet_values[t];
+      w += m.volume[t];
+    }
+    n[i] = s / w;
+  });
+  return n;
+}
+
+Eigen::Matrix<double, 5, 1> interp(const FluidMesh& m, const Packed& nodal, const Location& l) {
+  Eigen::Matrix<double, 5, 1> v = Eigen::Matrix<double, 5, 1>::Zero();
+  for (int k = 0; k < 4; ++k) v += l.bary[k] * nodal[m.tets[l.tet][k]];
+  return v;
+}
+
+Eigen::Vector3d interp_velocity(const FluidMesh& m, const Packed& nodal, const Location& l) {
+  return interp(m, nodal, l).head<3>();
+}
+
+/// Moves from `from` (inside, at `from_loc`) towards `to`; returns the location of `to` if inside,
+/// else of the last inside point found by bisection on the segment.
+Location trace_to(const PointLocator& loc, const Eigen::Vector3d& from, const Location& from_loc,
+                  const Eigen::Vector3d& to, int& clamped) {
+  Location l = loc.locate(to, from_loc.tet);
+  if (l.inside) return l;
+  ++clamped;
+  Eigen::Vector3d a = from, b = to;
+  Location la = from_loc;
+  for (int it = 0; it < 12; ++it) {
+    const Eigen::Vector3d mid = 0.5 * (a + b);
+    Location lm = loc.locate(mid, la.tet);
+    if (lm.inside) {
+      a = mid;
+      la = lm;
+    } else {
+      b = mid;
+    }
+  }
+  return la;
+}
+
+/// RK2 (midpoint) feet of the centroids of `targets`, traced for time dt (negative: forward) through
+/// the velocity reconstructed on `vel_mesh`; returned as locations in `vel_mesh`.
+std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
+                                 const FluidMesh& targets, double dt, AdvectionReport& rep) {
+  const int n = targets.num_tets();
+  std::vector<Location> feet(n);
+  std::atomic<int> clamped_total{0}, outside_total{0};
+  const int blocks = (n + kBlock - 1) / kBlock;
+  tbb::parallel_for(0, blocks, [&](int b) {
+    int hint = -1, clamped = 0, outside = 0;
+    for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
+      const Eigen::Vector3d x0 = targets.centroid(t);
+      const Location l0 = locator.locate(x0, hint);
+      hint = l0.tet;
+      if (!l0.inside) {
+        ++outside;
+        feet[t] = l0;
+        continue;
+      }
+      const Eigen::Vector3d xm = x0 - 0.5 * dt * interp_velocity(vel_mesh, nodal, l0);
+      const Location lm = trace_to(locator, x0, l0, xm, clamped);
+      feet[t] = trace_to(locator, x0, l0, x0 - dt * interp_velocity(vel_mesh, nodal, lm), clamped);
+    }
+    clamped_total += clamped;
+    outside_total += outside;
+  });
+  rep.clamped += clamped_total;
+  rep.outside_start += outside_total;
+  return feet;
+}
+
+Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) x += l.bary[k] * m.nodes[m.tets[l.tet][k]];
+  return x;
+}
+
+}  // namespace
+
+FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
+                   AdvectionReport* report, AdvectionScheme scheme) {
+  if (static_cast<int>(old_fields.velocity.size()) != old_mesh.num_tets() ||
+      old_fields.smoke.size() != old_mesh.num_tets() || old_fields.temperature.size() != old_mesh.num_tets())
+    throw std::invalid_argument("advect: old fields do not match the old mesh's tet count");
+  AdvectionReport rep;
+  const Packed f = pack(old_fields);
+  const Packed f_nodal = to_nodes(old_mesh, f);
+  const PointLocator old_locator(old_mesh);
+  const std::vector<Location> feet = trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep);
+  Packed forward(new_mesh.num_tets());
+  tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) { forward[t] = interp(old_mesh, f_nodal, feet[t]); });
+  if (scheme == AdvectionScheme::kBfecc) {
+    // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
+    AdvectionReport back_rep;
+    const std::vector<Location> ahead = trace_feet(old_mesh, old_locator, f_nodal, old_mesh, -dt, back_rep);
+    const Packed forward_nodal = to_nodes(new_mesh, forward);
+    const PointLocator new_locator(new_mesh);
+    Packed corrected(old_mesh.num_tets());
+    const int blocks = (old_mesh.num_tets() + kBlock - 1) / kBlock;
+    tbb::parallel_for(0, blocks, [&](int b) {
+      int hint = -1;
+      for (int t = b * kBlock; t < std::min(old_mesh.num_tets(), (b + 1) * kBlock); ++t) {
+        const Location l = new_locator.locate(position(old_mesh, ahead[t]), hint);
+        hint = l.tet;
+        const auto back = interp(new_mesh, forward_nodal, l);  // clamped barycentric if outside
+        corrected[t] = f[t] + 0.5 * (f[t] - back);
+      }
+    });
+    const Packed corrected_nodal = to_nodes(old_mesh, corrected);
+    tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
+      const Eigen::Matrix<double, 5, 1> v = interp(old_mesh, corrected_nodal, feet[t]);
+      Eigen::Matrix<double, 5, 1> lo = f_nodal[old_mesh.tets[feet[t].tet][0]], hi = lo;
+      for (int k = 1; k < 4; ++k) {
+        lo = lo.cwiseMin(f_nodal[old_mesh.tets[feet[t].tet][k]]);
+        hi = hi.cwiseMax(f_nodal[old_mesh.tets[feet[t].tet][k]]);
+      }
+      // Limiter (Selle et al. 2008): revert to the plain value where the correction overshoots.
+      for (int c = 0; c < 5; ++c)
+        if (v[c] >= lo[c] && v[c] <= hi[c]) forward[t][c] = v[c];
+    });
+  }
+  if (report) *report = rep;
+  return unpack(forward);
+}
+
+}  // namespace tetfsi::fluid

@@ -1,0 +1,64 @@
+#include "fluid/boundary/boundary_conditions.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "fluid/operators/boundary_flux.hpp"
+
+namespace tetfsi::fluid {
+
+ClassifiedBoundary classify_boundary(const FluidMesh& mesh, const BoundaryConditions& bc) {
+  ClassifiedBoundary cb;
+  const size_t nb = mesh.boundary_faces.size();
+  cb.face_kind.assign(nb, FaceKind::kWall);
+  cb.face_patch.assign(nb, -1);
+  cb.node_kind.assign(mesh.num_nodes(), NodeKind::kInterior);
+  if (!bc.solid_vertex_velocity.empty()) {
+    int max_vertex = -1;
+    for (int v : mesh.node_to_mesh_vertex) max_vertex = std::max(max_vertex, v);
+    if (static_cast<int>(bc.solid_vertex_velocity.size()) <= max_vertex)
+      throw std::invalid_argument("classify_boundary: solid_vertex_velocity has " +
+                                  std::to_string(bc.solid_vertex_velocity.size()) +
+                                  " entries but the mesh has vertex " + std::to_string(max_vertex));
+  }
+  auto raise = [&](int node, NodeKind k) {
+    if (static_cast<int>(k) > static_cast<int>(cb.node_kind[node])) cb.node_kind[node] = k;
+  };
+  for (size_t f = 0; f < nb; ++f) {
+    const BoundaryFace& bf = mesh.boundary_faces[f];
+    NodeKind nk = NodeKind::kWall;
+    if (bf.other_subdomain >= mesh::solid_subdomain(0)) {
+      cb.face_kind[f] = FaceKind::kInterface;
+      nk = NodeKind::kInterface;
+      if (!bc.solid_vertex_velocity.empty()) {
+        std::array<Eigen::Vector3d, 3> v;
+        for (int a = 0; a < 3; ++a) v[a] = bc.solid_vertex_velocity[mesh.node_to_mesh_vertex[bf.nodes[a]]];
+        cb.flux_faces.push_back(static_cast<int>(f));
+        cb.flux_velocity.push_back(v);
+      }
+    } else {
+      const Eigen::Vector3d c = (mesh.nodes[bf.nodes[0]] + mesh.nodes[bf.nodes[1]] + mesh.nodes[bf.nodes[2]]) / 3.0;
+      for (size_t p = 0; p < bc.patches.size(); ++p) {
+        if (!bc.patches[p].region.contains(c)) continue;
+        cb.face_patch[f] = static_cast<int>(p);
+        cb.face_kind[f] = bc.patches[p].kind;
+        break;
+      }
+      if (cb.face_kind[f] == FaceKind::kInflow) {
+        nk = NodeKind::kInflow;
+        const Eigen::Vector3d u = bc.patches[cb.face_patch[f]].velocity;
+        cb.flux_faces.push_back(static_cast<int>(f));
+        cb.flux_velocity.push_back({u, u, u});
+      } else if (cb.face_kind[f] == FaceKind::kOpen) {
+        nk = NodeKind::kOpen;
+        cb.closed = false;
+      }
+    }
+    for (int a = 0; a < 3; ++a) raise(bf.nodes[a], nk);
+  }
+  cb.flux = boundary_flux(mesh, cb.flux_faces, cb.flux_velocity);
+  return cb;
+}
+
+}  // namespace tetfsi::fluid

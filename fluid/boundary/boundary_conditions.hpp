@@ -1,0 +1,76 @@
+#pragma once
+/// @file boundary_conditions.hpp
+/// What happens on each boundary triangle of the fluid, and which nodes carry which condition.
+///
+///  - wall:      no flux, u.n = 0. Natural in the weak form: nothing to add (boundary_flux.hpp).
+///  - inflow:    prescribed velocity u_in on a patch: adds int phi_i (u_in.n) dA to the divergence;
+///               the tets touching the patch also receive the patch's smoke and temperature.
+///  - open:      p = 0 (Dirichlet) at every node of the face; flow leaves or enters freely.
+///  - interface: a face shared with a solid tet (TetMesh label >= 2); the solid's P1 vertex
+///               velocities prescribe u.n (kinematic solids; the coupling solves for them instead).
+/// A domain without open faces is closed: the pressure is then defined up to a constant
+/// (projection.hpp handles it).
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "fluid/operators/fluid_mesh.hpp"
+
+namespace tetfsi::fluid {
+
+enum class FaceKind { kWall, kInflow, kOpen, kInterface };
+/// Node condition, by priority open > interface > inflow > wall > interior.
+enum class NodeKind { kInterior, kWall, kInflow, kInterface, kOpen };
+
+/// Axis-aligned box [lo, hi] [m]; a point is inside within `tolerance`.
+struct Region {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hi = Eigen::Vector3d::Zero();
+  bool contains(const Eigen::Vector3d& x, double tolerance = 1e-9) const {
+    return (x.array() >= lo.array() - tolerance).all() && (x.array() <= hi.array() + tolerance).all();
+  }
+};
+
+/// A patch of the OUTER boundary: every outer face whose centroid lies in `region`.
+struct BoundaryPatch {
+  Region region;
+  FaceKind kind = FaceKind::kWall;               ///< kWall, kInflow or kOpen
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< inflow velocity [m/s]
+  double smoke = 0.0;                             ///< inflow smoke density [-]
+  double temperature = 0.0;                       ///< inflow temperature [K]
+};
+
+/// A small source volume: tets whose centroid lies in `region` get this smoke and temperature
+/// every step (and this velocity if `set_velocity`).
+struct SourceVolume {
+  Region region;
+  double smoke = 1.0;
+  double temperature = 0.0;
+  bool set_velocity = false;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+struct BoundaryConditions {
+  std::vector<BoundaryPatch> patches;  ///< first matching patch wins; unmatched outer faces are walls
+  std::vector<SourceVolume> sources;
+  /// Velocity of every TetMesh vertex on a solid interface [m/s], indexed by TetMesh vertex id;
+  /// empty: solids at rest.
+  std::vector<Eigen::Vector3d> solid_vertex_velocity;
+};
+
+/// Result of applying BoundaryConditions to one FluidMesh.
+struct ClassifiedBoundary {
+  std::vector<FaceKind> face_kind;       ///< per mesh.boundary_faces
+  std::vector<int> face_patch;           ///< patch index per boundary face, -1 if none
+  std::vector<NodeKind> node_kind;       ///< per fluid node
+  std::vector<int> flux_faces;           ///< faces with prescribed nonzero-capable normal velocity
+  std::vector<std::array<Eigen::Vector3d, 3>> flux_velocity;  ///< their vertex velocities [m/s]
+  Eigen::VectorXd flux;                  ///< f_i = int phi_i u_b.n dA over flux faces [m^3/s]
+  bool closed = true;                    ///< no open node: pressure has a constant null space
+};
+
+/// Classifies faces and nodes and assembles the boundary flux.
+/// @throws std::invalid_argument if solid_vertex_velocity is non-empty but too short
+ClassifiedBoundary classify_boundary(const FluidMesh& mesh, const BoundaryConditions& bc);
+
+}  // namespace tetfsi::fluid

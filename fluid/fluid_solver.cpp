@@ -1,0 +1,112 @@
+#include "fluid/fluid_solver.hpp"
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+namespace tetfsi::fluid {
+namespace {
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+FluidSolver::FluidSolver(FluidParams params) : params_(std::move(params)) {
+  if (!(params_.density > 0.0)) throw std::invalid_argument("FluidSolver: density must be positive");
+}
+
+void FluidSolver::initialize(const mesh::TetMesh& mesh, FluidFields fields) {
+  mesh_ = build_fluid_mesh(mesh);
+  const int n = mesh_.num_tets();
+  if (fields.velocity.empty()) fields.velocity.assign(n, Eigen::Vector3d::Zero());
+  if (fields.smoke.size() == 0) fields.smoke = Eigen::VectorXd::Zero(n);
+  if (fields.temperature.size() == 0)
+    fields.temperature = Eigen::VectorXd::Constant(n, params_.buoyancy.ambient_temperature);
+  if (static_cast<int>(fields.velocity.size()) != n || fields.smoke.size() != n || fields.temperature.size() != n)
+    throw std::invalid_argument("FluidSolver::initialize: fields must have one value per fluid tet (" +
+                                std::to_string(n) + ")");
+  fields_ = std::move(fields);
+  pressure_ = Eigen::VectorXd::Zero(mesh_.num_nodes());
+  initialized_ = true;
+}
+
+void FluidSolver::apply_sources(const BoundaryConditions& bc) {
+  for (const SourceVolume& s : bc.sources)
+    for (int t = 0; t < mesh_.num_tets(); ++t)
+      if (s.region.contains(mesh_.centroid(t))) {
+        fields_.smoke[t] = s.smoke;
+        fields_.temperature[t] = s.temperature;
+        if (s.set_velocity) fields_.velocity[t] = s.velocity;
+      }
+  for (size_t f = 0; f < mesh_.boundary_faces.size(); ++f)
+    if (boundary_.face_kind[f] == FaceKind::kInflow) {
+      const BoundaryPatch& p = bc.patches[boundary_.face_patch[f]];
+      const int t = mesh_.boundary_faces[f].tet;
+      fields_.smoke[t] = p.smoke;
+      fields_.temperature[t] = p.temperature;
+    }
+}
+
+StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt) {
+  if (!initialized_) throw std::logic_error("FluidSolver::step: initialize() first");
+  if (!(dt > 0.0)) throw std::invalid_argument("FluidSolver::step: dt must be positive");
+  StepReport rep;
+  double t0 = now();
+  FluidMesh new_mesh = build_fluid_mesh(mesh);
+  rep.assemble_seconds += now() - t0;
+  t0 = now();
+  AdvectionReport adv;
+  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection);
+  mesh_ = std::move(new_mesh);
+  rep.clamped_traces = adv.clamped + adv.outside_start;
+  rep.advect_seconds = now() - t0;
+
+  t0 = now();
+  boundary_ = classify_boundary(mesh_, bc);
+  rep.assemble_seconds += now() - t0;
+  t0 = now();
+  apply_sources(bc);
+  if (params_.apply_gravity)
+    for (auto& u : fields_.velocity) u += dt * params_.gravity;
+  add_buoyancy(mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, dt, fields_.velocity);
+  add_vorticity_confinement(mesh_, params_.vorticity_epsilon, dt, fields_.velocity);
+  rep.forces_seconds = now() - t0;
+  return finish(bc, dt, rep);
+}
+
+StepReport FluidSolver::project_only(const BoundaryConditions& bc, double dt) {
+  if (!initialized_) throw std::logic_error("FluidSolver::project_only: initialize() first");
+  const double t0 = now();
+  boundary_ = classify_boundary(mesh_, bc);
+  StepReport rep;
+  rep.assemble_seconds = now() - t0;
+  return finish(bc, dt, rep);
+}
+
+StepReport FluidSolver::finish(const BoundaryConditions&, double dt, StepReport rep) {
+  ProjectionReport pr = project(mesh_, boundary_, dt, params_.density, fields_.velocity, params_.solver);
+  pressure_ = std::move(pr.pressure);
+  for (const auto& u : fields_.velocity)
+    if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
+  if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
+  rep.num_tets = mesh_.num_tets();
+  rep.num_nodes = mesh_.num_nodes();
+  rep.unknowns = pr.unknowns;
+  rep.assemble_seconds += pr.assemble_seconds;
+  rep.solve_seconds = pr.solve_seconds;
+  rep.iterations = pr.solve.iterations;
+  rep.residual = pr.solve.relative_residual;
+  rep.max_divergence = pr.max_divergence;
+  rep.kinetic_energy = params_.density * kinetic_energy(mesh_, fields_.velocity);
+  return rep;
+}
+
+Eigen::Vector3d FluidSolver::pressure_force(int subdomain) const {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (const BoundaryFace& bf : mesh_.boundary_faces)
+    if (bf.other_subdomain == subdomain)
+      f += bf.area * (pressure_[bf.nodes[0]] + pressure_[bf.nodes[1]] + pressure_[bf.nodes[2]]) / 3.0 * bf.normal;
+  return f;
+}
+
+}  // namespace tetfsi::fluid

@@ -1,0 +1,83 @@
+#pragma once
+/// @file fluid_solver.hpp
+/// One time step of the inviscid incompressible fluid on a (possibly new) tetrahedral mesh:
+///   1. advect velocity, smoke and temperature from the previous mesh to this one
+///      (semi_lagrangian.hpp; skipped on the first step),
+///   2. sources: emitter volumes and inflow patches set smoke and temperature,
+///   3. body forces: gravity, buoyancy, optional vorticity confinement (body_forces.hpp),
+///   4. projection with the boundary conditions of this step (projection.hpp).
+/// Kinematic solids enter through BoundaryConditions::solid_vertex_velocity.
+#include <Eigen/Core>
+
+#include "fluid/advection/semi_lagrangian.hpp"
+#include "fluid/boundary/boundary_conditions.hpp"
+#include "fluid/forces/body_forces.hpp"
+#include "fluid/operators/fluid_mesh.hpp"
+#include "fluid/projection/projection.hpp"
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::fluid {
+
+struct FluidParams {
+  double density = 1.0;                                    ///< rho [kg/m^3]
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81);  ///< [m/s^2]; also the buoyancy direction
+  bool apply_gravity = true;  ///< add g to u (smoke scenes may leave it off: it only adds hydrostatic p)
+  BuoyancyParams buoyancy;
+  double vorticity_epsilon = 0.0;
+  AdvectionScheme advection = AdvectionScheme::kBfecc;
+  SolverOptions solver;
+};
+
+/// Per-step statistics (one stats.csv row).
+struct StepReport {
+  int num_tets = 0, num_nodes = 0, unknowns = 0;
+  double advect_seconds = 0.0;    ///< back-tracing and interpolation
+  double assemble_seconds = 0.0;  ///< fluid mesh geometry, boundary classification, L and rhs
+  double solve_seconds = 0.0;     ///< pressure solve (set-up + iterations)
+  double forces_seconds = 0.0;
+  int iterations = 0;
+  double residual = 0.0;          ///< true relative residual of the pressure solve
+  double max_divergence = 0.0;    ///< max |weak div| / dual volume after projection [1/s]
+  int clamped_traces = 0;
+  double kinetic_energy = 0.0;    ///< 1/2 rho sum V_t |u_t|^2 after the step [J]
+};
+
+class FluidSolver {
+ public:
+  explicit FluidSolver(FluidParams params);
+
+  /// Sets the current mesh and per-fluid-tet fields (zero fields if `fields` is empty).
+  /// @throws std::invalid_argument if the field sizes do not match the fluid tets
+  void initialize(const mesh::TetMesh& mesh, FluidFields fields = {});
+
+  /// Advances by dt [s] onto `mesh` (may differ from the previous mesh). @throws std::runtime_error
+  /// on NaN/Inf, SolverError if the pressure solve fails.
+  StepReport step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
+
+  /// Projects the current velocity only (no advection, no forces): initial conditions, potential flow.
+  StepReport project_only(const BoundaryConditions& bc, double dt);
+
+  const FluidParams& params() const { return params_; }
+  const FluidMesh& mesh() const { return mesh_; }
+  const FluidFields& fields() const { return fields_; }
+  FluidFields& fields() { return fields_; }
+  const Eigen::VectorXd& pressure() const { return pressure_; }
+  const ClassifiedBoundary& boundary() const { return boundary_; }
+
+  /// Pressure force on solid `subdomain` [N]: sum over its interface faces of int p n dA, with n the
+  /// fluid's outward normal (pointing into the solid) and p linear on each face (exact quadrature).
+  Eigen::Vector3d pressure_force(int subdomain) const;
+
+ private:
+  void apply_sources(const BoundaryConditions& bc);
+  StepReport finish(const BoundaryConditions& bc, double dt, StepReport rep);
+
+  FluidParams params_;
+  FluidMesh mesh_;
+  FluidFields fields_;
+  Eigen::VectorXd pressure_;
+  ClassifiedBoundary boundary_;
+  bool initialized_ = false;
+};
+
+}  // namespace tetfsi::fluid

@@ -1,0 +1,15 @@
+#pragma once
+/// @file fluid_output.hpp
+/// VTU grid of the fluid state for ParaView: point data pressure [Pa], velocity [m/s] (node-averaged,
+/// the reconstruction the advection uses), smoke, temperature; cell data velocity (the projected,
+/// per-tet unknowns), smoke, temperature.
+#include "fluid/advection/semi_lagrangian.hpp"
+#include "fluid/operators/fluid_mesh.hpp"
+#include "mesh/io/vtu_writer.hpp"
+
+namespace tetfsi::fluid {
+
+mesh::io::UnstructuredGrid make_fluid_grid(const FluidMesh& mesh, const FluidFields& fields,
+                                           const Eigen::VectorXd& pressure);
+
+}  // namespace tetfsi::fluid

@@ -1,0 +1,56 @@
+#pragma once
+/// @file fluid_mesh.hpp
+/// The fluid part of a TetMesh with the per-tet geometry the P1 operators need.
+///
+/// Discretization (Ando, Thuerey, Wojtan 2013, "Highly adaptive liquid simulations on
+/// tetrahedral meshes", sec. 3): pressure p lives at the mesh NODES (P1 hat functions phi_i),
+/// velocity u_t is constant per TET. The pressure matrix L = G^T V G (the P1 stiffness matrix)
+/// is symmetric positive semi-definite on every mesh with positive tet volumes, Delaunay or not
+/// (circumcentric pressures as in KFCO06 need a Delaunay mesh; shared/design.md, methods.md sec. 1).
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::fluid {
+
+/// A triangle on the boundary of the fluid region, seen from its one fluid tet.
+struct BoundaryFace {
+  int tet = -1;                  ///< fluid tet owning the face
+  int local_face = -1;           ///< face opposite local vertex `local_face` of that tet
+  std::array<int, 3> nodes{};    ///< fluid node indices of the triangle
+  Eigen::Vector3d normal;        ///< unit normal pointing OUT of the fluid
+  double area = 0.0;             ///< [m^2]
+  int other_subdomain = 0;       ///< subdomain label of the tet across (a solid), 0 = outer boundary
+};
+
+/// Fluid tets (subdomain kFluidSubdomain) of a TetMesh, renumbered compactly.
+struct FluidMesh {
+  std::vector<Eigen::Vector3d> nodes;                 ///< #N node positions [m]
+  std::vector<int> node_to_mesh_vertex;               ///< #N fluid node -> TetMesh vertex
+  std::vector<int> mesh_vertex_to_node;               ///< #V TetMesh vertex -> fluid node or -1
+  std::vector<std::array<int, 4>> tets;               ///< #T fluid node indices, positively oriented
+  std::vector<int> tet_to_mesh_tet;                   ///< #T fluid tet -> TetMesh tet
+  std::vector<double> volume;                         ///< #T tet volumes V_t [m^3]
+  std::vector<std::array<Eigen::Vector3d, 4>> grad;   ///< #T gradients of the 4 hat functions [1/m]
+  std::vector<std::array<int, 4>> neighbor;           ///< fluid tet across the face opposite vertex k, -1 if none
+  std::vector<BoundaryFace> boundary_faces;           ///< every fluid boundary triangle
+  std::vector<double> dual_volume;                    ///< #N lumped node volume sum_t V_t / 4 [m^3]
+  std::vector<std::vector<int>> node_tets;            ///< #N fluid tets around each node (ascending)
+
+  int num_nodes() const { return static_cast<int>(nodes.size()); }
+  int num_tets() const { return static_cast<int>(tets.size()); }
+  /// Centroid of fluid tet t [m].
+  Eigen::Vector3d centroid(int t) const;
+  /// Mean edge length over all fluid tets [m].
+  double mean_edge_length() const;
+};
+
+/// Builds the fluid mesh from the tets labelled kFluidSubdomain (all tets if `subdomain` is empty).
+/// Runs in O(T log T) (faces matched by sorting; deterministic).
+/// @throws std::invalid_argument if there is no fluid tet, a vertex index is out of range, or a
+///         fluid tet has non-positive volume (the message names the tet)
+FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh);
+
+}  // namespace tetfsi::fluid

@@ -1,0 +1,47 @@
+#pragma once
+/// @file p1_operators.hpp
+/// Gradient, weak divergence and Laplacian of the nodal-pressure / tet-velocity scheme
+/// (Ando, Thuerey, Wojtan 2013, sec. 3; the projection [grad]^T V [grad] p = [grad]^T V u).
+///
+/// With G the (3T x N) gradient of the P1 interpolant, (G p)_t = sum_k p_{t_k} grad(phi_k)|_t, and
+/// V = diag(V_t) (each repeated 3 times):
+///  - Laplacian (P1 stiffness):  L = G^T V G,   L_ij = sum_t V_t grad(phi_i).grad(phi_j)   [m]
+///  - weak divergence:           (D u)_i = int phi_i div u = -(G^T V u)_i + int_dOmega phi_i u.n
+///    so D = -G^T V up to the boundary flux term: the divergence is the negative V-weighted adjoint
+///    of the gradient, and the projection u = u* - (h/rho) G p is V-orthogonal (energy conserving).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "fluid/operators/fluid_mesh.hpp"
+
+namespace tetfsi::fluid {
+
+using TetVectors = std::vector<Eigen::Vector3d>;  ///< one vector per fluid tet
+
+/// Per-tet gradient of the nodal field p: (G p)_t = sum_k p_{t_k} grad(phi_k)|_t [unit(p)/m].
+TetVectors gradient(const FluidMesh& mesh, const Eigen::VectorXd& p);
+
+/// (G^T V u)_i = sum_{t ni i} V_t grad(phi_i)|_t . u_t  [m^3/s for u in m/s]. The weak divergence
+/// is -(G^T V u) + boundary flux (boundary_flux.hpp).
+Eigen::VectorXd gradient_transpose_volume(const FluidMesh& mesh, const TetVectors& u);
+
+/// The sparse gradient matrix G (3T x N), row 3t + c = component c of the gradient on tet t.
+/// For the coupling, which needs G and its adjoint as matrices.
+Eigen::SparseMatrix<double> gradient_matrix(const FluidMesh& mesh);
+
+/// P1 stiffness matrix L = G^T V G (N x N), symmetric positive semi-definite (constant null space).
+/// Assembled per tet in parallel into fixed triplet slots, then summed: deterministic.
+Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh);
+
+/// Volume-weighted average of tet vectors at the nodes: u_i = sum_t V_t u_t / sum_t V_t
+/// (the velocity reconstruction used for advection and output; it smooths, see advection docs).
+TetVectors average_to_nodes(const FluidMesh& mesh, const TetVectors& u);
+
+/// Volume-weighted average of a per-tet scalar at the nodes.
+Eigen::VectorXd average_to_nodes(const FluidMesh& mesh, const Eigen::VectorXd& s);
+
+/// Kinetic energy per unit density: 1/2 sum_t V_t |u_t|^2 [m^5/s^2].
+double kinetic_energy(const FluidMesh& mesh, const TetVectors& u);
+
+}  // namespace tetfsi::fluid

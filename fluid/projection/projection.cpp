@@ -1,0 +1,92 @@
+#include "fluid/projection/projection.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace tetfsi::fluid {
+namespace {
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
+Eigen::VectorXd weak_divergence(const FluidMesh& mesh, const ClassifiedBoundary& bc, const TetVectors& u) {
+  return bc.flux - gradient_transpose_volume(mesh, u);
+}
+
+double max_normalized_divergence(const FluidMesh& mesh, const ClassifiedBoundary& bc, const TetVectors& u) {
+  const Eigen::VectorXd d = weak_divergence(mesh, bc, u);
+  double m = 0.0;
+  for (int i = 0; i < mesh.num_nodes(); ++i)
+    if (bc.node_kind[i] != NodeKind::kOpen) m = std::max(m, std::abs(d[i]) / mesh.dual_volume[i]);
+  return m;
+}
+
+ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, double dt, double density,
+                         TetVectors& u, const SolverOptions& options) {
+  if (!(dt > 0.0) || !(density > 0.0))
+    throw std::invalid_argument("project: time step and density must be positive");
+  if (static_cast<int>(u.size()) != mesh.num_tets())
+    throw std::invalid_argument("project: velocity has " + std::to_string(u.size()) + " entries for " +
+                                std::to_string(mesh.num_tets()) + " tets");
+  ProjectionReport rep;
+  double t0 = now();
+  const int n = mesh.num_nodes();
+  // rhs_i = (rho/h) (G^T V u* - f)_i, so that L p = rhs.
+  Eigen::VectorXd rhs = (density / dt) * (gradient_transpose_volume(mesh, u) - bc.flux);
+  std::vector<int> unknown(n, -1);
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (bc.node_kind[i] != NodeKind::kOpen) unknown[i] = m++;
+  if (bc.closed) {
+    const double net = bc.flux.sum();
+    const double scale = bc.flux.cwiseAbs().sum();
+    if (std::abs(net) > 1e-8 * scale)
+      throw std::invalid_argument("project: closed fluid domain (no open boundary) with net inflow " +
+                                  std::to_string(net) + " m^3/s: incompressible flow has no solution");
+    rhs.array() -= rhs.mean();
+    unknown[0] = -1;  // pin node 0
+    m = 0;
+    for (int i = 0; i < n; ++i)
+      if (unknown[i] >= 0) unknown[i] = m++;
+  }
+  const Eigen::SparseMatrix<double> l = assemble_laplacian(mesh);
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(l.nonZeros());
+  for (int j = 0; j < l.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(l, j); it; ++it)
+      if (unknown[it.row()] >= 0 && unknown[it.col()] >= 0)
+        trip.emplace_back(unknown[it.row()], unknown[it.col()], it.value());
+  Eigen::SparseMatrix<double> a(m, m);
+  a.setFromTriplets(trip.begin(), trip.end());
+  Eigen::VectorXd b(m);
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) b[unknown[i]] = rhs[i];
+  rep.unknowns = m;
+  rep.assemble_seconds = now() - t0;
+
+  t0 = now();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(m);
+  rep.solve = solve_spd(a, b, x, options);
+  rep.solve_seconds = now() - t0;
+
+  rep.pressure = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) rep.pressure[i] = x[unknown[i]];
+  if (bc.closed) {
+    double pv = 0.0, vol = 0.0;
+    for (int i = 0; i < n; ++i) {
+      pv += mesh.dual_volume[i] * rep.pressure[i];
+      vol += mesh.dual_volume[i];
+    }
+    rep.pressure.array() -= pv / vol;
+  }
+  const TetVectors gp = gradient(mesh, rep.pressure);
+  for (int t = 0; t < mesh.num_tets(); ++t) u[t] -= (dt / density) * gp[t];
+  rep.max_divergence = max_normalized_divergence(mesh, bc, u);
+  return rep;
+}
+
+}  // namespace tetfsi::fluid

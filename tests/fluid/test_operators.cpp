@@ -1,0 +1,103 @@
+// P1 operators: symmetry and sign of L, exactness of gradients, boundary flux quadrature.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "fluid/operators/boundary_flux.hpp"
+#include "fluid/operators/fluid_mesh.hpp"
+#include "fluid/operators/p1_operators.hpp"
+#include "fluid_test_support.hpp"
+
+namespace tetfsi::fluid {
+namespace {
+
+const Eigen::Vector3d kLo(0, 0, 0), kHi(1, 0.75, 0.5);
+
+FluidMesh jittered_box(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  const mesh::TetMesh base = mesh::structured_box(kLo, kHi, 4 * n, 3 * n, 2 * n);
+  return build_fluid_mesh(testing::jittered(base, kLo, kHi, 0.25 / n, 0.1, rng));
+}
+
+TEST(FluidOperators, LaplacianSymmetricPositiveDiagonalConstantNullSpace) {
+  const FluidMesh m = jittered_box(2, 1);
+  const Eigen::SparseMatrix<double> l = assemble_laplacian(m);
+  const Eigen::SparseMatrix<double> lt = l.transpose();
+  EXPECT_LE((l - lt).norm(), 1e-14 * l.norm());
+  for (int i = 0; i < l.rows(); ++i) EXPECT_GT(l.coeff(i, i), 0.0) << "node " << i;
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(l.rows());
+  EXPECT_LE((l * ones).cwiseAbs().maxCoeff(), 1e-12 * l.diagonal().maxCoeff());
+  // Positive semi-definite: p^T L p = sum_t V_t |grad p|^2 >= 0 for random p.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> nd;
+  for (int k = 0; k < 5; ++k) {
+    Eigen::VectorXd p(l.rows());
+    for (int i = 0; i < p.size(); ++i) p[i] = nd(rng);
+    EXPECT_GT(p.dot(l * p), 0.0);
+  }
+}
+
+TEST(FluidOperators, GradientOfLinearFieldIsExactAndLMatchesGTVG) {
+  const FluidMesh m = jittered_box(1, 2);
+  const Eigen::Vector3d a(0.3, -1.2, 2.5);
+  Eigen::VectorXd p(m.num_nodes());
+  for (int i = 0; i < m.num_nodes(); ++i) p[i] = a.dot(m.nodes[i]) + 4.0;
+  for (const auto& g : gradient(m, p)) EXPECT_LE((g - a).norm(), 1e-12);
+  const Eigen::SparseMatrix<double> g = gradient_matrix(m);
+  Eigen::VectorXd v(3 * m.num_tets());
+  for (int t = 0; t < m.num_tets(); ++t) v.segment<3>(3 * t).setConstant(m.volume[t]);
+  const Eigen::SparseMatrix<double> gtvg = g.transpose() * v.asDiagonal() * g;
+  EXPECT_LE((gtvg - assemble_laplacian(m)).norm(), 1e-12 * gtvg.norm());
+  // G^T V u for a constant u is the boundary flux of u (divergence theorem on hat functions):
+  // sum_t V_t grad(phi_i).u = int_dOmega phi_i u.n - int phi_i div u = boundary term.
+  const Eigen::Vector3d u(1.0, -2.0, 0.5);
+  const Eigen::VectorXd gtvu = gradient_transpose_volume(m, TetVectors(m.num_tets(), u));
+  std::vector<int> faces(m.boundary_faces.size());
+  std::vector<std::array<Eigen::Vector3d, 3>> vel(faces.size(), {u, u, u});
+  for (size_t f = 0; f < faces.size(); ++f) faces[f] = static_cast<int>(f);
+  const Eigen::VectorXd flux = boundary_flux(m, faces, vel);
+  EXPECT_LE((gtvu - flux).cwiseAbs().maxCoeff(), 1e-13);
+  // The matrix form of the flux agrees with the vector form.
+  Eigen::VectorXd nodal(3 * m.num_nodes());
+  for (int i = 0; i < m.num_nodes(); ++i) nodal.segment<3>(3 * i) = u;
+  EXPECT_LE((boundary_flux_matrix(m, faces) * nodal - flux).cwiseAbs().maxCoeff(), 1e-13);
+}
+
+TEST(FluidOperators, BoundaryFluxIsExactForLinearVelocity) {
+  // Rotation about the box centre: u = w x (x - c) is linear and divergence-free, so the total
+  // flux through the closed box surface is 0 and each face's flux is integrated exactly.
+  const FluidMesh m = jittered_box(1, 3);
+  const Eigen::Vector3d w(0.2, 1.0, -0.4), c = 0.5 * (kLo + kHi);
+  std::vector<int> faces, top;
+  std::vector<std::array<Eigen::Vector3d, 3>> vel, top_vel;
+  for (size_t f = 0; f < m.boundary_faces.size(); ++f) {
+    const auto& bf = m.boundary_faces[f];
+    std::array<Eigen::Vector3d, 3> v;
+    for (int a = 0; a < 3; ++a) v[a] = w.cross(m.nodes[bf.nodes[a]] - c);
+    faces.push_back(static_cast<int>(f));
+    vel.push_back(v);
+    if (bf.normal.z() > 0.5) {
+      top.push_back(static_cast<int>(f));
+      top_vel.push_back(v);
+    }
+  }
+  EXPECT_NEAR(boundary_flux(m, faces, vel).sum(), 0.0, 1e-14);
+  // Top face z = 0.5: u.n = u_z = w_x (y - c_y) - w_y (x - c_x); the first moment
+  // int x u_z dA = -w_y int_0^1 x (x - 0.5) dx * 0.75 = -w_y * 0.75 / 12, and sum_i x_i f_i = int x u_z
+  // because x is in P1.
+  const Eigen::VectorXd flux = boundary_flux(m, top, top_vel);
+  double moment = 0.0;
+  for (int i = 0; i < m.num_nodes(); ++i) moment += flux[i] * m.nodes[i].x();
+  EXPECT_NEAR(moment, -w.y() * 0.75 / 12.0, 1e-13);
+}
+
+TEST(FluidOperators, RejectsInvertedTetAndMissingFluid) {
+  mesh::TetMesh bad = mesh::structured_box(kLo, kHi, 1, 1, 1);
+  std::swap(bad.tets[2][0], bad.tets[2][1]);
+  EXPECT_THROW(build_fluid_mesh(bad), std::invalid_argument);
+  mesh::TetMesh solid = mesh::structured_box(kLo, kHi, 1, 1, 1, mesh::solid_subdomain(0));
+  EXPECT_THROW(build_fluid_mesh(solid), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tetfsi::fluid
