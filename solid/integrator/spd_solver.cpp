@@ -4,6 +4,8 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <chrono>
 
+#include <dlfcn.h>
+
 #include "solid/solid_error.hpp"
 
 namespace tetfsi::solid {
@@ -12,6 +14,14 @@ SolverKind parse_solver_kind(const std::string& name) {
   if (name == "cholmod") return SolverKind::kCholmod;
   if (name == "cg") return SolverKind::kConjugateGradient;
   throw SolidError("unknown solid solver '" + name + "' (expected \"cholmod\" or \"cg\")");
+}
+
+bool limit_blas_threads(int threads) {
+  using SetThreads = void (*)(int);
+  auto* set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (!set) return false;
+  set(threads);
+  return true;
 }
 
 struct SpdSolver::Impl {

@@ -11,6 +11,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+NewmarkScheme parse_newmark_scheme(const std::string& name) {
+  if (name == "chentanez") return NewmarkScheme::kChentanez;
+  if (name == "trapezoidal") return NewmarkScheme::kTrapezoidal;
+  throw SolidError("unknown time integration scheme '" + name + "' (expected \"chentanez\" or \"trapezoidal\")");
+}
+
 TrapezoidalIntegrator::TrapezoidalIntegrator(const ElasticModel& model, const TrapezoidalSettings& settings)
     : model_(model), settings_(settings), solver_(settings.solver, settings.cg_tolerance) {
   if (!(settings_.time_step > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
@@ -85,15 +91,18 @@ void TrapezoidalIntegrator::form_system(SparseMatrix& A, Eigen::VectorXd& b) {
     for (int a = 0; a < 3; ++a) K_tangent_.coeffRef(3 * s.node + a, 3 * s.node + a) += s.stiffness;
   }
   const auto& m = model_.lumped_masses();
-  // A = (1/h + alpha) M + (beta + h/2) K'
-  A = K_tangent_ * (settings_.rayleigh_beta + 0.5 * h);
-  const double mass_coef = 1.0 / h + settings_.rayleigh_alpha;
+  const double theta = settings_.scheme == NewmarkScheme::kChentanez ? 1.0 : 0.5;
+  const double alpha = settings_.rayleigh_alpha, beta = settings_.rayleigh_beta;
+  // A = (1/h + theta alpha) M + theta (beta + h/2) K'
+  A = K_tangent_ * (theta * (beta + 0.5 * h));
+  const double mass_coef = 1.0 / h + theta * alpha;
   for (int v = 0; v < model_.num_nodes(); ++v)
     for (int a = 0; a < 3; ++a) A.coeffRef(3 * v + a, 3 * v + a) += mass_coef * m[v];
-  // b = (M/h) u - (h/2) K' u - K(d) + M g + f_ext
-  b = -0.5 * h * (K_tangent_ * u_) - K_force_ + f_ext_;
+  // b = (M/h) u - theta (h/2) K' u - (1 - theta)(alpha M + beta K') u - K(d) + M g + f_ext
+  b = -(theta * 0.5 * h + (1 - theta) * beta) * (K_tangent_ * u_) - K_force_ + f_ext_;
+  const double mass_u_coef = 1.0 / h - (1 - theta) * alpha;
   for (int v = 0; v < model_.num_nodes(); ++v)
-    b.segment<3>(3 * v) += m[v] * (u_.segment<3>(3 * v) / h + settings_.gravity);
+    b.segment<3>(3 * v) += m[v] * (mass_u_coef * u_.segment<3>(3 * v) + settings_.gravity);
   // Symmetric elimination of Dirichlet DOFs.
   for (int col = 0; col < A.outerSize(); ++col)
     for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
@@ -121,7 +130,18 @@ void TrapezoidalIntegrator::advance(const Eigen::VectorXd& u_next) {
   u_ = u_next;
   for (Eigen::Index i = 0; i < u_.size(); ++i)
     if (fixed_[i]) u_[i] = prescribed_[i];
-  stats_.contacts = obstacles_.project(model_.reference_positions(), d_, u_, fixed_);
+  // Contacts of the implicit solve: inelastic normal, Coulomb friction from the constraint force.
+  const auto& m = model_.lumped_masses();
+  for (const auto& c : active_) {
+    Eigen::Vector3d vel = u_.segment<3>(3 * c.node);
+    vel -= vel.dot(c.normal) * c.normal;
+    const double vt = vel.norm(), dv = obstacles_.friction() * std::max(0.0, c.force) * h / m[c.node];
+    if (vt > 0) vel *= std::max(0.0, 1.0 - dv / vt);
+    u_.segment<3>(3 * c.node) = vel;
+  }
+  const int solved_contacts = static_cast<int>(active_.size());
+  active_.clear();
+  stats_.contacts = std::max(solved_contacts, obstacles_.project(model_.reference_positions(), d_, u_, fixed_));
   ++step_;
   time_ += h;
 }
@@ -131,18 +151,77 @@ const StepStats& TrapezoidalIntegrator::step() {
   form_system(A_, b_);
   const double assembly = seconds_since(t0);
   u_next_ = u_;
-  solver_.solve(A_, b_, u_next_, "solid step " + std::to_string(step_ + 1));
+  solve_with_contact("solid step " + std::to_string(step_ + 1));
+  const double solve_seconds = seconds_since(t0) - assembly;
   advance(u_next_);
   const int inverted = stats_.inverted, contacts = stats_.contacts;
   if (settings_.track_energy) stats_ = energies();
   stats_.step = step_;
   stats_.time = time_;
   stats_.assembly_seconds = assembly;
-  stats_.solve_seconds = solver_.last_stats().seconds;
+  stats_.solve_seconds = solve_seconds;
   stats_.solver_iterations = solver_.last_stats().iterations;
   stats_.inverted = inverted;
   stats_.contacts = contacts;
   return stats_;
+}
+
+void TrapezoidalIntegrator::solve_with_contact(const std::string& context) {
+  active_.clear();
+  solver_.solve(A_, b_, u_next_, context);
+  if (obstacles_.empty()) return;
+  const double h = settings_.time_step;
+  const auto& X = model_.reference_positions();
+  const int n = model_.num_nodes();
+  SparseMatrix A_free;
+  Eigen::VectorXd b_free;
+  std::vector<char> is_active(n, 0);
+  for (int round = 0; round < 8; ++round) {
+    bool changed = false;
+    // Release pulling constraints.
+    for (size_t k = 0; k < active_.size();) {
+      auto& c = active_[k];
+      c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
+      if (c.force < 0) {
+        is_active[c.node] = 0;
+        active_[k] = active_.back();
+        active_.pop_back();
+        changed = true;
+      } else {
+        ++k;
+      }
+    }
+    // Activate nodes that would end inside an obstacle.
+    for (int v = 0; v < n; ++v) {
+      if (is_active[v] || fixed_[3 * v] || fixed_[3 * v + 1] || fixed_[3 * v + 2]) continue;
+      const Eigen::Vector3d x0 = X.segment<3>(3 * v) + d_.segment<3>(3 * v);
+      const Eigen::Vector3d x1 = x0 + 0.5 * h * (u_.segment<3>(3 * v) + u_next_.segment<3>(3 * v));
+      Eigen::Vector3d normal;
+      if (!(obstacles_.signed_distance(x1, normal) < 0)) continue;
+      Eigen::Vector3d n0;
+      const double phi0 = std::max(0.0, obstacles_.signed_distance(x0, n0));
+      const double diag = A_.coeff(3 * v, 3 * v) + A_.coeff(3 * v + 1, 3 * v + 1) + A_.coeff(3 * v + 2, 3 * v + 2);
+      active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), 1e7 * diag / 3.0, 0.0});
+      is_active[v] = 1;
+      changed = true;
+    }
+    if (!changed) break;
+    if (A_free.rows() == 0) {
+      A_free = A_;
+      b_free = b_;
+    }
+    A_ = A_free;
+    b_ = b_free;
+    for (const auto& c : active_) {
+      const Eigen::Matrix3d P = c.kappa * c.normal * c.normal.transpose();
+      for (int a = 0; a < 3; ++a) {
+        b_[3 * c.node + a] += c.kappa * c.target * c.normal[a];
+        for (int b = 0; b < 3; ++b) A_.coeffRef(3 * c.node + a, 3 * c.node + b) += P(a, b);
+      }
+    }
+    solver_.solve(A_, b_, u_next_, context);
+  }
+  for (auto& c : active_) c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
 }
 
 StepStats TrapezoidalIntegrator::energies() const {

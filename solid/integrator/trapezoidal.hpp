@@ -7,8 +7,22 @@
 ///   A u^{n+1} = b,   A = M/h + C + (h/2) K',   C = alpha M + beta K'            (eq. 18)
 ///   b = (M/h) u^n - (h/2) K' u^n - K(d^n) + f_e                                 (eq. 18)
 ///   d^{n+1} = d^n + (h/2)(u^n + u^{n+1})                                        (eq. 5/12)
-/// with K' = dK/dd at d^n, f_e = M g + nodal forces + spring forces. For a linear model this is
-/// Newmark with beta = 1/4, gamma = 1/2 (energy conserving, period error ~ (omega h)^2/12).
+/// with K' = dK/dd at d^n, f_e = M g + nodal forces + spring forces.
+///
+/// Note on the scheme. The appendix chooses Newmark beta = 1/2, gamma = 1 (eqs. 10-13): the
+/// velocity update u^{n+1} = u^n + h a^{n+1} takes the force at d^{n+1}. That is NOT the
+/// energy-conserving trapezoidal rule (beta = 1/4, gamma = 1/2) of benchmarks.md sec. 3.6: on
+/// a linear undamped mode it multiplies the amplitude by 1/sqrt(1 + (omega h)^2 / 2) per step
+/// (numerical damping ratio ~ omega h / 4 for small omega h). Both are offered, written with a
+/// weight theta on the end-of-step forces,
+///   M (u^{n+1} - u^n)/h = -[(1-theta) K(d^n) + theta K(d^{n+1})] - C[(1-theta) u^n + theta u^{n+1}] + f_e,
+/// K(d^{n+1}) ~ K(d^n) + (h/2) K' (u^n + u^{n+1}) (eq. 16), giving
+///   A = M/h + theta C + theta (h/2) K',
+///   b = (M/h) u^n - theta (h/2) K' u^n - (1-theta) C u^n - K(d^n) + f_e:
+/// theta = 1 is the paper's eq. (18) exactly (NewmarkScheme::kChentanez, the default);
+/// theta = 1/2 is Newmark beta = 1/4, gamma = 1/2 (NewmarkScheme::kTrapezoidal), which for a
+/// linear model conserves 1/2 u^T M u + 1/2 d^T K d and has T_bar/T = 1 + (omega h)^2/12.
+/// Pressure forces J p^{n+1} enter with weight 1 in both (fully implicit constraint).
 ///
 /// The coupling uses the pieces: form_system() gives A and b at the current state (it then adds
 /// -J p to the rows and solves together with the fluid), and advance() applies eq. (5) for a
@@ -23,7 +37,16 @@
 
 namespace tetfsi::solid {
 
+enum class NewmarkScheme {
+  kChentanez,   ///< theta = 1: eqs. (9)-(18) as printed (Newmark beta = 1/2, gamma = 1)
+  kTrapezoidal  ///< theta = 1/2: Newmark beta = 1/4, gamma = 1/2 (energy conserving)
+};
+
+/// Parses "chentanez" or "trapezoidal". @throws SolidError otherwise.
+NewmarkScheme parse_newmark_scheme(const std::string& name);
+
 struct TrapezoidalSettings {
+  NewmarkScheme scheme = NewmarkScheme::kChentanez;
   double time_step = 1.0 / 30.0;                     ///< h [s]
   double rayleigh_alpha = 0.0;                       ///< C = alpha M + beta K' [1/s]
   double rayleigh_beta = 0.0;                        ///< [s]
@@ -76,7 +99,7 @@ class TrapezoidalIntegrator {
   StaticObstacles& obstacles() { return obstacles_; }
 
   // ---- pieces for the coupling ----
-  /// A and b of eq. (4)/(18) at the current state. Dirichlet DOFs are eliminated
+  /// A and b of eq. (4)/(18) at the current state (see the scheme note above). Dirichlet DOFs are eliminated
   /// symmetrically: their rows and columns are zero except the diagonal A_ii, b_i = A_ii v_i,
   /// and b of the other rows is corrected by -A_ij v_j. (The coupling must leave fixed rows
   /// out of J.) @throws SolidError naming the step and element if the model fails at d^n.
@@ -86,7 +109,16 @@ class TrapezoidalIntegrator {
   void advance(const Eigen::VectorXd& u_next);
 
   // ---- whole step ----
-  /// form_system + solve + advance. @throws SolidError (see above)
+  /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
+  /// (active set): every free node whose end-of-step position would lie inside an obstacle
+  /// gets the constraint n.u^{n+1} = -2 phi^n / h - n.u^n (it lands on the surface at t^{n+1}
+  /// by eq. 5), imposed by a stiff penalty kappa n n^T on its diagonal block (kappa = 1e7 x
+  /// the block's diagonal), and the system is solved again (at most 8 rounds; nodes whose
+  /// constraint force would pull are released). The rest of the body thus responds to the
+  /// contact within the same step. After eq. (5), constrained nodes lose their normal velocity
+  /// (inelastic) and Coulomb friction removes up to mu |f_c| h / m of tangential velocity, f_c
+  /// being the constraint force. Nodes still inside are projected (StaticObstacles::project).
+  /// @throws SolidError (see above)
   const StepStats& step();
 
   // ---- state ----
@@ -110,6 +142,16 @@ class TrapezoidalIntegrator {
   std::vector<LinearSpring> springs_;
   StaticObstacles obstacles_;
   SpdSolver solver_;
+  struct ActiveContact {
+    int node;
+    Eigen::Vector3d normal;
+    double target;   // n.u^{n+1} [m/s]
+    double kappa;    // penalty [kg/s]
+    double force;    // constraint force along n [N], after the solve
+  };
+  std::vector<ActiveContact> active_;
+  /// Solves A u = b with the contact active set (see step()); fills active_.
+  void solve_with_contact(const std::string& context);
   SparseMatrix K_tangent_, A_;
   Eigen::VectorXd K_force_, b_, u_next_;
   double time_ = 0;

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <atomic>
 #include <cmath>
@@ -21,13 +22,22 @@ std::vector<int> flatten(const std::vector<std::array<int, 4>>& tets) {
   return flat;
 }
 
+/// Nearest (Frobenius) positive semi-definite matrix: clamp negative eigenvalues to zero.
+Eigen::Matrix<double, 9, 9> project_to_psd(const Eigen::Matrix<double, 9, 9>& C) {
+  const Eigen::Matrix<double, 9, 9> sym = 0.5 * (C + C.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eig(sym);
+  if (eig.eigenvalues().minCoeff() >= 0) return sym;
+  const Eigen::Matrix<double, 9, 1> clamped = eig.eigenvalues().cwiseMax(0.0);
+  return eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
+}
+
 }  // namespace
 
-TetModel::TetModel(const mesh::TetMesh& mesh, const TetMaterial& material, double min_det)
+TetModel::TetModel(const mesh::TetMesh& mesh, const TetMaterial& material, const TetModelOptions& options)
     : num_nodes_(mesh.num_vertices()),
       material_(material),
       params_(ConstitutiveParams::from(material)),
-      min_det_(min_det),
+      options_(options),
       tets_(mesh.tets) {
   material_.validate();
   if (mesh.num_tets() == 0) throw SolidError("TetModel: the mesh has no tets");
@@ -74,7 +84,7 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   tbb::parallel_for(0, nt, [&](int t) {
     const Eigen::Matrix3d F = deformation_gradient(d, t);
     const double J = F.determinant();
-    const bool bad = !std::isfinite(J) || (stvk && J <= min_det_);
+    const bool bad = !std::isfinite(J) || (stvk && J <= options_.min_det);
     if (J <= 0) inverted.fetch_add(1, std::memory_order_relaxed);
     if (bad) {
       int cur = first_bad.load();
@@ -87,12 +97,20 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
     for (int i = 0; i < 4; ++i)
       Eigen::Map<Eigen::Vector3d>(fe + 3 * i) = V * P * g.row(i).transpose();
     if (!tangent) return;
+    // Material tangent C = dP/dF as a 9 x 9 matrix over column-major vec(F).
+    Eigen::Matrix<double, 9, 9> C;
+    for (int k = 0; k < 9; ++k) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF(k % 3, k / 3) = 1.0;
+      C.col(k) = first_piola_differential(params_, F, dF).reshaped();
+    }
+    if (options_.project_spd) C = project_to_psd(C);
+    // K_e(3i+a, 3j+c) = V [dP(e_c g_j^T) g_i]_a, with vec(dP) = sum_b C(:, c + 3b) g_jb.
     double* ke = element_matrices_.data() + static_cast<size_t>(t) * 144;
     for (int j = 0; j < 4; ++j)
       for (int c = 0; c < 3; ++c) {
-        Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
-        dF.row(c) = g.row(j);
-        const Eigen::Matrix3d dP = first_piola_differential(params_, F, dF);
+        const Eigen::Matrix<double, 9, 1> vdP = C.col(c) * g(j, 0) + C.col(c + 3) * g(j, 1) + C.col(c + 6) * g(j, 2);
+        const Eigen::Map<const Eigen::Matrix3d> dP(vdP.data());
         double* col = ke + (3 * j + c) * 12;
         for (int i = 0; i < 4; ++i)
           Eigen::Map<Eigen::Vector3d>(col + 3 * i) = V * dP * g.row(i).transpose();
@@ -108,7 +126,7 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
     if (!std::isfinite(J))
       msg << "has a non-finite deformation gradient";
     else
-      msg << "is inverted or degenerate (det F = " << J << " <= " << min_det_
+      msg << "is inverted or degenerate (det F = " << J << " <= " << options_.min_det
           << "); St. Venant-Kirchhoff cannot recover from inversion, use model \"stable_neohookean\"";
     last_error_ = msg.str();
     return false;

@@ -22,13 +22,24 @@
 
 namespace tetfsi::solid {
 
+struct TetModelOptions {
+  /// det F at or below which an element counts as inverted/degenerate (StVK stops there).
+  double min_det = 1e-6;
+  /// Replace each element's material tangent dP/dF (9 x 9) by its nearest positive
+  /// semi-definite matrix (negative eigenvalues clamped to zero, as in Teran et al. 2005)
+  /// before assembling K'. K' is then no longer the exact Jacobian, but A = M/h + C + (h/2) K'
+  /// stays positive definite under strong compression, so the Cholesky solve cannot fail.
+  /// Recommended with kStableNeoHookean for large time steps; costs a 9x9 eigensolve per tet.
+  bool project_spd = false;
+};
+
 class TetModel : public ElasticModel {
  public:
   /// @param mesh      rest configuration; every tet positively oriented with volume > 0
   /// @param material  one material for the whole body (validated)
-  /// @param min_det   det F at or below which an element counts as inverted/degenerate
+  /// @param options   inversion threshold, definiteness fix
   /// @throws SolidError on an empty mesh, a degenerate or inverted rest tet, a bad material
-  TetModel(const mesh::TetMesh& mesh, const TetMaterial& material, double min_det = 1e-6);
+  TetModel(const mesh::TetMesh& mesh, const TetMaterial& material, const TetModelOptions& options = {});
 
   int num_nodes() const override { return num_nodes_; }
   int num_tets() const { return static_cast<int>(tets_.size()); }
@@ -38,7 +49,7 @@ class TetModel : public ElasticModel {
   const std::vector<std::array<int, 4>>& tets() const { return tets_; }
 
   /// K(d) and optionally K'(d). Returns false, with last_error() naming the first such
-  /// element, if an element has non-finite F, or (StVK only) det F <= min_det.
+  /// element, if an element has non-finite F, or (StVK only) det F <= options.min_det.
   bool evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const override;
   double strain_energy(const Eigen::VectorXd& d) const override;
   std::string last_error() const override { return last_error_; }
@@ -57,7 +68,7 @@ class TetModel : public ElasticModel {
   int num_nodes_ = 0;
   TetMaterial material_;
   ConstitutiveParams params_;
-  double min_det_;
+  TetModelOptions options_;
   std::vector<std::array<int, 4>> tets_;
   std::vector<Eigen::Matrix<double, 4, 3>> grads_;  // rows g_i^T
   std::vector<double> volume_;

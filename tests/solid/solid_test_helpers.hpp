@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by the solid validation tests.
 #include <Eigen/Core>
+#include <Eigen/Cholesky>
+#include <utility>
 #include <cmath>
 #include <vector>
 
@@ -25,6 +27,19 @@ inline double sampled_frequency(const std::vector<double>& q, double h) {
     den += 2 * q[n] * q[n];
   }
   return std::acos(num / den) / h;
+}
+
+/// Least-squares fit of q_{n+1} = a q_n + b q_{n-1}; returns (a, b).
+inline std::pair<double, double> fit_recurrence(const std::vector<double>& q) {
+  Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d r = Eigen::Vector2d::Zero();
+  for (size_t n = 1; n + 1 < q.size(); ++n) {
+    const Eigen::Vector2d x(q[n], q[n - 1]);
+    N += x * x.transpose();
+    r += x * q[n + 1];
+  }
+  const Eigen::Vector2d ab = N.ldlt().solve(r);
+  return {ab[0], ab[1]};
 }
 
 /// Exact trapezoidal (Newmark 1/4, 1/2) discrete frequency: tan(w_bar h / 2) = w h / 2.

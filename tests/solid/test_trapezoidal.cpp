@@ -35,6 +35,7 @@ TEST(Trapezoidal, LinearUndampedConservesEnergy) {
   LinearizedModel linear(*beam.model);
   TrapezoidalSettings settings;
   settings.time_step = 0.01;
+  settings.scheme = NewmarkScheme::kTrapezoidal;
   TrapezoidalIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   std::mt19937 rng(5);
@@ -67,6 +68,7 @@ TEST(Trapezoidal, PeriodElongationFollowsOmegaHSquaredOver12) {
   for (double wh : {0.63, 0.31, 0.13}) {
     TrapezoidalSettings settings;
     settings.time_step = wh / mode.omega;
+    settings.scheme = NewmarkScheme::kTrapezoidal;
     TrapezoidalIntegrator integ(linear, settings);
     integ.fix_nodes(beam.clamped_nodes);
     integ.set_displacement(1e-3 * mode.shape);
@@ -88,12 +90,44 @@ TEST(Trapezoidal, PeriodElongationFollowsOmegaHSquaredOver12) {
   }
 }
 
+// The paper's scheme as printed (Newmark beta = 1/2, gamma = 1, eq. 18): on a linear undamped
+// mode, with s = (omega h)^2 / 2, the modal coordinate obeys (1 + s) q_{n+1} - (2 - s) q_n +
+// q_{n-1} = 0 [calc from eqs. 12-14]: amplitude factor 1/sqrt(1 + s) per step, so the energy
+// decays monotonically (never grows).
+TEST(Trapezoidal, ChentanezSchemeMatchesItsAmplificationFactor) {
+  auto beam = make_cantilever(small_beam());
+  LinearizedModel linear(*beam.model);
+  const Eigen::VectorXd static_shape = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
+  const Mode mode = lowest_mode(linear, beam.fixed_dofs, static_shape);
+  for (double wh : {0.3, 0.1}) {
+    TrapezoidalSettings settings;
+    settings.time_step = wh / mode.omega;
+    settings.scheme = NewmarkScheme::kChentanez;
+    TrapezoidalIntegrator integ(linear, settings);
+    integ.fix_nodes(beam.clamped_nodes);
+    integ.set_displacement(1e-3 * mode.shape);
+    std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
+    double energy = integ.energies().total();
+    for (int n = 0; n < 200; ++n) {
+      const double e = integ.step().total();
+      EXPECT_LE(e, energy * (1 + 1e-12));
+      energy = e;
+      q.push_back(modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement()));
+    }
+    const auto [a, b] = fit_recurrence(q);
+    const double s = 0.5 * wh * wh;
+    EXPECT_NEAR(a, (2 - s) / (1 + s), 1e-8) << "w h = " << wh;
+    EXPECT_NEAR(b, -1 / (1 + s), 1e-8) << "w h = " << wh;
+  }
+}
+
 // Heavily damped run under gravity and a tip load settles to the linear static solution.
 TEST(Trapezoidal, DampedRunSettlesToLinearStatics) {
   auto beam = make_cantilever(small_beam());
   LinearizedModel linear(*beam.model);
   TrapezoidalSettings settings;
   settings.time_step = 0.05;
+  settings.scheme = NewmarkScheme::kChentanez;  // damps the stiff modes (theta = 1/2 would not)
   settings.rayleigh_alpha = 8.0;
   settings.rayleigh_beta = 0.01;
   settings.gravity = {0, 0, -9.81};
