@@ -53,6 +53,19 @@ Eigen::Matrix<double, 5, 1> interp(const FluidMesh& m, const Packed& nodal, cons
   return v;
 }
 
+/// Centroid-preserving, limited tet-wise linear reconstruction (AdvectionScheme::kLinear).
+Eigen::Matrix<double, 5, 1> interp_linear(const FluidMesh& m, const Packed& tet_values, const Packed& nodal,
+                                          const Location& l) {
+  const auto& tet = m.tets[l.tet];
+  Eigen::Matrix<double, 5, 1> v = tet_values[l.tet], lo = v, hi = v;
+  for (int k = 0; k < 4; ++k) {
+    v += (l.bary[k] - 0.25) * nodal[tet[k]];
+    lo = lo.cwiseMin(nodal[tet[k]]);
+    hi = hi.cwiseMax(nodal[tet[k]]);
+  }
+  return v.cwiseMax(lo).cwiseMin(hi);
+}
+
 Eigen::Vector3d interp_velocity(const FluidMesh& m, const Packed& nodal, const Location& l) {
   return interp(m, nodal, l).head<3>();
 }
@@ -129,7 +142,10 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   const PointLocator old_locator(old_mesh);
   const std::vector<Location> feet = trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep);
   Packed forward(new_mesh.num_tets());
-  tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) { forward[t] = interp(old_mesh, f_nodal, feet[t]); });
+  tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
+    forward[t] = scheme == AdvectionScheme::kLinear ? interp_linear(old_mesh, f, f_nodal, feet[t])
+                                                     : interp(old_mesh, f_nodal, feet[t]);
+  });
   if (scheme == AdvectionScheme::kBfecc) {
     // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
     AdvectionReport back_rep;

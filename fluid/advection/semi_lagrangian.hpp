@@ -35,7 +35,12 @@ struct FluidFields {
 ///   forward through the same old velocity), f_new = A(f + (f - f~)/2), reverting to f^ where the
 ///   result leaves [min, max] of the old nodal values around the foot. Cancels the leading
 ///   smoothing error of A (node averaging + interpolation); costs about 2.5 plain advections.
-enum class AdvectionScheme { kSemiLagrangian, kBfecc };
+/// kLinear: semi-Lagrangian with a tet-wise linear reconstruction that keeps each tet's own value at
+///   its centroid, f(x) = f_t + sum_k (lambda_k(x) - 1/4) f_nodes_k  (the gradient of the node
+///   average, anchored at the tet value; limited to the range of f_t and the 4 node values). Unlike
+///   the continuous interpolant it is the identity for a zero displacement on the same mesh, so it
+///   does not smooth the field every step (its smoothing scales with the displacement, not with 1/dt).
+enum class AdvectionScheme { kSemiLagrangian, kBfecc, kLinear };
 
 struct AdvectionReport {
   int clamped = 0;          ///< traces cut at the fluid boundary

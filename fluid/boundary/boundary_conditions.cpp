@@ -47,9 +47,12 @@ ClassifiedBoundary classify_boundary(const FluidMesh& mesh, const BoundaryCondit
       }
       if (cb.face_kind[f] == FaceKind::kInflow) {
         nk = NodeKind::kInflow;
-        const Eigen::Vector3d u = bc.patches[cb.face_patch[f]].velocity;
+        const BoundaryPatch& patch = bc.patches[cb.face_patch[f]];
+        std::array<Eigen::Vector3d, 3> v;
+        for (int a = 0; a < 3; ++a)
+          v[a] = patch.velocity_field ? patch.velocity_field(mesh.nodes[bf.nodes[a]]) : patch.velocity;
         cb.flux_faces.push_back(static_cast<int>(f));
-        cb.flux_velocity.push_back({u, u, u});
+        cb.flux_velocity.push_back(v);
       } else if (cb.face_kind[f] == FaceKind::kOpen) {
         nk = NodeKind::kOpen;
         cb.closed = false;
@@ -58,6 +61,21 @@ ClassifiedBoundary classify_boundary(const FluidMesh& mesh, const BoundaryCondit
     for (int a = 0; a < 3; ++a) raise(bf.nodes[a], nk);
   }
   cb.flux = boundary_flux(mesh, cb.flux_faces, cb.flux_velocity);
+  if (bc.balance_inflow && cb.closed) {
+    std::vector<int> inflow_faces;
+    std::vector<std::array<Eigen::Vector3d, 3>> inflow_velocity;
+    for (size_t k = 0; k < cb.flux_faces.size(); ++k)
+      if (cb.face_kind[cb.flux_faces[k]] == FaceKind::kInflow) {
+        inflow_faces.push_back(cb.flux_faces[k]);
+        inflow_velocity.push_back(cb.flux_velocity[k]);
+      }
+    const Eigen::VectorXd w = boundary_flux(mesh, inflow_faces, inflow_velocity).cwiseAbs();
+    const double net = cb.flux.sum(), wsum = w.sum();
+    if (wsum > 0.0) {
+      cb.flux -= (net / wsum) * w;
+      cb.flux_imbalance = net / cb.flux.cwiseAbs().sum();
+    }
+  }
   return cb;
 }
 

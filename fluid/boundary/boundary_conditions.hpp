@@ -12,6 +12,7 @@
 /// (projection.hpp handles it).
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "fluid/operators/fluid_mesh.hpp"
@@ -36,6 +37,8 @@ struct BoundaryPatch {
   Region region;
   FaceKind kind = FaceKind::kWall;               ///< kWall, kInflow or kOpen
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< inflow velocity [m/s]
+  /// If set, the inflow velocity at each face vertex instead of `velocity` (a non-uniform far field).
+  std::function<Eigen::Vector3d(const Eigen::Vector3d&)> velocity_field;
   double smoke = 0.0;                             ///< inflow smoke density [-]
   double temperature = 0.0;                       ///< inflow temperature [K]
 };
@@ -56,6 +59,11 @@ struct BoundaryConditions {
   /// Velocity of every TetMesh vertex on a solid interface [m/s], indexed by TetMesh vertex id;
   /// empty: solids at rest.
   std::vector<Eigen::Vector3d> solid_vertex_velocity;
+  /// Closed domains only: if the prescribed fluxes do not sum to zero (the P1 quadrature of a
+  /// non-linear far field such as BoundaryPatch::velocity_field is not exactly conservative),
+  /// subtract the net flux from the INFLOW-patch nodes in proportion to |f_i| there. Off: a net
+  /// inflow into a closed domain is an error (projection.hpp).
+  bool balance_inflow = false;
 };
 
 /// Result of applying BoundaryConditions to one FluidMesh.
@@ -67,6 +75,7 @@ struct ClassifiedBoundary {
   std::vector<std::array<Eigen::Vector3d, 3>> flux_velocity;  ///< their vertex velocities [m/s]
   Eigen::VectorXd flux;                  ///< f_i = int phi_i u_b.n dA over flux faces [m^3/s]
   bool closed = true;                    ///< no open node: pressure has a constant null space
+  double flux_imbalance = 0.0;           ///< net flux removed by balance_inflow / sum |f| [-]
 };
 
 /// Classifies faces and nodes and assembles the boundary flux.

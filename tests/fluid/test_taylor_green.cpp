@@ -57,23 +57,25 @@ TgResult run_taylor_green(int n, double dt, bool jitter, AdvectionScheme scheme,
 
 TEST(FluidTaylorGreen, NumericalDissipationShrinksWithRefinement) {
   std::printf("| advection | mesh | n (cells per pi) | dt [s] | KE loss rate [1/s] | max|div| h/U | p error / (rho U^2/2) |\n");
-  double rate[2][2][2][2];  // [scheme][jitter][n index][dt index]
+  double rate[3][2][2][2];  // [scheme][jitter][n index][dt index]
   const int ns[2] = {8, 16};
   const double dts[2] = {0.1, 0.05};
-  const AdvectionScheme schemes[2] = {AdvectionScheme::kSemiLagrangian, AdvectionScheme::kBfecc};
-  for (int s = 0; s < 2; ++s)
+  const AdvectionScheme schemes[3] = {AdvectionScheme::kSemiLagrangian, AdvectionScheme::kBfecc,
+                                      AdvectionScheme::kLinear};
+  const char* names[3] = {"semi-Lagrangian", "BFECC", "tet-linear"};
+  for (int s = 0; s < 3; ++s)
     for (int j = 0; j < 2; ++j)
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b) {
           const TgResult r = run_taylor_green(ns[a], dts[b], j == 1, schemes[s]);
           rate[s][j][a][b] = r.loss_rate;
           const double h = std::acos(-1.0) / ns[a];
-          std::printf("| %s | %s | %d | %.3f | %.4f | %.2e | %.3f |\n", s ? "BFECC" : "semi-Lagrangian",
+          std::printf("| %s | %s | %d | %.3f | %.4f | %.2e | %.3f |\n", names[s],
                       j ? "jittered every step" : "static", ns[a], dts[b], r.loss_rate, r.max_div * h, r.pressure_error);
           EXPECT_LE(r.max_div, 1e-8 / h);
           EXPECT_GT(r.loss_rate, 0.0);  // the scheme dissipates; it must never create energy
         }
-  for (int s = 0; s < 2; ++s)
+  for (int s = 0; s < 3; ++s)
     for (int j = 0; j < 2; ++j)
       for (int b = 0; b < 2; ++b)
         EXPECT_LT(rate[s][j][1][b], rate[s][j][0][b]) << "scheme " << s << " jitter " << j << " dt " << dts[b];

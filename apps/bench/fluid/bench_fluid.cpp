@@ -8,6 +8,7 @@
 #include <string>
 
 #include "apps/bench/bench_support.hpp"
+#include "apps/bench/fluid/sphere_cases.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/structured_box.hpp"
 
@@ -125,11 +126,41 @@ void hydrostatic(int n) {
 
 }  // namespace
 
+void sphere_cases(double h_near, double h_far, int steps) {
+  const double a = 0.5, L = 1.0;
+  {
+    tetfsi::bench::Stopwatch w;
+    const auto r = fluid::validation::potential_flow(a, L, h_near, h_far);
+    tetfsi::bench::print_row("potential flow past a sphere, surface Cp vs 1 - 9/4 sin^2",
+                             fmt::format("{} tets, h_surface/a = {:.3f}", r.tets, r.h_surface / a),
+                             fmt::format("rms {:.4f}, max {:.4f}; Cp stagnation {:.3f} (1), equator {:.3f} (-1.25)",
+                                         r.surface_rms, r.surface_max, r.cp_stagnation, r.cp_equator),
+                             w.seconds());
+  }
+  for (auto scheme : {fluid::AdvectionScheme::kLinear, fluid::AdvectionScheme::kBfecc}) {
+    tetfsi::bench::Stopwatch w;
+    const auto r = fluid::validation::added_mass(a, L, h_near, h_far, steps, scheme);
+    tetfsi::bench::print_row(
+        fmt::format("added mass, oscillating sphere, {} steps/period, {}", steps,
+                    scheme == fluid::AdvectionScheme::kLinear ? "tet-linear" : "BFECC"),
+        fmt::format("{} tets, h_near/a = {:.2f}", r.tets, h_near / a),
+        fmt::format("m/(rho V/2) - 1 = {:+.4f} (impulsive start {:+.4f})", r.measured / r.ideal - 1.0,
+                    r.impulsive / r.ideal - 1.0),
+        w.seconds());
+    if (steps == 0) break;
+  }
+}
+
 int main(int argc, char** argv) {
   long max_tets = 450000;
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], "--max-tets") == 0) max_tets = std::atol(argv[i + 1]);
+  bool sphere_only = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--max-tets") == 0 && i + 1 < argc) max_tets = std::atol(argv[i + 1]);
+    if (std::strcmp(argv[i], "--sphere-only") == 0) sphere_only = true;
+  }
   tetfsi::bench::print_header();
+  for (double hn : {0.12, 0.08, 0.055}) sphere_cases(hn, 2.0 * hn, sphere_only ? 0 : 40);
+  if (sphere_only) return 0;
   for (int n : {16, 26, 41}) {
     if (6L * n * n * n > max_tets) continue;
     scaling(n, fluid::SolverBackend::kHypreAmgCg, fluid::AdvectionScheme::kBfecc, 3);
