@@ -55,6 +55,7 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     ts.rayleigh_alpha = materials[i].rayleigh_alpha;
     ts.rayleigh_beta = materials[i].rayleigh_beta;
     ts.gravity = settings_.solid_gravity;
+    ts.scheme = settings_.newmark;
     s.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*s.model, ts);
     s.dof_offset = offset;
     offset += 3 * s.model->num_nodes();

@@ -38,6 +38,9 @@ struct CoupledSettings {
   CoupledSolverKind solver = CoupledSolverKind::SchurCG;
   CoupledSolverOptions solver_options;
   Eigen::Vector3d solid_gravity = Eigen::Vector3d::Zero();  ///< gravity on the solids [m/s²]
+  /// Solid time integration: the paper's eq. (18) as printed (θ = 1, dissipative) or the
+  /// energy-conserving trapezoidal rule (θ = ½); see solid/integrator/trapezoidal.hpp.
+  solid::NewmarkScheme newmark = solid::NewmarkScheme::kChentanez;
 };
 
 /// One stats.csv row of a coupled step.

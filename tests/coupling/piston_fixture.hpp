@@ -24,6 +24,7 @@ struct PistonSetup {
   double time_step = 1.0 / 200;
   coupling::CouplingScheme scheme = coupling::CouplingScheme::kSimultaneous;
   coupling::CoupledSolverKind solver = coupling::CoupledSolverKind::SchurCG;
+  solid::NewmarkScheme newmark = solid::NewmarkScheme::kTrapezoidal;
 
   double area() const { return width * width; }
   double solid_mass() const { return solid_density * area() * plug; }
@@ -52,6 +53,7 @@ inline std::unique_ptr<coupling::CoupledStepper> make_piston(const PistonSetup& 
   cs.time_step = s.time_step;
   cs.scheme = s.scheme;
   cs.solver = s.solver;
+  cs.newmark = s.newmark;
   auto stepper = std::make_unique<coupling::CoupledStepper>(m, fp, std::vector<solid::TetMaterial>{mat}, cs);
 
   fluid::BoundaryPatch open;

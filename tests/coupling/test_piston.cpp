@@ -3,6 +3,7 @@
 // bounded below it, for any time step.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -20,6 +21,7 @@ struct PistonRun {
   double frequency = 0;
   double max_amplitude = 0;
   double energy_drift = 0;  ///< max |E(t) - E(first step)| / E(first step)
+  double final_energy_loss = 0;  ///< 1 - E(last step) / E(first step)
   bool diverged = false;
 };
 
@@ -46,6 +48,7 @@ PistonRun run_piston(const PistonSetup& s, double periods, double v0 = 1e-3) {
     if (e0 < 0) e0 = rep.total_energy();
     run.energy_drift = std::max(run.energy_drift, std::abs(rep.total_energy() - e0) / e0);
     run.max_amplitude = std::max(run.max_amplitude, std::abs(x));
+    run.final_energy_loss = 1 - rep.total_energy() / e0;
     if (k > 0 && prev < 0 && x >= 0) crossings.push_back(stepper->time() - s.time_step * x / (x - prev));
     prev = x;
   }
@@ -63,12 +66,33 @@ TEST(Piston, SimultaneousCouplingOscillatesAtAddedMassFrequency) {
     const PistonRun run = run_piston(s, 4.5);
     ASSERT_FALSE(run.diverged);
     const double f = s.exact_frequency();
+    std::printf("piston m_a/m_s=%.1f: f=%.6f Hz, exact %.6f Hz, rel. error %.2e, energy drift %.2e\n",
+                s.added_mass() / s.solid_mass(), run.frequency, f, run.frequency / f - 1, run.energy_drift);
     EXPECT_NEAR(run.frequency, f, 0.01 * f) << "rho_f = " << fluid_density << ", m_a/m_s = "
                                             << s.added_mass() / s.solid_mass();
     // Undamped, no gravity, p = 0 at the open end: the coupled step conserves
     // fluid kinetic + plug kinetic + spring energy up to the trapezoidal rule's accuracy.
     EXPECT_LT(run.energy_drift, 1e-3) << "rho_f = " << fluid_density;
   }
+}
+
+TEST(Piston, PaperSchemeAsPrintedKeepsTheFrequencyButDampsAtOmegaHOverFour) {
+  // Eq. (18) as printed is Newmark β = ½, γ = 1: the amplitude decays by 1/√(1 + (ωh)²/2) a step
+  // (solid/integrator/trapezoidal.hpp), so the energy by 1/(1 + (ωh)²/2), while the frequency moves
+  // by O((ωh)²) only.
+  PistonSetup s;
+  s.newmark = solid::NewmarkScheme::kChentanez;
+  const double periods = 3.5;
+  const PistonRun run = run_piston(s, periods);
+  ASSERT_FALSE(run.diverged);
+  const double f = s.exact_frequency();
+  EXPECT_NEAR(run.frequency, f, 0.01 * f);
+  const double wh = 2 * M_PI * f * s.time_step;
+  const int steps = static_cast<int>(periods / (f * s.time_step));
+  const double expected_loss = 1 - std::pow(1 + wh * wh / 2, -(steps - 1));
+  std::printf("paper scheme: f rel. error %.2e, energy loss %.4f (predicted %.4f)\n", run.frequency / f - 1,
+              run.final_energy_loss, expected_loss);
+  EXPECT_NEAR(run.final_energy_loss, expected_loss, 0.1 * expected_loss);
 }
 
 TEST(Piston, TimeSplittingIsUnstableExactlyWhenAddedMassExceedsSolidMass) {
