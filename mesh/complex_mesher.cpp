@@ -22,6 +22,7 @@
 #include <CGAL/Polyhedron_incremental_builder_3.h>
 #include <CGAL/Random.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/refine_mesh_3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -125,8 +126,16 @@ TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<s
   Criteria criteria(p::edge_size = field, p::facet_angle = 25.0, p::facet_size = field,
                     p::facet_distance = facet_distance, p::cell_radius_edge_ratio = 3.0,
                     p::cell_size = field);
-  C3t3 c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, p::no_lloyd(), p::no_odt(), p::perturb(),
-                                      p::exude());
+  // Initialization. With protected features (the box edges), CGAL 5.5.1's make_mesh_3 samples
+  // the surfaces only if the feature points alone give no restricted facet at all (make_mesh_3.h,
+  // C3t3_initializer); the box's feature points always give some, so a solid smaller than the
+  // initial Delaunay cells was never found ("meshing produced no tets" for a 0.1 m sphere in a
+  // 1 m box). So we initialize as make_mesh_3 does, then always add CGAL's initial surface points
+  // of every patch, the step make_mesh_3 itself takes when features are not enough.
+  C3t3 c3t3;
+  CGAL::Mesh_3::internal::init_c3t3_with_features(c3t3, domain, criteria);
+  CGAL::Mesh_3::internal::init_c3t3(c3t3, domain, criteria, -1);
+  CGAL::refine_mesh_3(c3t3, domain, criteria, p::no_lloyd(), p::no_odt(), p::perturb(), p::exude());
 
   TetMesh out;
   std::map<Tr::Vertex_handle, int> index;
