@@ -12,6 +12,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "mesh/structured_box.hpp"
 #include "tests/coupling/piston_fixture.hpp"
+#include "tests/coupling/sphere_fixture.hpp"
 
 using namespace tetfsi;
 
@@ -81,6 +82,14 @@ int main(int argc, char** argv) {
     const double f = piston_frequency(s, 3.0);
     bench::print_row("piston m_a/m_s=10 (simultaneous, schur_cg)", std::to_string(cpm) + " cells/m, h=1/200",
                      fmt::format("{:.2e} rel. (frequency)", f / s.exact_frequency() - 1), clock.seconds());
+  }
+
+  for (double edge : {0.025, 0.015, 0.01}) {
+    bench::Stopwatch clock;
+    const test::SphereRun run = test::run_sphere(edge, 0.15, 2.6);
+    bench::print_row("sphere on springs, added mass (simultaneous)",
+                     fmt::format("edge {} m at the sphere, {} tets", edge, run.tets),
+                     fmt::format("{:.2e} rel. (frequency)", run.frequency / run.exact - 1), clock.seconds());
   }
 
   for (int cells = 16; cells <= max_cells; cells += 8) {
