@@ -48,6 +48,10 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc) {
 }
 
 StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt) {
+  return finish(bc, dt, predict(mesh, bc, dt));
+}
+
+StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt) {
   if (!initialized_) throw std::logic_error("FluidSolver::step: initialize() first");
   if (!(dt > 0.0)) throw std::invalid_argument("FluidSolver::step: dt must be positive");
   StepReport rep;
@@ -71,7 +75,23 @@ StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions
   add_buoyancy(mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, dt, fields_.velocity);
   add_vorticity_confinement(mesh_, params_.vorticity_epsilon, dt, fields_.velocity);
   rep.forces_seconds = now() - t0;
-  return finish(bc, dt, rep);
+  return rep;
+}
+
+StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep) {
+  if (pressure.size() != mesh_.num_nodes())
+    throw std::invalid_argument("FluidSolver::apply_pressure: one pressure per fluid node expected");
+  pressure_ = std::move(pressure);
+  const TetVectors grad_p = gradient(mesh_, pressure_);
+  const double scale = dt / params_.density;
+  for (int t = 0; t < mesh_.num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
+  for (const auto& u : fields_.velocity)
+    if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
+  if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
+  rep.num_tets = mesh_.num_tets();
+  rep.num_nodes = mesh_.num_nodes();
+  rep.kinetic_energy = params_.density * kinetic_energy(mesh_, fields_.velocity);
+  return rep;
 }
 
 StepReport FluidSolver::project_only(const BoundaryConditions& bc, double dt) {

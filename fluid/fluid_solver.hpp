@@ -57,6 +57,15 @@ class FluidSolver {
   /// Projects the current velocity only (no advection, no forces): initial conditions, potential flow.
   StepReport project_only(const BoundaryConditions& bc, double dt);
 
+  // ---- pieces for the simultaneous coupling (coupling/coupled_stepper.hpp) ----
+  /// Steps 1-3 of step(): advects onto `mesh`, classifies `bc`, applies sources and body forces,
+  /// leaving the intermediate velocity v* in fields().velocity (no projection).
+  StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
+  /// Eq. (8), interior part: v = v* - (h/rho) G p with the pressure p [Pa] per fluid node that the
+  /// coupled solve found; then the finiteness check and the statistics of `rep`.
+  /// @throws std::runtime_error on NaN/Inf
+  StepReport apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep);
+
   const FluidParams& params() const { return params_; }
   const FluidMesh& mesh() const { return mesh_; }
   const FluidFields& fields() const { return fields_; }

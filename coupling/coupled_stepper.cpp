@@ -1,0 +1,227 @@
+#include "coupling/coupled_stepper.hpp"
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+#include "coupling/interface_maps.hpp"
+#include "fluid/operators/p1_operators.hpp"
+
+namespace tetfsi::coupling {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Eigen::SparseMatrix<double> block_diagonal(const std::vector<Eigen::SparseMatrix<double>>& blocks) {
+  int n = 0;
+  std::size_t nnz = 0;
+  for (const auto& b : blocks) n += static_cast<int>(b.rows()), nnz += b.nonZeros();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(nnz);
+  int offset = 0;
+  for (const auto& b : blocks) {
+    for (int k = 0; k < b.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(b, k); it; ++it)
+        t.emplace_back(offset + it.row(), offset + it.col(), it.value());
+    offset += static_cast<int>(b.rows());
+  }
+  Eigen::SparseMatrix<double> m(n, n);
+  m.setFromTriplets(t.begin(), t.end());
+  return m;
+}
+
+}  // namespace
+
+/// The pieces of eq. (7) for one step, reduced to the pressure unknowns (fluid nodes without a
+/// prescribed pressure) and with the fixed solid dofs' flux moved to the right-hand side.
+struct CoupledStepper::Blocks {
+  CoupledSystem system;
+  std::vector<int> unknown;  ///< fluid node -> pressure unknown, -1 where p = 0 is prescribed
+};
+
+CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
+                               const std::vector<solid::TetMaterial>& materials, CoupledSettings settings)
+    : mesh_(std::move(mesh)), settings_(std::move(settings)), fluid_(std::move(fluid)) {
+  if (!(settings_.time_step > 0)) throw std::invalid_argument("coupled step: time step must be positive");
+  int offset = 0;
+  for (int i = 0; i < static_cast<int>(materials.size()); ++i) {
+    Solid s;
+    s.submesh = mesh::extract_subdomain(mesh_, mesh::solid_subdomain(i));
+    s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i]);
+    solid::TrapezoidalSettings ts;
+    ts.time_step = settings_.time_step;
+    ts.rayleigh_alpha = materials[i].rayleigh_alpha;
+    ts.rayleigh_beta = materials[i].rayleigh_beta;
+    ts.gravity = settings_.solid_gravity;
+    ts.scheme = settings_.newmark;
+    s.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*s.model, ts);
+    s.dof_offset = offset;
+    offset += 3 * s.model->num_nodes();
+    solids_.push_back(std::move(s));
+  }
+  fluid_.initialize(mesh_);
+  solver_ = make_coupled_solver(settings_.solver, settings_.solver_options);
+  previous_pressure_ = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
+}
+
+void CoupledStepper::move_solid_vertices() {
+  for (const Solid& s : solids_) {
+    const Eigen::VectorXd x = s.integrator->positions();
+    for (int a = 0; a < s.model->num_nodes(); ++a) mesh_.vertices[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
+  }
+}
+
+CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& report) {
+  Blocks blocks;
+  CoupledSystem& sys = blocks.system;
+
+  // Solid rows of eq. (4), block-diagonal over the solids.
+  auto clock = std::chrono::steady_clock::now();
+  std::vector<Eigen::SparseMatrix<double>> A_blocks(solids_.size());
+  std::vector<Eigen::VectorXd> b_blocks(solids_.size());
+  int n = 0;
+  for (std::size_t i = 0; i < solids_.size(); ++i) {
+    solids_[i].integrator->form_system(A_blocks[i], b_blocks[i]);
+    n += static_cast<int>(b_blocks[i].size());
+  }
+  sys.A = block_diagonal(A_blocks);
+  sys.b.resize(n);
+  std::vector<char> fixed(n, 0);
+  Eigen::VectorXd fixed_velocity = Eigen::VectorXd::Zero(n);
+  for (std::size_t i = 0; i < solids_.size(); ++i) {
+    const int o = solids_[i].dof_offset;
+    sys.b.segment(o, b_blocks[i].size()) = b_blocks[i];
+    const auto& f = solids_[i].integrator->fixed_dofs();
+    for (std::size_t k = 0; k < f.size(); ++k)
+      if (f[k]) {
+        fixed[o + k] = 1;
+        // The integrator's Dirichlet rows read A_kk u_k = b_k: the prescribed velocity.
+        fixed_velocity[o + k] = b_blocks[i][k] / A_blocks[i].coeff(k, k);
+      }
+  }
+  report.solid_assemble_seconds = seconds_since(clock);
+  report.solid_dofs = n;
+
+  // Pressure unknowns: every fluid node without a prescribed pressure.
+  clock = std::chrono::steady_clock::now();
+  const fluid::FluidMesh& fm = fluid_.mesh();
+  const fluid::ClassifiedBoundary& bc = fluid_.boundary();
+  blocks.unknown.assign(fm.num_nodes(), -1);
+  int m = 0;
+  for (int i = 0; i < fm.num_nodes(); ++i)
+    if (bc.node_kind[i] != fluid::NodeKind::kOpen) blocks.unknown[i] = m++;
+
+  // H over the interface triangles (interface_maps.hpp), columns of fixed dofs moved to r.
+  std::vector<InterfaceTriangle> triangles;
+  InterfaceDofs dofs;
+  dofs.pressure_index.assign(mesh_.num_vertices(), -1);
+  dofs.solid_node.assign(mesh_.num_vertices(), -1);
+  for (int i = 0; i < fm.num_nodes(); ++i) dofs.pressure_index[fm.node_to_mesh_vertex[i]] = blocks.unknown[i];
+  for (const Solid& s : solids_)
+    for (int a = 0; a < s.model->num_nodes(); ++a) dofs.solid_node[s.submesh.to_parent_vertex[a]] = s.dof_offset / 3 + a;
+  for (const fluid::BoundaryFace& f : fm.boundary_faces) {
+    if (f.other_subdomain < mesh::solid_subdomain(0)) continue;
+    InterfaceTriangle t;
+    for (int k = 0; k < 3; ++k) t.vertices[k] = fm.node_to_mesh_vertex[f.nodes[k]];
+    t.area_normal = f.area * f.normal;  // out of the fluid, into the solid
+    triangles.push_back(t);
+  }
+  report.interface_triangles = static_cast<int>(triangles.size());
+  const Eigen::SparseMatrix<double> H_all = interface_flux_map(triangles, dofs, m, n / 3);
+  Eigen::VectorXd free_mask = Eigen::VectorXd::Ones(n);
+  for (int k = 0; k < n; ++k)
+    if (fixed[k]) free_mask[k] = 0;
+  sys.H = H_all * free_mask.asDiagonal();
+  const Eigen::VectorXd fixed_flux = H_all * fixed_velocity;
+
+  // Fluid rows: C = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
+  const double rho = fluid_.params().density;
+  const Eigen::SparseMatrix<double> L = fluid::assemble_laplacian(fm);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(L.nonZeros());
+  for (int k = 0; k < L.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, k); it; ++it)
+      if (blocks.unknown[it.row()] >= 0 && blocks.unknown[it.col()] >= 0)
+        t.emplace_back(blocks.unknown[it.row()], blocks.unknown[it.col()], (h / rho) * it.value());
+  sys.C.resize(m, m);
+  sys.C.setFromTriplets(t.begin(), t.end());
+  const Eigen::VectorXd div_star = fluid::gradient_transpose_volume(fm, fluid_.fields().velocity) - bc.flux;
+  sys.r.resize(m);
+  for (int i = 0; i < fm.num_nodes(); ++i)
+    if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] = div_star[i];
+  sys.r -= fixed_flux;
+
+  // A closed fluid region whose boundary cannot move (walls and fixed solids only) has the
+  // constant pressure null space: pin one node as the fluid projection does.
+  bool moving_boundary = false;
+  for (int k = 0; k < sys.H.outerSize() && !moving_boundary; ++k)
+    moving_boundary = Eigen::SparseMatrix<double>::InnerIterator(sys.H, k);
+  if (bc.closed && !moving_boundary && m > 0) {
+    sys.r.array() -= sys.r.mean();
+    sys.C.coeffRef(0, 0) += sys.C.coeff(0, 0);  // p_0 anchored softly: unique and still SPD
+  }
+  report.interface_seconds = seconds_since(clock);
+  report.pressure_unknowns = m;
+  return blocks;
+}
+
+CoupledStepReport CoupledStepper::step() {
+  const double h = settings_.time_step;
+  CoupledStepReport report;
+  move_solid_vertices();
+  report.fluid = fluid_.predict(mesh_, boundary_, h);
+  Blocks blocks = assemble(h, report);
+  CoupledSystem& sys = blocks.system;
+  const int n = sys.num_solid_dofs(), m = sys.num_pressures();
+
+  Eigen::VectorXd u, p;
+  if (settings_.scheme == CouplingScheme::kSimultaneous) {
+    report.solve = solver_->solve(sys, u, p);
+  } else {
+    // Time splitting: solid with the previous pressure, then fluid with the new solid velocity.
+    Eigen::VectorXd p_old = Eigen::VectorXd::Zero(m);
+    for (int i = 0; i < static_cast<int>(blocks.unknown.size()); ++i)
+      if (blocks.unknown[i] >= 0 && i < previous_pressure_.size()) p_old[blocks.unknown[i]] = previous_pressure_[i];
+    CoupledSystem solid_only{sys.A, Eigen::SparseMatrix<double>(0, n), Eigen::SparseMatrix<double>(0, 0),
+                             sys.b + sys.H.transpose() * p_old, Eigen::VectorXd(0)};
+    Eigen::VectorXd unused;
+    const CoupledSolveReport rs = solver_->solve(solid_only, u, unused);
+    CoupledSystem fluid_only{Eigen::SparseMatrix<double>(0, 0), Eigen::SparseMatrix<double>(m, 0), sys.C,
+                             Eigen::VectorXd(0), sys.r - sys.H * u};
+    Eigen::VectorXd none;
+    report.solve = solver_->solve(fluid_only, none, p);
+    report.solve.solver = "splitting:" + report.solve.solver;
+    report.solve.iterations += rs.iterations;
+    report.solve.setup_seconds += rs.setup_seconds;
+    report.solve.solve_seconds += rs.solve_seconds;
+    report.solve.residual = residuals(sys, u, p);  // of the coupled equations: shows the splitting error
+  }
+  if (!u.allFinite() || !p.allFinite())
+    throw std::runtime_error("coupled step " + std::to_string(step_ + 1) + ": solution is not finite (diverged)");
+
+  Eigen::VectorXd pressure = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
+  for (int i = 0; i < pressure.size(); ++i)
+    if (blocks.unknown[i] >= 0) pressure[i] = p[blocks.unknown[i]];
+  previous_pressure_ = pressure;
+  report.fluid = fluid_.apply_pressure(std::move(pressure), h, report.fluid);
+  report.fluid.solve_seconds = report.solve.setup_seconds + report.solve.solve_seconds;
+  report.fluid.iterations = report.solve.iterations;
+
+  for (Solid& s : solids_) {
+    s.integrator->advance(u.segment(s.dof_offset, 3 * s.model->num_nodes()));
+    const solid::StepStats e = s.integrator->energies();
+    report.solid_kinetic += e.kinetic;
+    report.solid_strain += e.strain;
+    report.spring_energy += e.spring;
+    report.solid_gravity_potential += e.gravity_potential;
+  }
+  report.fluid_kinetic = report.fluid.kinetic_energy;
+  time_ += h;
+  report.step = ++step_;
+  report.time = time_;
+  return report;
+}
+
+}  // namespace tetfsi::coupling

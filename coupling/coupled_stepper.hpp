@@ -1,0 +1,108 @@
+#pragma once
+/// @file coupled_stepper.hpp
+/// The coupled time step of shared/design.md for a fluid and deformable tet solids that share one
+/// TetMesh (fluid = subdomain 1, solid i = subdomain 2 + i):
+///
+///  1. Solid predictor: each solid's integrator forms A and b of eq. (4) at dⁿ.
+///  2. Mesh: the solid vertices of the shared mesh move to Xⁿ + dⁿ (the fluid's other vertices stay;
+///     per-step remeshing is not wired in yet, so motions must stay well below a cell size, or a
+///     fluid tet inverts and the step stops with an error).
+///  3. Advect and add body forces on the fluid: v* (fluid::FluidSolver::predict).
+///  4. Interface: H over the triangles fluid and solid share, J = Hᵀ (interface_maps.hpp).
+///  5. Solve eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp).
+///  6. Update: fluid velocity by eq. (8), solid displacement by eq. (5).
+///
+/// The time-splitting baseline (CouplingScheme::kTimeSplitting) replaces 5 by two solves: the
+/// solid with the previous step's pressure, A u^{n+1} = b + J pⁿ, then the fluid with the new solid
+/// velocity as its boundary flux, (h/ρ) L p^{n+1} = r − H u^{n+1}. It is kept to show where it fails
+/// (added-mass instability, benchmarks.md §6) and the simultaneous system does not.
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "coupling/solvers/coupled_solver.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "mesh/submesh.hpp"
+#include "mesh/tet_mesh.hpp"
+#include "solid/integrator/trapezoidal.hpp"
+#include "solid/tet/material.hpp"
+#include "solid/tet/tet_model.hpp"
+
+namespace tetfsi::coupling {
+
+enum class CouplingScheme { kSimultaneous, kTimeSplitting };
+
+struct CoupledSettings {
+  double time_step = 1.0 / 30.0;                        ///< h [s]
+  CouplingScheme scheme = CouplingScheme::kSimultaneous;
+  CoupledSolverKind solver = CoupledSolverKind::SchurCG;
+  CoupledSolverOptions solver_options;
+  Eigen::Vector3d solid_gravity = Eigen::Vector3d::Zero();  ///< gravity on the solids [m/s²]
+  /// Solid time integration: the paper's eq. (18) as printed (θ = 1, dissipative) or the
+  /// energy-conserving trapezoidal rule (θ = ½); see solid/integrator/trapezoidal.hpp.
+  solid::NewmarkScheme newmark = solid::NewmarkScheme::kChentanez;
+};
+
+/// One stats.csv row of a coupled step.
+struct CoupledStepReport {
+  int step = 0;
+  double time = 0;                  ///< t^{n+1} [s]
+  fluid::StepReport fluid;          ///< advect / forces timings, counts
+  CoupledSolveReport solve;         ///< which solver ran, iterations, residuals, time
+  double solid_assemble_seconds = 0;
+  double interface_seconds = 0;     ///< H and the reduced fluid blocks
+  int pressure_unknowns = 0, solid_dofs = 0, interface_triangles = 0;
+  double fluid_kinetic = 0;         ///< ½ ρ Σ V_t |v_t|² [J]
+  double solid_kinetic = 0, solid_strain = 0, spring_energy = 0, solid_gravity_potential = 0;  ///< [J]
+  double total_energy() const { return fluid_kinetic + solid_kinetic + solid_strain + spring_energy + solid_gravity_potential; }
+};
+
+class CoupledStepper {
+ public:
+  /// @param mesh       the shared complex (fluid subdomain 1, solid i subdomain 2+i), at rest
+  /// @param fluid      fluid parameters (density, gravity, advection, ...)
+  /// @param materials  one material per solid, in subdomain order
+  /// @throws std::invalid_argument if a solid subdomain is missing, solid::SolidError on bad materials
+  CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid, const std::vector<solid::TetMaterial>& materials,
+                 CoupledSettings settings);
+
+  int num_solids() const { return static_cast<int>(solids_.size()); }
+  /// The i-th solid's integrator: set fixed nodes, springs, initial velocity, obstacles here.
+  solid::TrapezoidalIntegrator& solid(int i) { return *solids_[i].integrator; }
+  const solid::TetModel& solid_model(int i) const { return *solids_[i].model; }
+  /// Solid node -> shared-mesh vertex map of solid i.
+  const mesh::Submesh& solid_mesh(int i) const { return solids_[i].submesh; }
+  fluid::FluidSolver& fluid() { return fluid_; }
+  /// Walls, open patches, inflows and sources of the fluid (solid interfaces are handled here).
+  fluid::BoundaryConditions& fluid_boundary() { return boundary_; }
+  const mesh::TetMesh& mesh() const { return mesh_; }
+  double time() const { return time_; }
+
+  /// One coupled step of length settings.time_step.
+  /// @throws CoupledSolveError, fluid::SolverError, solid::SolidError or std::runtime_error on
+  ///         divergence (never returns a non-finite state)
+  CoupledStepReport step();
+
+ private:
+  struct Solid {
+    mesh::Submesh submesh;
+    std::unique_ptr<solid::TetModel> model;
+    std::unique_ptr<solid::TrapezoidalIntegrator> integrator;
+    int dof_offset = 0;
+  };
+  struct Blocks;  // the assembled pieces of eq. (7) for this step
+  Blocks assemble(double h, CoupledStepReport& report);
+  void move_solid_vertices();
+
+  mesh::TetMesh mesh_;
+  CoupledSettings settings_;
+  fluid::FluidSolver fluid_;
+  fluid::BoundaryConditions boundary_;
+  std::vector<Solid> solids_;
+  std::unique_ptr<CoupledSolver> solver_;
+  Eigen::VectorXd previous_pressure_;  // per fluid node, for time splitting
+  double time_ = 0;
+  int step_ = 0;
+};
+
+}  // namespace tetfsi::coupling

@@ -1,0 +1,44 @@
+#pragma once
+/// @file interface_maps.hpp
+/// The interface maps H and J of Chentanez et al. 2006, §3.4, for nodal (P1) fluid pressures and
+/// P1 solid velocities on the triangles that fluid and solid share.
+///
+/// On an interface triangle T (area A_T, unit normal n_T pointing out of the fluid, into the solid)
+/// both the pressure and the solid velocity are linear, with the same three vertices. Then
+///
+///   flux into pressure node i:   (H u)_i = Σ_T ∫_T φ_i (u · n_T) dA = Σ_T Σ_a M^T_ia (n_T · u_a)
+///   force on solid node a:       f_a     = Σ_T ∫_T φ_a p n_T dA     = Σ_T Σ_i M^T_ai p_i n_T
+///
+/// with the exact P1 triangle mass matrix M^T_ia = ∫_T φ_i φ_a dA = (A_T / 12)(1 + δ_ia).
+/// Both come from the same quadrature, so J = Hᵀ exactly: the work the pressure does on the solid,
+/// pᵀ H u, equals the flux work on the fluid (shared/design.md, "Coupling: decided").
+/// Consequences tested in tests/coupling: a hydrostatic pressure ρ g (z₀ − z) gives the buoyancy
+/// ρ g V of Archimedes to round-off, and u(x) = ε x gives the flux ε ∮ x·n dA = 3εV.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <vector>
+
+namespace tetfsi::coupling {
+
+/// One triangle shared by a fluid tet and a solid tet.
+struct InterfaceTriangle {
+  std::array<int, 3> vertices;   ///< mesh vertex indices
+  Eigen::Vector3d area_normal;   ///< A_T n_T, n_T pointing out of the fluid into the solid [m²]
+};
+
+/// Where each mesh vertex's unknowns live (both sized #mesh vertices; -1 where none).
+struct InterfaceDofs {
+  std::vector<int> pressure_index;  ///< pressure unknown of the vertex, -1 if none (e.g. p = 0 prescribed)
+  std::vector<int> solid_node;      ///< node of the solid's velocity vector u, -1 if not a solid node
+};
+
+/// Assembles H, num_pressures x 3 num_solid_nodes, with solid dofs ordered [x0 y0 z0 x1 ...].
+/// J = Hᵀ. Vertices without a pressure unknown contribute no row; a triangle vertex that is not a
+/// solid node is an error (the interface must lie on the solid).
+/// @throws std::invalid_argument naming the triangle and vertex on inconsistent input
+Eigen::SparseMatrix<double> interface_flux_map(const std::vector<InterfaceTriangle>& triangles,
+                                               const InterfaceDofs& dofs, int num_pressures,
+                                               int num_solid_nodes);
+
+}  // namespace tetfsi::coupling

@@ -1,0 +1,69 @@
+#pragma once
+/// @file coupled_solver.hpp
+/// Three solvers for the simultaneous system of eq. (7) (coupled_system.hpp) behind one interface,
+/// all converging to the same solution:
+///
+///  - `umfpack`  : sparse LU of the paper-form matrix [A −Hᵀ; H C] with UMFPACK, 64-bit indices
+///                 (umfpack_dl; the int interface fails beyond ~500k unknowns). The reference.
+///  - `bicgstab` : BiCGSTAB on the same unsymmetric matrix, as in the paper (§3.3), preconditioned
+///                 by the block-diagonal incomplete Cholesky diag(IC(A), IC(Ŝ)) with
+///                 Ŝ = C + H diag(A)⁻¹ Hᵀ.
+///  - `schur_cg` : the fast path using the symmetric structure (methods.md §3, option 1): eliminate
+///                 u = A⁻¹(b + Hᵀp), solve the SPD Schur complement
+///                     (C + H A⁻¹ Hᵀ) p = r − H A⁻¹ b
+///                 by preconditioned CG with A factored once by CHOLMOD (A is the smaller, solid
+///                 block), then recover u. Its preconditioner is IC(Ŝ) by default, or any SPD
+///                 approximation the caller plugs in (e.g. BoomerAMG of Ŝ).
+/// No solver falls back to another silently: each reports its name, iterations and residuals,
+/// and a solve that does not reach its tolerance throws CoupledSolveError.
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "coupling/coupled_system.hpp"
+
+namespace tetfsi::coupling {
+
+enum class CoupledSolverKind { Umfpack, BiCGSTAB, SchurCG };
+
+/// Parses "umfpack", "bicgstab" or "schur_cg"; throws std::invalid_argument otherwise.
+CoupledSolverKind parse_coupled_solver_kind(const std::string& name);
+std::string to_string(CoupledSolverKind kind);
+
+struct CoupledSolverOptions {
+  double tolerance = 1e-10;   ///< relative residual of each block row (residuals()) to reach
+  int max_iterations = 2000;  ///< iterative solvers only
+  /// schur_cg only: optional SPD preconditioner z ≈ Ŝ⁻¹ r for the pressure Schur complement, set
+  /// up by `setup` on Ŝ = C + H diag(A)⁻¹ Hᵀ. Empty: incomplete Cholesky of Ŝ.
+  std::function<void(const SparseMatrix& S_hat)> preconditioner_setup;
+  std::function<void(const Eigen::VectorXd& r, Eigen::VectorXd& z)> preconditioner_apply;
+  std::string preconditioner_name;  ///< reported in stats (e.g. "boomeramg")
+};
+
+/// What a solve did; written to stats.csv by the runner.
+struct CoupledSolveReport {
+  std::string solver;         ///< e.g. "schur_cg+ic"
+  int iterations = 0;         ///< outer iterations (0 for the direct solver)
+  BlockResiduals residual;    ///< of the returned solution, in the original (unscaled) system
+  double setup_seconds = 0;   ///< factorizations and preconditioner set-up
+  double solve_seconds = 0;
+};
+
+struct CoupledSolveError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class CoupledSolver {
+ public:
+  virtual ~CoupledSolver() = default;
+  /// Solves eq. (7) for u^{n+1} (size n) and p^{n+1} (size m). `u` and `p` may hold an initial
+  /// guess (iterative solvers use it when its sizes match).
+  /// @throws CoupledSolveError if the tolerance is not reached, std::invalid_argument on bad sizes
+  virtual CoupledSolveReport solve(const CoupledSystem& system, Eigen::VectorXd& u, Eigen::VectorXd& p) = 0;
+};
+
+std::unique_ptr<CoupledSolver> make_coupled_solver(CoupledSolverKind kind, CoupledSolverOptions options = {});
+
+}  // namespace tetfsi::coupling

@@ -1,0 +1,42 @@
+#pragma once
+/// @file solver_impls.hpp
+/// Private: the three CoupledSolver implementations (see coupled_solver.hpp) and shared helpers.
+#include "coupling/solvers/coupled_solver.hpp"
+
+namespace tetfsi::coupling::detail {
+
+/// Ŝ = C + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement C + H A⁻¹ Hᵀ,
+/// used to precondition the pressure block (methods.md §3, option 2).
+SparseMatrix approximate_schur_complement(const CoupledSystem& system);
+
+/// Throws CoupledSolveError if the residuals of (u, p) exceed the tolerance.
+void require_converged(const CoupledSolveReport& report, double tolerance);
+
+class UmfpackSolver final : public CoupledSolver {
+ public:
+  explicit UmfpackSolver(CoupledSolverOptions o) : options_(std::move(o)) {}
+  CoupledSolveReport solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) override;
+
+ private:
+  CoupledSolverOptions options_;
+};
+
+class BiCGSTABSolver final : public CoupledSolver {
+ public:
+  explicit BiCGSTABSolver(CoupledSolverOptions o) : options_(std::move(o)) {}
+  CoupledSolveReport solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) override;
+
+ private:
+  CoupledSolverOptions options_;
+};
+
+class SchurCGSolver final : public CoupledSolver {
+ public:
+  explicit SchurCGSolver(CoupledSolverOptions o) : options_(std::move(o)) {}
+  CoupledSolveReport solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) override;
+
+ private:
+  CoupledSolverOptions options_;
+};
+
+}  // namespace tetfsi::coupling::detail

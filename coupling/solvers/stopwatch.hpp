@@ -1,0 +1,22 @@
+#pragma once
+/// @file stopwatch.hpp
+/// Private: wall-clock laps for solver reports.
+#include <chrono>
+
+namespace tetfsi::coupling::detail {
+
+class Stopwatch {
+ public:
+  /// Seconds since construction or the previous lap.
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return s;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace tetfsi::coupling::detail
