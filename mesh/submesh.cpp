@@ -24,6 +24,7 @@ Submesh extract_subdomain(const TetMesh& mesh, int subdomain) {
       for (int k = 0; k < 4; ++k) tet[k] = s.from_parent_vertex[mesh.tets[t][k]];
       s.mesh.tets.push_back(tet);
       s.mesh.subdomain.push_back(subdomain);
+      s.to_parent_tet.push_back(t);
     }
   if (s.mesh.tets.empty())
     throw std::invalid_argument("extract_subdomain: no tet has label " + std::to_string(subdomain));

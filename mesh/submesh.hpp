@@ -14,6 +14,7 @@ struct Submesh {
   TetMesh mesh;                       ///< the extracted tets (labels kept)
   std::vector<int> to_parent_vertex;  ///< submesh vertex -> vertex of the parent mesh
   std::vector<int> from_parent_vertex;///< parent vertex -> submesh vertex, -1 if not in the submesh
+  std::vector<int> to_parent_tet;     ///< submesh tet -> tet of the parent mesh
 };
 
 /// @throws std::invalid_argument if `mesh` has no tet labelled `subdomain`

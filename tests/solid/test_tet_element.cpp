@@ -10,7 +10,6 @@
 #include "mesh/structured_box.hpp"
 #include "solid/solid_error.hpp"
 #include "solid/tet/constitutive.hpp"
-#include "solid/tet/extract_subdomain.hpp"
 #include "solid/tet/tet_model.hpp"
 
 using namespace tetfsi;
@@ -200,24 +199,6 @@ TEST(TetElement, BadInputIsRejectedWithAClearError) {
   EXPECT_FALSE(model.evaluate(d, f, nullptr));
   EXPECT_NE(model.last_error().find("non-finite"), std::string::npos) << model.last_error();
   EXPECT_THROW(parse_constitutive_law("hookean"), SolidError);
-}
-
-TEST(TetElement, ExtractSubdomainKeepsTheSolidAndMapsBack) {
-  auto mesh = mesh::structured_box({0, 0, 0}, {1, 1, 1}, 2, 2, 2, mesh::kFluidSubdomain);
-  int solid_tets = 0;
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    if (t % 6 == 0) mesh.subdomain[t] = mesh::solid_subdomain(0), ++solid_tets;
-  const auto sub = extract_subdomain(mesh, mesh::solid_subdomain(0));
-  ASSERT_EQ(sub.mesh.num_tets(), solid_tets);
-  double volume = 0, expected = 0;
-  for (int t = 0; t < sub.mesh.num_tets(); ++t) {
-    volume += mesh::signed_volume(sub.mesh, t);
-    expected += mesh::signed_volume(mesh, sub.global_tet[t]);
-    for (int i = 0; i < 4; ++i)
-      EXPECT_EQ(sub.global_vertex[sub.mesh.tets[t][i]], mesh.tets[sub.global_tet[t]][i]);
-  }
-  EXPECT_NEAR(volume, expected, 1e-15);
-  EXPECT_THROW(extract_subdomain(mesh, mesh::solid_subdomain(1)), SolidError);
 }
 
 TEST(TetElement, TangentMatrixMatchesDirectionalDerivative) {
