@@ -40,7 +40,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     // nlohmann's byte offset points one past the offending character.
     const auto [line, col] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
     std::string what = e.what();
-    if (auto p = what.find("syntax error"); p != std::string::npos) what = what.substr(p);
+    if (auto p = what.find("syntax error "); p != std::string::npos) what = what.substr(p + 13);
     throw SceneError(name, {{"", fmt::format("JSON syntax error at line {}, column {}: {}", line, col, what)}});
   }
   std::vector<Issue> issues;

@@ -1,0 +1,75 @@
+// The flagship scene end to end (needs the CGAL mesher of mesh/): the fluid box with the ball is
+// meshed as one complex, exported as fluid and solid .pvd objects (subdomain field) plus the
+// ball's surface as PLY, and the counts VTK reads back match stats.csv.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "csv.hpp"
+#include "ply_reader.hpp"
+#include "tests/test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace tetfsi::test;
+
+namespace {
+
+/// "t points cells fields..." -> {points, cells}
+std::pair<long, long> counts(const std::string& line) {
+  std::istringstream ss(line);
+  double t;
+  long p, c;
+  ss >> t >> p >> c;
+  return {p, c};
+}
+
+}  // namespace
+
+TEST(Flagship, MeshesAndExportsTheScene) {
+  TempDir dir("flagship");
+  const fs::path out = dir.path() / "out";
+  int status = -1;
+  const std::string msg = run_command(std::string(TETFSI_BINARY) + " run " + TETFSI_SOURCE_DIR +
+                                          "/data/scenes/flagship.json --out " + out.string() + " 2>&1",
+                                      &status);
+  ASSERT_EQ(status, 0) << msg;
+
+  const Csv stats = read_csv(out / "stats.csv");
+  ASSERT_EQ(stats.rows.size(), 1u);
+  const auto fluid = lines(vtk_describe(out / "fluid.pvd", &status));
+  ASSERT_EQ(status, 0);
+  const auto ball = lines(vtk_describe(out / "ball.pvd", &status));
+  ASSERT_EQ(status, 0);
+  ASSERT_EQ(fluid.size(), 1u);
+  ASSERT_EQ(ball.size(), 1u);
+  EXPECT_EQ(counts(fluid[0]).second, stats.at(0, "fluid_tets"));
+  EXPECT_EQ(counts(ball[0]).second, stats.at(0, "solid_tets"));
+  EXPECT_NE(fluid[0].find("c:subdomain:1"), std::string::npos) << fluid[0];
+  EXPECT_NE(ball[0].find("c:subdomain:1"), std::string::npos) << ball[0];
+  EXPECT_GT(stats.at(0, "min_dihedral_deg"), 0.0);
+  EXPECT_LT(stats.at(0, "max_dihedral_deg"), 180.0);
+
+  // The ball's surface: closed (every edge in exactly two triangles, once each way), outward,
+  // and enclosing about 4/3 pi r^3 (r = 0.2 m; CGAL approximates the sphere to ~1e-3 of its size).
+  const auto ply = read_ply(out / "surfaces" / "ball_00000.ply");
+  ASSERT_GT(ply.triangles.size(), 100u);
+  std::map<std::pair<int, int>, int> edges;
+  double volume = 0;
+  for (const auto& t : ply.triangles) {
+    for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
+    volume += ply.positions[t[0]].dot(ply.positions[t[1]].cross(ply.positions[t[2]])) / 6;
+  }
+  for (const auto& [e, n] : edges) {
+    EXPECT_EQ(n, 1);
+    EXPECT_EQ(edges.count({e.second, e.first}), 1u);
+  }
+  const double sphere = 4.0 / 3.0 * M_PI * std::pow(0.2, 3);
+  EXPECT_NEAR(volume, sphere, 0.03 * sphere);
+  const Csv probes = read_csv(out / "probes.csv");
+  EXPECT_NEAR(probes.at(0, "ball_volume"), volume, 1e-6 * sphere) << "tet volume = surface volume";
+
+  const std::string log = read_text(out / "run.log");
+  EXPECT_NE(log.find("no physics model runs this scene yet"), std::string::npos);
+  EXPECT_NE(log.find("smallest dihedral angle"), std::string::npos);
+}
