@@ -1,0 +1,26 @@
+#pragma once
+/// @file primitives.hpp
+/// Closed, outward-oriented triangle surfaces made without files: box, sphere, sheet.
+/// All are centred at the origin; place them with apply_placement() (surface_import.hpp).
+#include <Eigen/Core>
+
+#include "mesh/surface_mesh.hpp"
+
+namespace tetfsi::mesh {
+
+/// Axis-aligned box centred at the origin with the given edge lengths [m] (12 triangles).
+/// @throws MeshError if an extent is not > 0
+SurfaceMesh make_box(const Eigen::Vector3d& extents);
+
+/// Icosphere of the given radius [m] centred at the origin: the icosahedron, each triangle split
+/// into 4 `subdivisions` times, vertices projected to the sphere. 20 * 4^subdivisions triangles,
+/// 10 * 4^subdivisions + 2 vertices. Its enclosed volume is below 4/3 pi r^3 (inscribed polyhedron).
+/// @throws MeshError if radius <= 0 or subdivisions not in [0, 7]
+SurfaceMesh make_sphere(double radius, int subdivisions);
+
+/// Sheet: a thin slab centred at the origin, `width` along x, `depth` along y, `thickness` along z
+/// [m]. It is a box; the name documents intent (cloth-like solids of the scenes).
+/// @throws MeshError if a size is not > 0
+SurfaceMesh make_sheet(double width, double depth, double thickness);
+
+}  // namespace tetfsi::mesh

@@ -1,0 +1,112 @@
+/// @file quality.cpp
+#include "mesh/quality.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace tetfsi::mesh {
+
+std::array<double, 6> dihedral_angles_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  const std::array<Eigen::Vector3d, 4> p{a, b, c, d};
+  // Face k is opposite vertex k; its normal (unnormalised direction irrelevant) oriented away from
+  // vertex k, so both normals of an edge point out of the tet whatever the tet's orientation.
+  std::array<Eigen::Vector3d, 4> n;
+  for (int k = 0; k < 4; ++k) {
+    const auto& p0 = p[(k + 1) % 4];
+    const auto& p1 = p[(k + 2) % 4];
+    const auto& p2 = p[(k + 3) % 4];
+    Eigen::Vector3d m = (p1 - p0).cross(p2 - p0);
+    if (m.dot(p[k] - p0) > 0.0) m = -m;
+    const double len = m.norm();
+    n[k] = len > 0.0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+  }
+  // Edge (i, j) is shared by the faces opposite the two other vertices.
+  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  std::array<double, 6> out{};
+  for (int e = 0; e < 6; ++e) {
+    int f[2], m = 0;
+    for (int k = 0; k < 4; ++k)
+      if (k != kEdges[e][0] && k != kEdges[e][1]) f[m++] = k;
+    const double cosine = std::clamp(-n[f[0]].dot(n[f[1]]), -1.0, 1.0);
+    out[e] = std::acos(cosine) * 180.0 / M_PI;
+  }
+  return out;
+}
+
+double radius_edge_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const Eigen::Vector3d& d) {
+  // Circumcentre x solves 2 (p_i - a) . x' = |p_i - a|^2 for i = b, c, d, with x' = x - a.
+  Eigen::Matrix3d A;
+  A.row(0) = 2.0 * (b - a);
+  A.row(1) = 2.0 * (c - a);
+  A.row(2) = 2.0 * (d - a);
+  const Eigen::Vector3d rhs((b - a).squaredNorm(), (c - a).squaredNorm(), (d - a).squaredNorm());
+  const double det = A.determinant();
+  if (det == 0.0) return std::numeric_limits<double>::infinity();
+  const double radius = (A.inverse() * rhs).norm();
+  const double lmin = std::sqrt(std::min({(b - a).squaredNorm(), (c - a).squaredNorm(), (d - a).squaredNorm(),
+                                          (c - b).squaredNorm(), (d - b).squaredNorm(), (d - c).squaredNorm()}));
+  return lmin > 0.0 ? radius / lmin : std::numeric_limits<double>::infinity();
+}
+
+namespace {
+
+QualityReport report(const TetMesh& mesh, bool filter, int label) {
+  QualityReport q;
+  q.num_vertices = mesh.num_vertices();
+  q.min_dihedral_deg = 180.0;
+  q.max_dihedral_deg = 0.0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    const int sub = mesh.subdomain.empty() ? 1 : mesh.subdomain[t];
+    if (filter && sub != label) continue;
+    ++q.tets_per_subdomain[sub];
+    ++q.num_tets;
+    const auto& v = mesh.tets[t];
+    const auto &a = mesh.vertices[v[0]], &b = mesh.vertices[v[1]], &c = mesh.vertices[v[2]],
+               &d = mesh.vertices[v[3]];
+    const double vol = signed_volume(a, b, c, d);
+    const double lmax = std::sqrt(std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (d - a).squaredNorm(),
+                                            (c - b).squaredNorm(), (d - b).squaredNorm(), (d - c).squaredNorm()}));
+    if (std::abs(vol) <= 1e-12 * lmax * lmax * lmax) {
+      ++q.degenerate;
+      continue;
+    }
+    if (vol < 0.0) {
+      ++q.inverted;
+      continue;
+    }
+    for (double angle : dihedral_angles_deg(a, b, c, d)) {
+      q.min_dihedral_deg = std::min(q.min_dihedral_deg, angle);
+      q.max_dihedral_deg = std::max(q.max_dihedral_deg, angle);
+    }
+    q.max_radius_edge = std::max(q.max_radius_edge, radius_edge_ratio(a, b, c, d));
+  }
+  if (q.num_tets == q.inverted + q.degenerate) q.min_dihedral_deg = 0.0;
+  return q;
+}
+
+}  // namespace
+
+QualityReport quality_report(const TetMesh& mesh) { return report(mesh, false, 0); }
+
+QualityReport quality_report(const TetMesh& mesh, int subdomain) { return report(mesh, true, subdomain); }
+
+std::string QualityReport::summary() const {
+  std::ostringstream s;
+  s.precision(4);
+  s << num_tets << " tets (";
+  bool first = true;
+  for (const auto& [label, count] : tets_per_subdomain) {
+    s << (first ? "" : ", ") << "subdomain " << label << ": " << count;
+    first = false;
+  }
+  s << "), " << num_vertices << " vertices, dihedral [" << min_dihedral_deg << ", " << max_dihedral_deg
+    << "] deg, max radius-edge " << max_radius_edge << ", " << inverted << " inverted, " << degenerate
+    << " degenerate";
+  return s.str();
+}
+
+}  // namespace tetfsi::mesh

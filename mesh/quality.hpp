@@ -1,0 +1,44 @@
+#pragma once
+/// @file quality.hpp
+/// Quality report of a tetrahedral mesh (no CGAL): tet counts per subdomain, dihedral angles,
+/// radius-edge ratio, inverted and degenerate tets.
+#include <array>
+#include <map>
+#include <string>
+
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::mesh {
+
+/// The six dihedral angles [deg] of tet (a, b, c, d), one per edge, in the edge order
+/// (ab, ac, ad, bc, bd, cd). The angle at edge ij is pi minus the angle between the outward
+/// normals of the two faces that share it: theta = acos(-n1 . n2).
+std::array<double, 6> dihedral_angles_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c, const Eigen::Vector3d& d);
+
+/// Radius-edge ratio R / l_min (circumradius over shortest edge); sqrt(6)/4 = 0.612 for the
+/// regular tet, infinite for a flat one (CGAL Mesh_3's cell_radius_edge_ratio criterion).
+double radius_edge_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const Eigen::Vector3d& d);
+
+struct QualityReport {
+  std::map<int, int> tets_per_subdomain;  ///< label -> number of tets (label 1 if mesh has no labels)
+  int num_vertices = 0;
+  int num_tets = 0;
+  double min_dihedral_deg = 0.0;   ///< over tets with positive volume
+  double max_dihedral_deg = 0.0;
+  double max_radius_edge = 0.0;
+  int inverted = 0;    ///< signed volume < 0
+  int degenerate = 0;  ///< |signed volume| <= 1e-12 * (longest edge)^3, counted apart from inverted
+
+  /// One line for logs, e.g. "5012 tets (1: 4000, 2: 1012), dihedral [12.3, 160.1] deg, ...".
+  std::string summary() const;
+};
+
+/// Quality of every tet of `mesh` (all tets, every subdomain).
+QualityReport quality_report(const TetMesh& mesh);
+
+/// Quality of the tets with the given label only (counts and angles restricted to them).
+QualityReport quality_report(const TetMesh& mesh, int subdomain);
+
+}  // namespace tetfsi::mesh

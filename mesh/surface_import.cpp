@@ -1,0 +1,78 @@
+/// @file surface_import.cpp
+#include "mesh/surface_import.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "mesh/complex_mesher.hpp"  // MeshError
+
+namespace tetfsi::mesh {
+
+Eigen::Matrix3d placement_rotation(const Eigen::Vector3d& rotation_deg) {
+  const Eigen::Vector3d r = rotation_deg * (M_PI / 180.0);
+  return (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(r.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+void apply_placement(SurfaceMesh& surface, const Placement& placement) {
+  if (!(placement.unit_scale > 0.0) || !std::isfinite(placement.unit_scale))
+    throw MeshError("placement: unit_scale must be > 0");
+  if (!placement.rotation_deg.allFinite() || !placement.translation.allFinite())
+    throw MeshError("placement: rotation and translation must be finite");
+  const Eigen::Matrix3d R = placement_rotation(placement.rotation_deg);
+  for (auto& v : surface.vertices) v = R * (placement.unit_scale * v) + placement.translation;
+}
+
+SurfaceMesh import_surface(const std::string& path, const Placement& placement) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw MeshError(path + ": file not found");
+
+  Assimp::Importer importer;
+  // Drop everything but positions so that JoinIdenticalVertices joins by position alone (STL and
+  // others give every face its own vertices with their own normals).
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
+                                  aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                  aiComponent_TEXTURES | aiComponent_LIGHTS | aiComponent_CAMERAS);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene =
+      importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_SortByPType |
+                                  aiProcess_PreTransformVertices | aiProcess_JoinIdenticalVertices |
+                                  aiProcess_ValidateDataStructure);
+  if (scene == nullptr)
+    throw MeshError(path + ": cannot read the file as a 3D model (" + importer.GetErrorString() + ")");
+
+  // Join vertices at identical positions across meshes (exact comparison: the file's own values).
+  SurfaceMesh s;
+  std::map<std::array<double, 3>, int> index_of;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    std::vector<int> local(mesh->mNumVertices);
+    for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
+      const aiVector3D& p = mesh->mVertices[i];
+      const std::array<double, 3> key{p.x, p.y, p.z};
+      auto [it, inserted] = index_of.emplace(key, s.num_vertices());
+      if (inserted) s.vertices.emplace_back(key[0], key[1], key[2]);
+      local[i] = it->second;
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      s.triangles.push_back({local[face.mIndices[0]], local[face.mIndices[1]], local[face.mIndices[2]]});
+    }
+  }
+  if (s.triangles.empty()) throw MeshError(path + ": the file contains no triangles");
+  // Vertices of dropped points/lines may remain; validate_surface() removes unused vertices.
+  apply_placement(s, placement);
+  return s;
+}
+
+}  // namespace tetfsi::mesh
