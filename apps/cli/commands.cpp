@@ -8,11 +8,11 @@
 #include "apps/run/driver.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/solid_geometry.hpp"
-#include "apps/run/tet_tools.hpp"
 #include "apps/scene/docs.hpp"
 #include "apps/scene/scene.hpp"
 #include "apps/version.hpp"
 #include "mesh/complex_mesher.hpp"
+#include "mesh/quality.hpp"
 #include "mesh/io/vtu_writer.hpp"
 
 namespace tetfsi::cli {
@@ -26,7 +26,9 @@ int validate(const std::string& file) {
 }
 
 int mesh_command(const std::string& in, const std::string& out, double edge, double scale) {
-  const auto surface = run::import_surface(in, scale);
+  std::vector<std::string> warnings;
+  const auto surface = run::import_checked(in, scale, warnings);
+  for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
   mesh::MeshSizing sizing;
   sizing.edge_length = edge;
   mesh::TetMesh tets;
@@ -35,12 +37,9 @@ int mesh_command(const std::string& in, const std::string& out, double edge, dou
   } catch (const mesh::MeshError& e) {
     throw run::InputError(fmt::format("{}: meshing failed: {}", in, e.what()));
   }
-  const auto q = run::tet_quality(tets);
   mesh::io::write_vtu(out, mesh::io::make_grid(tets));
-  std::cout << fmt::format("{}: {} vertices, {} tets, dihedral angles {:.2f}..{:.2f} deg, largest "
-                           "radius-edge ratio {:.3f}\nwrote {}\n",
-                           in, tets.num_vertices(), q.tets, q.min_dihedral_deg, q.max_dihedral_deg,
-                           q.max_radius_edge, out);
+  std::cout << fmt::format("{}: {} vertices, {}\nwrote {}\n", in, tets.num_vertices(),
+                           mesh::quality_report(tets).summary(), out);
   return 0;
 }
 

@@ -8,6 +8,8 @@
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/stopwatch.hpp"
+#include "mesh/surface_checks.hpp"
+#include "mesh/surface_import.hpp"
 
 namespace tetfsi::run {
 namespace {
@@ -39,7 +41,7 @@ Eigen::Vector3d moved(const scene::Json& motion, const Eigen::Vector3d& x0, doub
     const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
     const Eigen::Vector3d tr = (1 - s) * vec3(k[i]["translation"]) + s * vec3(k[i + 1]["translation"]);
     const Eigen::Vector3d rot = (1 - s) * vec3(k[i]["rotation_deg"]) + s * vec3(k[i + 1]["rotation_deg"]);
-    return euler_xyz_deg(rot) * x0 + tr;
+    return mesh::placement_rotation(rot) * x0 + tr;
   }
   return x0;
 }
@@ -50,7 +52,9 @@ class KinematicRunner : public Simulation {
     const auto& sim = scene["simulation"];
     dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     for (const auto& s : scene["solids"]) {
-      Body b{s.at("name").get<std::string>(), surface_of(s), {}, {}, s.at("motion")};
+      std::vector<std::string> warnings;
+      Body b{s.at("name").get<std::string>(), surface_of(s, warnings), {}, {}, s.at("motion")};
+      for (const auto& w : warnings) log.warn("{}", w);
       b.now = b.rest;
       b.velocity.assign(b.rest.vertices.size(), Eigen::Vector3d::Zero());
       bodies_.push_back(std::move(b));
@@ -108,7 +112,7 @@ class KinematicRunner : public Simulation {
     const auto kind = p.at("kind").get<std::string>();
     for (const auto& b : bodies_) {
       if (!p.contains("solid") || p["solid"] != b.name) continue;
-      if (kind == "solid_volume") return {enclosed_volume(b.now)};
+      if (kind == "solid_volume") return {mesh::enclosed_volume(b.now)};
       if (kind == "point_displacement") {  // the surface vertex nearest to the rest point
         const Eigen::Vector3d x = vec3(p.at("point"));
         int best = 0;

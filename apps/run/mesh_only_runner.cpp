@@ -10,6 +10,8 @@
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
+#include "mesh/interface.hpp"
+#include "mesh/quality.hpp"
 
 namespace tetfsi::run {
 namespace {
@@ -33,7 +35,9 @@ class MeshOnlyRunner : public Simulation {
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
       velocity_.push_back(vec3(s.at("initial_velocity")));
-      surfaces.push_back(surface_of(s));
+      std::vector<std::string> warnings;
+      surfaces.push_back(surface_of(s, warnings));
+      for (const auto& w : warnings) log.warn("{}", w);
     }
     try {
       if (js.contains("domain")) {
@@ -61,20 +65,22 @@ class MeshOnlyRunner : public Simulation {
     for (std::size_t i = 0; i < names_.size(); ++i)
       solids_.push_back(extract_subdomain(complex_, mesh::solid_subdomain(static_cast<int>(i))));
 
-    const TetQuality all = tet_quality(complex_);
-    log.info("mesh: {} vertices, {} tets ({} fluid), smallest dihedral angle {:.2f} deg, largest "
-             "{:.2f} deg, largest radius-edge ratio {:.3f}, smallest tet volume {:.3g} m^3",
-             complex_.num_vertices(), all.tets, fluid_.num_tets(), all.min_dihedral_deg,
-             all.max_dihedral_deg, all.max_radius_edge, all.min_volume);
+    const mesh::QualityReport all = mesh::quality_report(complex_);
+    log.info("mesh quality: {}", all.summary());
     for (std::size_t i = 0; i < solids_.size(); ++i) {
-      const TetQuality q = tet_quality(solids_[i]);
-      log.info("mesh: solid '{}': {} vertices, {} tets, dihedral angles {:.2f}..{:.2f} deg",
-               names_[i], solids_[i].num_vertices(), q.tets, q.min_dihedral_deg, q.max_dihedral_deg);
-      if (q.tets == 0) throw InputError(fmt::format("meshing lost solid '{}' (no tets)", names_[i]));
+      if (solids_[i].num_tets() == 0) throw RunError(fmt::format("meshing lost solid '{}' (no tets)", names_[i]));
+      log.info("mesh: solid '{}': {} vertices, {} tets", names_[i], solids_[i].num_vertices(), solids_[i].num_tets());
     }
-    if (all.min_volume <= 0) throw RunError("the mesh has an inverted or flat tet");
-    report_.values = {double(complex_.num_vertices()), double(all.tets), double(fluid_.num_tets()),
-                      double(all.tets - fluid_.num_tets()), all.min_dihedral_deg, all.max_dihedral_deg,
+    if (has_fluid_) {
+      const mesh::InterfaceCheck ic = mesh::check_interface(complex_);
+      log.info("mesh: {} interface triangles, each shared by one fluid and one solid tet: {}",
+               ic.interface_faces, ic.conforming() ? "yes" : "NO (" + ic.first_defect + ")");
+      if (!ic.conforming()) log.warn("the fluid-solid interface does not conform: {}", ic.first_defect);
+    }
+    if (all.inverted > 0 || all.degenerate > 0)
+      throw RunError(fmt::format("the mesh has {} inverted and {} flat tets", all.inverted, all.degenerate));
+    report_.values = {double(complex_.num_vertices()), double(all.num_tets), double(fluid_.num_tets()),
+                      double(all.num_tets - fluid_.num_tets()), all.min_dihedral_deg, all.max_dihedral_deg,
                       all.max_radius_edge};
   }
 

@@ -1,33 +1,23 @@
 #pragma once
 /// @file solid_geometry.hpp
-/// Closed surfaces of the scene's solids: primitives (box, sphere, sheet) generated here, mesh
-/// files imported with assimp, then placed (rotation, then translation).
-/// TODO(lead): when mesh/ offers its checked surface import and primitives (issue 2 part 4),
-/// make surface_of() call those instead of the small versions in this file.
-#include <Eigen/Geometry>
-#include <filesystem>
+/// The placed rest surfaces of the scene's solids, from the mesh module's primitives and assimp
+/// import (mesh/primitives.hpp, mesh/surface_import.hpp), checked with mesh/surface_checks.hpp.
+#include <string>
+#include <vector>
 
 #include "apps/scene/scene.hpp"
 #include "mesh/surface_mesh.hpp"
 
 namespace tetfsi::run {
 
-/// Rotation of Euler angles [deg] applied about x, then y, then z (fixed axes): R = Rz Ry Rx.
-Eigen::Matrix3d euler_xyz_deg(const Eigen::Vector3d& deg);
+/// The placed, checked rest surface of the solid described by resolved JSON `solid` (/solids/i).
+/// Surfaces whose normals point inwards are flipped, with a message added to `warnings`.
+/// @throws InputError naming the solid (and file) if the surface is unreadable, open,
+///         non-manifold or self-intersecting
+mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings);
 
-/// Icosphere of `radius` [m] centred at the origin: 20 * 4^subdivisions triangles, outward.
-mesh::SurfaceMesh icosphere(double radius, int subdivisions);
-/// Axis-aligned box of edge lengths `size` [m] centred at the origin (12 triangles, outward).
-mesh::SurfaceMesh box_surface(const Eigen::Vector3d& size);
-
-/// Reads a triangle surface file with assimp, scaled by `unit_scale` [m/unit].
-/// @throws InputError naming the file if it cannot be read or is not a closed, manifold surface
-mesh::SurfaceMesh import_surface(const std::filesystem::path& file, double unit_scale);
-
-/// The placed rest surface of the solid described by resolved JSON `solid` (/solids/i).
-mesh::SurfaceMesh surface_of(const scene::Json& solid);
-
-/// Enclosed volume [m^3] of a closed, outward-oriented surface (divergence theorem).
-double enclosed_volume(const mesh::SurfaceMesh& s);
+/// Imports and checks one surface file for `tetfsi mesh`.
+/// @throws InputError as surface_of
+mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std::vector<std::string>& warnings);
 
 }  // namespace tetfsi::run

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <map>
 
 #include "csv.hpp"
@@ -72,4 +73,37 @@ TEST(Flagship, MeshesAndExportsTheScene) {
   const std::string log = read_text(out / "run.log");
   EXPECT_NE(log.find("no physics model runs this scene yet"), std::string::npos);
   EXPECT_NE(log.find("smallest dihedral angle"), std::string::npos);
+}
+
+TEST(MeshCommand, TetrahedralizesAClosedSurfaceAndRejectsAnOpenOne) {
+  TempDir dir("meshcmd");
+  // A closed, outward 0.4 m cube as OBJ (1-based indices).
+  std::ofstream(dir.path() / "cube.obj") << "v 0 0 0\nv 0.4 0 0\nv 0 0.4 0\nv 0.4 0.4 0\n"
+                                            "v 0 0 0.4\nv 0.4 0 0.4\nv 0 0.4 0.4\nv 0.4 0.4 0.4\n"
+                                            "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
+                                            "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+  int status = -1;
+  const fs::path vtu = dir.path() / "cube.vtu";
+  std::string msg = run_command(std::string(TETFSI_BINARY) + " mesh " + (dir.path() / "cube.obj").string() +
+                                    " " + vtu.string() + " --edge-length 0.1 2>&1",
+                                &status);
+  ASSERT_EQ(status, 0) << msg;
+  const std::string info = vtk_describe(vtu, &status);
+  ASSERT_EQ(status, 0);
+  long points = 0, cells = 0;
+  std::istringstream(info) >> points >> cells;
+  EXPECT_GT(cells, 20);
+  EXPECT_NE(msg.find(std::to_string(cells) + " tets"), std::string::npos) << msg << "\n" << info;
+
+  // The same cube without its top face is open: exit 2 and the message names the file.
+  std::ofstream(dir.path() / "open.obj") << "v 0 0 0\nv 0.4 0 0\nv 0 0.4 0\nv 0.4 0.4 0\n"
+                                            "v 0 0 0.4\nv 0.4 0 0.4\nv 0 0.4 0.4\nv 0.4 0.4 0.4\n"
+                                            "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
+                                            "f 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+  msg = run_command(std::string(TETFSI_BINARY) + " mesh " + (dir.path() / "open.obj").string() + " " +
+                        (dir.path() / "open.vtu").string() + " 2>&1",
+                    &status);
+  EXPECT_EQ(status, 2) << msg;
+  EXPECT_NE(msg.find("open.obj"), std::string::npos) << msg;
+  EXPECT_FALSE(fs::exists(dir.path() / "open.vtu"));
 }
