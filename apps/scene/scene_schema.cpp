@@ -24,6 +24,8 @@ void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) 
       issues.push_back({fmt::format("/probes/{}/solid", i),
                         fmt::format("no solid named \"{}\" in /solids", p["solid"].get<std::string>())});
   }
+  if (!s.contains("domain") && s["solids"].empty())
+    issues.push_back({"/solids", "the scene has neither a domain nor any solid: nothing to simulate"});
   if (s["fluid"]["type"] != "none" && !s.contains("domain"))
     issues.push_back({"/domain", fmt::format("missing: a {} fluid needs a domain box {{\"lo\": [...], \"hi\": [...]}}",
                                              s["fluid"]["type"].get<std::string>())});

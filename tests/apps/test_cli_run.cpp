@@ -4,6 +4,7 @@
 // earlier frames and other files intact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -126,4 +127,26 @@ TEST(CliRun, DivergenceStopsBeforeWritingAndKeepsEarlierOutput) {
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
   EXPECT_EQ(read_csv(out / "stats.csv").rows.size(), 17u);
   EXPECT_NE(read_text(out / "run.log").find("[error] step 18"), std::string::npos);
+}
+
+TEST(CliRun, ExportOptionsSelectFramesAndFormats) {
+  TempDir dir("run");
+  std::string scene_text = kSpinning;
+  const std::string probes_key = "\"probes\"";
+  scene_text.replace(scene_text.find(probes_key), probes_key.size(),
+                     "\"export\": {\"vtu\": true, \"surfaces\": \"obj\", \"every_n_frames\": 2}, \"probes\"");
+  const fs::path scene = dir.path() / "spin.json", out = dir.path() / "out";
+  std::ofstream(scene) << scene_text;
+  int status = -1;
+  const std::string log = tetfsi_run(scene, out, &status);
+  ASSERT_EQ(status, 0) << log;
+  const auto frames = lines(vtk_describe(out / "sheet.pvd", &status));
+  ASSERT_EQ(frames.size(), 3u);  // frames 0, 2, 4 of 0..4
+  EXPECT_TRUE(fs::exists(out / "surfaces" / "sheet_00002.obj"));
+  EXPECT_FALSE(fs::exists(out / "surfaces" / "sheet_00001.obj"));
+  EXPECT_FALSE(fs::exists(out / "surfaces" / "sheet_00000.ply"));
+  // The OBJ has the 8 vertices and 12 triangles of the slab.
+  const auto obj = lines(read_text(out / "surfaces" / "sheet_00004.obj"));
+  EXPECT_EQ(std::count_if(obj.begin(), obj.end(), [](const std::string& l) { return l.rfind("v ", 0) == 0; }), 8);
+  EXPECT_EQ(std::count_if(obj.begin(), obj.end(), [](const std::string& l) { return l.rfind("f ", 0) == 0; }), 12);
 }

@@ -85,6 +85,7 @@ TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
       {"fluid_without_domain", [](json& s) { s.erase("domain"); }, "/domain", "needs a domain"},
       {"fractional_threads", [](json& s) { s["simulation"]["threads"] = 1.5; }, "/simulation/threads",
        "an integer"},
+      {"empty_scene", [](json& s) { s = {{"simulation", {{"end_time", 1}}}}; }, "/solids", "nothing to simulate"},
       {"not_an_array", [](json& s) { s["solids"] = {{"name", "x"}}; }, "/solids", "an array"},
   };
   ASSERT_GE(cases.size(), 15u);
