@@ -8,6 +8,8 @@
 #include <map>
 
 #include "csv.hpp"
+#include "mesh/primitives.hpp"
+#include "mesh/surface_checks.hpp"
 #include "ply_reader.hpp"
 #include "tests/test_support.hpp"
 
@@ -52,7 +54,9 @@ TEST(Flagship, MeshesAndExportsTheScene) {
   EXPECT_LT(stats.at(0, "max_dihedral_deg"), 180.0);
 
   // The ball's surface: closed (every edge in exactly two triangles, once each way), outward,
-  // and enclosing about 4/3 pi r^3 (r = 0.2 m; CGAL approximates the sphere to ~1e-3 of its size).
+  // and enclosing the volume of the input icosphere up to the surface approximation error:
+  // Mesh_3 keeps every facet within facet_distance d of the input (default: edge length near
+  // solids / 10 = 0.004 m), so |V_mesh - V_input| <= area * d = 4 pi r^2 d.
   const auto ply = read_ply(out / "surfaces" / "ball_00000.ply");
   ASSERT_GT(ply.triangles.size(), 100u);
   std::map<std::pair<int, int>, int> edges;
@@ -65,14 +69,18 @@ TEST(Flagship, MeshesAndExportsTheScene) {
     EXPECT_EQ(n, 1);
     EXPECT_EQ(edges.count({e.second, e.first}), 1u);
   }
-  const double sphere = 4.0 / 3.0 * M_PI * std::pow(0.2, 3);
-  EXPECT_NEAR(volume, sphere, 0.03 * sphere);
+  const double r = 0.2, d = 0.004;
+  const double input = tetfsi::mesh::enclosed_volume(tetfsi::mesh::make_sphere(r, 3));
+  EXPECT_NEAR(volume, input, 4 * M_PI * r * r * d);
+  const double sphere = 4.0 / 3.0 * M_PI * r * r * r;
   const Csv probes = read_csv(out / "probes.csv");
   EXPECT_NEAR(probes.at(0, "ball_volume"), volume, 1e-6 * sphere) << "tet volume = surface volume";
 
   const std::string log = read_text(out / "run.log");
   EXPECT_NE(log.find("no physics model runs this scene yet"), std::string::npos);
-  EXPECT_NE(log.find("smallest dihedral angle"), std::string::npos);
+  EXPECT_NE(log.find("mesh quality: "), std::string::npos);
+  EXPECT_NE(log.find("interface triangles, each shared by one fluid and one solid tet: yes"), std::string::npos)
+      << log;
 }
 
 TEST(MeshCommand, TetrahedralizesAClosedSurfaceAndRejectsAnOpenOne) {
