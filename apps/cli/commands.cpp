@@ -18,8 +18,9 @@
 namespace tetfsi::cli {
 namespace {
 
-int validate(const std::string& file) {
+int validate(const std::string& file, bool print_resolved) {
   const auto scene = scene::load_scene(file);
+  if (print_resolved) std::cout << scene.json.dump(2) << "\n";
   std::cout << fmt::format("{}: valid ({} solid(s), fluid: {})\n", file, scene["solids"].size(),
                            scene["fluid"]["type"].get<std::string>());
   return 0;
@@ -68,6 +69,8 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   std::string validate_file;
   auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any)");
   val->add_option("scene", validate_file, "Scene file (JSON)")->required();
+  bool print_resolved = false;
+  val->add_flag("--resolved", print_resolved, "Also print the scene with every default filled in");
 
   std::string mesh_in, mesh_out;
   double edge = 0.1, scale = 1.0;
@@ -95,7 +98,7 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
                                              opt.out_dir.string());
     return 0;
   }
-  if (*val) return validate(validate_file);
+  if (*val) return validate(validate_file, print_resolved);
   if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale);
   if (*sch) {
     std::cout << scene::schema_markdown(scene::scene_schema());

@@ -52,7 +52,7 @@ class Driver {
 
   void run() {
     const auto& entry = choose_runner(scene_);
-    log_.info("runner: {} ({})", entry.name, entry.summary);
+    log_.info("runner: {}: {}", entry.name, entry.summary);
     auto sim = entry.create();
     Output out(opt_.out_dir, scene_["export"]);
     Stopwatch wall;

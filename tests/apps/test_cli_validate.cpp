@@ -112,6 +112,20 @@ TEST(CliValidate, SyntaxErrorGivesLineAndColumn) {
   EXPECT_NE(out.find("syntax.json: JSON syntax error at line 3, column 21: while parsing object key - unexpected ','"), std::string::npos) << out;
 }
 
+TEST(CliValidate, DuplicateKeysAndNumberOverflow) {
+  tetfsi::test::TempDir dir("validate");
+  const std::string dup = R"({"simulation": {"end_time": 1},
+    "solids": [{"name": "a", "geometry": {"type": "box", "size": [1, 1, 1]},
+                "material": {"density": 1, "youngs_modulus": 1, "poissons_ratio": 0.2, "density": 2}}]})";
+  int status = -1;
+  std::string out = run_tetfsi("validate " + write(dir.path(), "dup", dup), &status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("dup.json: /solids/0/material/density: duplicate key"), std::string::npos) << out;
+  out = run_tetfsi("validate " + write(dir.path(), "big", "{\n \"simulation\": {\"end_time\": 1e400}}"), &status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("big.json: JSON error at line 2, column 29: number overflow"), std::string::npos) << out;
+}
+
 TEST(CliValidate, EveryProblemIsReportedNotJustTheFirst) {
   tetfsi::test::TempDir dir("validate");
   json s = base_scene();
