@@ -53,6 +53,7 @@ class Driver {
   void run() {
     const auto& entry = choose_runner(scene_);
     log_.info("runner: {}: {}", entry.name, entry.summary);
+    if (!opt_.quiet) fmt::print("{}: {}\n", entry.name, entry.summary);
     auto sim = entry.create();
     Output out(opt_.out_dir, scene_["export"]);
     Stopwatch wall;

@@ -165,6 +165,16 @@ TEST(CliValidate, CommittedScenesAreValid) {
   EXPECT_GE(count, 1);
 }
 
+TEST(CliValidate, DocExamplesAreValid) {
+  // docs/examples read the bunny from the shared data folder next to the repository.
+  ASSERT_TRUE(fs::exists(fs::path(TETFSI_SHARED_DIR) / "data" / "bunny.obj"));
+  for (const auto& e : fs::directory_iterator(fs::path(TETFSI_SOURCE_DIR) / "docs" / "examples")) {
+    int status = -1;
+    const std::string out = run_tetfsi("validate " + e.path().string(), &status);
+    EXPECT_EQ(status, 0) << e.path() << ": " << out;
+  }
+}
+
 TEST(CliValidate, HelpVersionAndBadOptions) {
   int status = -1;
   std::string out = run_tetfsi("--help", &status);
