@@ -1,6 +1,7 @@
 #include "apps/run/driver.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <set>
 
@@ -31,6 +32,13 @@ std::shared_ptr<spdlog::logger> make_logger(const fs::path& dir) {
   log->set_level(spdlog::level::info);
   log->flush_on(spdlog::level::info);
   return log;
+}
+
+/// FNV-1a 64-bit hash of a text (to tell runs of identical resolved scenes apart in run.log).
+std::uint64_t fnv1a(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
 }
 
 /// probes.csv column names of one probe.
@@ -181,7 +189,12 @@ void run_scene(const RunOptions& opt) {
     throw InputError(fmt::format("cannot create the output folder {}: {}", opt.out_dir.string(),
                                  ec ? ec.message() : "not a folder"));
   const bool reused = fs::exists(opt.out_dir / "run.log");
-  auto log = make_logger(opt.out_dir);
+  std::shared_ptr<spdlog::logger> log;
+  try {
+    log = make_logger(opt.out_dir);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("cannot write run.log in the output folder {}: {}", opt.out_dir.string(), e.what()));
+  }
   log->info("tetfsi {}", TETFSI_VERSION);
   if (!opt.command_line.empty()) log->info("command: {}", opt.command_line);
   log->info("scene: {}", fs::absolute(opt.scene_file).string());
@@ -192,7 +205,8 @@ void run_scene(const RunOptions& opt) {
   const int used = threads > 0 ? threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);
   log->info("threads: {}", used);
-  log->info("resolved scene (defaults filled in):\n{}", scene.json.dump(2));
+  const std::string resolved = scene.json.dump(2);
+  log->info("resolved scene (defaults filled in; FNV-1a hash {:016x}):\n{}", fnv1a(resolved), resolved);
   try {
     Driver(opt, std::move(scene), *log).run();
   } catch (const std::exception& e) {
