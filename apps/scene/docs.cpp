@@ -1,6 +1,7 @@
 #include "apps/scene/docs.hpp"
 
 #include <algorithm>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -40,6 +41,7 @@ class Writer {
   std::string out;
 
   void object(const Field& f, const std::string& path) {
+    if (!done_.insert(path).second) return;  // same object in several variants: document once
     out += fmt::format("\n## `{}`\n\n", path.empty() ? "/" : path);
     if (!f.doc.empty()) out += f.doc + "\n\n";
     table(f.members);
@@ -59,6 +61,8 @@ class Writer {
   }
 
  private:
+  std::set<std::string> done_;
+
   void table(const std::vector<Field>& fields) {
     out += "| key | type | unit | default | allowed | description |\n";
     out += "| --- | --- | --- | --- | --- | --- |\n";

@@ -85,6 +85,8 @@ TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
       {"fluid_without_domain", [](json& s) { s.erase("domain"); }, "/domain", "needs a domain"},
       {"fractional_threads", [](json& s) { s["simulation"]["threads"] = 1.5; }, "/simulation/threads",
        "an integer"},
+      {"no_material", [](json& s) { s["solids"][0].erase("material"); }, "/solids/0/material",
+       "missing required key: expected an object"},
       {"empty_scene", [](json& s) { s = {{"simulation", {{"end_time", 1}}}}; }, "/solids", "nothing to simulate"},
       {"not_an_array", [](json& s) { s["solids"] = {{"name", "x"}}; }, "/solids", "an array"},
   };

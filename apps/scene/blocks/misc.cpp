@@ -24,7 +24,7 @@ Field emitters() {
                           Field::number("radius", "m", "Radius.").req().greater(0)})
       .check(lo_below_hi());
   Field emitter = Field::object("", "", {
-      std::move(shape),
+      std::move(shape).req(),
       Field::vector("velocity", 3, "m/s", "Fluid velocity imposed inside the source.").def({0, 0, 0}),
       Field::number("smoke_density", "", "Smoke concentration set inside the source.").at_least(0).def(1),
       Field::number("temperature", "K", "Temperature set inside the source.").greater(0).def(373.15),

@@ -83,12 +83,12 @@ Field motion() {
 Field solids() {
   Field solid = Field::object("", "", {
       Field::string("name", "Unique name, used in output file names and probes.").req(),
-      geometry(),
+      geometry().req(),
       Field::object("placement", "Rigid placement of the rest shape: rotate, then translate.", {
           Field::vector("translation", 3, "m", "Translation.").def({0, 0, 0}),
           Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation (about x, then y, then z).").def({0, 0, 0})}),
       model(),
-      material(),
+      material().req(),
       Field::array("fixed_regions", "Boxes (world coordinates [m]); nodes inside are fixed.",
                    box("", "")).def(Json::array()),
       Field::vector("initial_velocity", 3, "m/s", "Initial velocity of every node.").def({0, 0, 0}),
