@@ -30,7 +30,14 @@ struct MeshSizing {
   double edge_length = 0.1;              ///< target edge length far from solids [m]
   double edge_length_near_solids = 0.0;  ///< target edge length at solid surfaces; 0: = edge_length
   double grading_distance = 0.0;         ///< distance over which the size grades [m]; 0: no grading
-  double facet_distance = 0.0;           ///< max surface approximation error [m]; 0: edge/10
+  double facet_distance = 0.0;           ///< max surface approximation error [m]; 0: the edge length
+                                         ///< at the solids (edge_length_near_solids or edge_length) / 10
+  /// Sharp edges of the solids kept as features (corners stay sharp): edges whose facet normals
+  /// differ by more than this angle [deg]. < 0 (default): automatic, 60 deg for piecewise-flat
+  /// surfaces (boxes, sheets; see is_piecewise_flat in features.hpp), none for smooth or scanned
+  /// models (protecting a scan's scattered creases only makes slivers). 0: none. The box edges of
+  /// build_complex are always kept.
+  double solid_feature_angle_deg = -1.0;
 };
 
 /// Meshes the box [lo, hi] filled with fluid and containing the given closed, outward-oriented,

@@ -5,6 +5,7 @@
 /// they work on the index triples directly.
 #include "mesh/surface_checks.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
 #include <numeric>

@@ -1,0 +1,114 @@
+/// @file bench_mesh.cpp
+/// Benchmark of the CGAL Mesh_3 complex (issue 2): the bunny (../shared/data/bunny.obj) in a fluid
+/// box at about 25k and 100k tets, and a sphere in a box. Error: volume of the meshed solid against
+/// the volume enclosed by the input surface (and, for the sphere, against 4/3 pi r^3). Each case
+/// runs in its own process (fork) so that the peak memory column is that case's own.
+///
+/// Usage: bench_mesh [bunny.obj]
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+#include "apps/bench/bench_support.hpp"
+#include "mesh/complex_mesher.hpp"
+#include "mesh/interface.hpp"
+#include "mesh/primitives.hpp"
+#include "mesh/quality.hpp"
+#include "mesh/surface_checks.hpp"
+#include "mesh/surface_import.hpp"
+
+using namespace tetfsi::mesh;
+namespace bench = tetfsi::bench;
+
+namespace {
+
+double solid_volume(const TetMesh& m) {
+  double v = 0.0;
+  for (int t = 0; t < m.num_tets(); ++t)
+    if (m.subdomain[t] != kFluidSubdomain) v += signed_volume(m, t);
+  return v;
+}
+
+/// Meshes `solid` in `box`, prints one table row. `reference` is the exact solid volume.
+void run_case(const std::string& name, const SurfaceMesh& solid, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+              const MeshSizing& sizing, double reference, const std::string& reference_name) {
+  bench::Stopwatch clock;
+  const std::clock_t cpu_start = std::clock();
+  const TetMesh m = build_complex(lo, hi, {solid}, sizing);
+  const double seconds = clock.seconds();
+  const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  const QualityReport q = quality_report(m);
+  const InterfaceCheck check = check_interface(m);
+  const double error = solid_volume(m) / reference - 1.0;
+  char err[300], res[120];
+  std::snprintf(err, sizeof err,
+                "%+.2e rel. (solid volume vs %s); min dihedral %.1f deg, max %.1f; %d inverted; %s; cpu %.2f s",
+                error, reference_name.c_str(), q.min_dihedral_deg, q.max_dihedral_deg, q.inverted,
+                check.conforming() ? "interface conforming" : "INTERFACE NOT CONFORMING", cpu_seconds);
+  std::snprintf(res, sizeof res, "%d tets (%d solid), h = %.4g m", q.num_tets,
+                q.num_tets - q.tets_per_subdomain.at(kFluidSubdomain), sizing.edge_length);
+  bench::print_row(name, res, err, seconds);
+}
+
+void in_child(const std::function<void()>& f) {
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      std::printf("error: %s\n", e.what());
+      _exit(1);
+    }
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string bunny_path = argc > 1 ? argv[1] : TETFSI_SHARED_DIR "/data/bunny.obj";
+  SurfaceMesh bunny = import_surface(bunny_path);
+  validate_surface(bunny, bunny_path);
+  Eigen::Vector3d lo, hi;
+  bounding_box(bunny, lo, hi);
+  const double size = (hi - lo).maxCoeff();
+  const Eigen::Vector3d box_lo = lo.array() - 0.25 * size, box_hi = hi.array() + 0.25 * size;
+  const double v_bunny = enclosed_volume(bunny);
+
+  bench::print_header();
+  // Uniform size h; the tet count scales as h^-3 (h chosen for ~25k and ~100k tets).
+  for (const auto& [label, h] : {std::pair{"bunny in box, ~25k tets", 0.081 * size},
+                                 std::pair{"bunny in box, ~100k tets", 0.0503 * size}}) {
+    MeshSizing sizing;
+    sizing.edge_length = h;
+    in_child([&] { run_case(label, bunny, box_lo, box_hi, sizing, v_bunny, "input surface"); });
+  }
+  // Graded: fine at the bunny, coarse far away.
+  {
+    MeshSizing sizing;
+    sizing.edge_length = 0.08 * size;
+    sizing.edge_length_near_solids = 0.025 * size;
+    sizing.grading_distance = 0.3 * size;
+    in_child([&] { run_case("bunny in box, graded", bunny, box_lo, box_hi, sizing, v_bunny, "input surface"); });
+  }
+  // Sphere r = 0.3 in [-0.6, 0.6]^3 (icosphere level 5, 20480 triangles).
+  {
+    const double r = 0.3;
+    const SurfaceMesh sphere = make_sphere(r, 5);
+    MeshSizing sizing;
+    sizing.edge_length = 0.042;
+    in_child([&] {
+      run_case("sphere r=0.3 in box", sphere, {-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}, sizing, 4.0 / 3.0 * M_PI * r * r * r,
+               "4/3 pi r^3");
+    });
+  }
+  return 0;
+}
