@@ -115,3 +115,17 @@ TEST(MeshCommand, TetrahedralizesAClosedSurfaceAndRejectsAnOpenOne) {
   EXPECT_NE(msg.find("open.obj"), std::string::npos) << msg;
   EXPECT_FALSE(fs::exists(dir.path() / "open.vtu"));
 }
+
+TEST(Flagship, SameSceneGivesByteIdenticalOutput) {
+  TempDir dir("flagship_det");
+  for (const char* name : {"a", "b"}) {
+    int status = -1;
+    const std::string msg = run_command(std::string(TETFSI_BINARY) + " run " + TETFSI_SOURCE_DIR +
+                                            "/data/scenes/flagship.json -q --threads 2 --out " +
+                                            (dir.path() / name).string() + " 2>&1",
+                                        &status);
+    ASSERT_EQ(status, 0) << msg;
+  }
+  for (const char* file : {"fluid/fluid_00000.vtu", "ball/ball_00000.vtu", "surfaces/ball_00000.ply"})
+    EXPECT_EQ(read_text(dir.path() / "a" / file), read_text(dir.path() / "b" / file)) << file;
+}
