@@ -1,0 +1,110 @@
+#include "apps/cli/commands.hpp"
+
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "apps/run/driver.hpp"
+#include "apps/run/errors.hpp"
+#include "apps/run/solid_geometry.hpp"
+#include "apps/scene/docs.hpp"
+#include "apps/scene/scene.hpp"
+#include "apps/version.hpp"
+#include "mesh/complex_mesher.hpp"
+#include "mesh/quality.hpp"
+#include "mesh/io/vtu_writer.hpp"
+
+namespace tetfsi::cli {
+namespace {
+
+int validate(const std::string& file, bool print_resolved) {
+  const auto scene = scene::load_scene(file);
+  if (print_resolved) std::cout << scene.json.dump(2) << "\n";
+  std::cout << fmt::format("{}: valid ({} solid(s), fluid: {})\n", file, scene["solids"].size(),
+                           scene["fluid"]["type"].get<std::string>());
+  return 0;
+}
+
+int mesh_command(const std::string& in, const std::string& out, double edge, double scale) {
+  std::vector<std::string> warnings;
+  const auto surface = run::import_checked(in, scale, warnings);
+  for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
+  mesh::MeshSizing sizing;
+  sizing.edge_length = edge;
+  mesh::TetMesh tets;
+  try {
+    tets = mesh::mesh_solid(surface, sizing);
+  } catch (const mesh::MeshError& e) {
+    throw run::InputError(fmt::format("{}: meshing failed: {}", in, e.what()));
+  }
+  mesh::io::write_vtu(out, mesh::io::make_grid(tets));
+  std::cout << fmt::format("{}: {} vertices, {}\nwrote {}\n", in, tets.num_vertices(),
+                           mesh::quality_report(tets).summary(), out);
+  return 0;
+}
+
+}  // namespace
+
+int dispatch(int argc, char** argv, const std::string& command_line) {
+  CLI::App app{"tetfsi: fluids coupled two-way with deformable solids (Chentanez et al. 2006).\n"
+               "Scenes are JSON files in SI units; start from data/scenes/ and docs/scene_format.md."};
+  app.set_version_flag("--version", std::string("tetfsi ") + TETFSI_VERSION);
+  app.require_subcommand(1);
+  app.footer("Exit codes: 0 success, 2 invalid scene or input, 1 the run failed.\n"
+             "Example: tetfsi run data/scenes/flagship.json --out out");
+
+  run::RunOptions opt;
+  double end_time = 0;
+  int threads = 0;
+  auto* run = app.add_subcommand("run", "Run a scene: writes .pvd/.vtu frames, surfaces, stats.csv, "
+                                        "probes.csv and run.log into the output folder");
+  run->add_option("scene", opt.scene_file, "Scene file (JSON)")->required();
+  run->add_option("--out,-o", opt.out_dir, "Output folder; created if missing, earlier files are kept")
+      ->capture_default_str();
+  auto* end_opt = run->add_option("--end-time", end_time, "Stop at this simulated time [s] (overrides the scene)");
+  auto* thr_opt = run->add_option("--threads,-j", threads, "Worker threads; 0 = all cores (overrides the scene)");
+  run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+
+  std::string validate_file;
+  auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any)");
+  val->add_option("scene", validate_file, "Scene file (JSON)")->required();
+  bool print_resolved = false;
+  val->add_flag("--resolved", print_resolved, "Also print the scene with every default filled in");
+
+  std::string mesh_in, mesh_out;
+  double edge = 0.1, scale = 1.0;
+  auto* msh = app.add_subcommand("mesh", "Tetrahedralize a closed surface (OBJ, PLY, STL, glTF, FBX, OFF) "
+                                         "and write a .vtu to look at in ParaView");
+  msh->add_option("input", mesh_in, "Closed surface file")->required()->check(CLI::ExistingFile);
+  msh->add_option("output", mesh_out, "Output .vtu file")->required();
+  msh->add_option("--edge-length", edge, "Target edge length [m]")->capture_default_str()->check(CLI::PositiveNumber);
+  msh->add_option("--unit-scale", scale, "Metres per file unit (0.01 for cm)")->capture_default_str()->check(CLI::PositiveNumber);
+
+  auto* sch = app.add_subcommand("schema", "Print the scene key reference (Markdown; docs/scene_format.md)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  if (*run) {
+    if (*end_opt) opt.end_time = end_time;
+    if (*thr_opt) opt.threads = threads;
+    opt.command_line = command_line;
+    run::run_scene(opt);
+    if (!opt.quiet) std::cout << fmt::format("output in {}/ (open the .pvd files in ParaView; see run.log)\n",
+                                             opt.out_dir.string());
+    return 0;
+  }
+  if (*val) return validate(validate_file, print_resolved);
+  if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale);
+  if (*sch) {
+    std::cout << scene::schema_markdown(scene::scene_schema());
+    return 0;
+  }
+  return 2;
+}
+
+}  // namespace tetfsi::cli

@@ -1,0 +1,25 @@
+#pragma once
+/// @file driver.hpp
+/// `tetfsi run`: loads the scene, picks a runner, steps it to the end time landing on every
+/// frame time, checks each step for non-finite values before anything is written, and writes
+/// frames, stats.csv, probes.csv and run.log into the output folder.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace tetfsi::run {
+
+struct RunOptions {
+  std::filesystem::path scene_file;
+  std::filesystem::path out_dir = "out";
+  std::optional<double> end_time;  ///< overrides /simulation/end_time [s]
+  std::optional<int> threads;      ///< overrides /simulation/threads
+  bool quiet = false;              ///< no progress line
+  std::string command_line;        ///< recorded in run.log
+};
+
+/// Runs a scene. Returns normally on success.
+/// @throws scene::SceneError / InputError (exit 2), RunError (exit 1)
+void run_scene(const RunOptions& options);
+
+}  // namespace tetfsi::run

@@ -1,0 +1,163 @@
+/// @file kinematic_runner.cpp
+/// Solids that only follow their prescribed motion (no fluid, no deformation): every solid of
+/// the scene has /solids/i/motion/type other than "none" and /fluid/type is "none". Moves the
+/// placed rest surfaces rigidly and exports them with per-vertex velocity, e.g. to preview a
+/// scene's animation before the physics is added.
+#include <fmt/format.h>
+
+#include "apps/run/simulation.hpp"
+#include "apps/run/solid_geometry.hpp"
+#include "apps/run/stopwatch.hpp"
+#include "mesh/surface_checks.hpp"
+#include "mesh/surface_import.hpp"
+
+namespace tetfsi::run {
+namespace {
+
+Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+struct Body {
+  std::string name;
+  mesh::SurfaceMesh rest, now;
+  std::vector<Eigen::Vector3d> velocity;
+  scene::Json motion;
+};
+
+/// Position at time t [s] of a point at rest position x0, following `motion`.
+Eigen::Vector3d moved(const scene::Json& motion, const Eigen::Vector3d& x0, double t) {
+  const auto type = motion.at("type").get<std::string>();
+  if (type == "translation") return x0 + t * vec3(motion.at("velocity"));
+  if (type == "rotation") {
+    const Eigen::Vector3d c = vec3(motion.at("center"));
+    const Eigen::AngleAxisd R(motion.at("angular_velocity").get<double>() * t,
+                              vec3(motion.at("axis")).normalized());
+    return c + R * (x0 - c);
+  }
+  if (type == "path") {  // piecewise-linear translation and Euler angles, held beyond the ends
+    const auto& k = motion.at("keyframes");
+    std::size_t i = 0;
+    while (i + 2 < k.size() && t > k[i + 1]["time"].get<double>()) ++i;
+    const double t0 = k[i]["time"].get<double>(), t1 = k[i + 1]["time"].get<double>();
+    const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
+    const Eigen::Vector3d tr = (1 - s) * vec3(k[i]["translation"]) + s * vec3(k[i + 1]["translation"]);
+    const Eigen::Vector3d rot = (1 - s) * vec3(k[i]["rotation_deg"]) + s * vec3(k[i + 1]["rotation_deg"]);
+    return mesh::placement_rotation(rot) * x0 + tr;
+  }
+  return x0;
+}
+
+class KinematicRunner : public Simulation {
+ public:
+  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+    const auto& sim = scene["simulation"];
+    dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
+    for (const auto& s : scene["solids"]) {
+      std::vector<std::string> warnings;
+      Body b{s.at("name").get<std::string>(), surface_of(s, warnings), {}, {}, s.at("motion")};
+      for (const auto& w : warnings) log.warn("{}", w);
+      b.now = b.rest;
+      b.velocity.assign(b.rest.vertices.size(), Eigen::Vector3d::Zero());
+      bodies_.push_back(std::move(b));
+    }
+    move(0.0, 0.0);
+    log.info("kinematic runner: {} solid(s) follow their prescribed motion; step {} s", bodies_.size(), dt_);
+  }
+
+  std::vector<std::string> phases() const override { return {"move"}; }
+  std::vector<std::string> columns() const override { return {"vertices", "max_speed"}; }
+  double max_dt() const override { return dt_; }
+
+  StepReport step(double dt) override {
+    Stopwatch clock;
+    time_ += dt;
+    move(time_, dt);
+    StepReport r;
+    r.dt = dt;
+    r.phase_seconds = {clock.seconds()};
+    double vertices = 0, vmax = 0;
+    for (const auto& b : bodies_) {
+      vertices += b.now.num_vertices();
+      for (const auto& v : b.velocity) vmax = std::max(vmax, v.norm());
+    }
+    r.values = {vertices, vmax};
+    return r;
+  }
+
+  std::string non_finite() const override {
+    for (const auto& b : bodies_)
+      for (int i = 0; i < b.now.num_vertices(); ++i) {
+        if (!b.now.vertices[i].allFinite()) return fmt::format("solid '{}': position of vertex {}", b.name, i);
+        if (!b.velocity[i].allFinite()) return fmt::format("solid '{}': velocity of vertex {}", b.name, i);
+      }
+    return "";
+  }
+
+  void write_frame(Output& out, int frame, double time) override {
+    for (const auto& b : bodies_) {
+      auto grid = mesh::io::make_grid(b.now);
+      std::vector<double> v, u;
+      for (int i = 0; i < b.now.num_vertices(); ++i) {
+        v.insert(v.end(), {b.velocity[i].x(), b.velocity[i].y(), b.velocity[i].z()});
+        const Eigen::Vector3d d = b.now.vertices[i] - b.rest.vertices[i];
+        u.insert(u.end(), {d.x(), d.y(), d.z()});
+      }
+      grid.add_point_data("velocity", 3, v);
+      grid.add_point_data("displacement", 3, u);
+      out.write_grid(b.name, frame, time, grid);
+      out.write_surface(b.name, frame, b.now, b.velocity);
+    }
+  }
+
+  std::vector<double> probe(const scene::Json& p) const override {
+    const auto kind = p.at("kind").get<std::string>();
+    for (const auto& b : bodies_) {
+      if (!p.contains("solid") || p["solid"] != b.name) continue;
+      if (kind == "solid_volume") return {mesh::enclosed_volume(b.now)};
+      if (kind == "point_displacement") {  // the surface vertex nearest to the rest point
+        const Eigen::Vector3d x = vec3(p.at("point"));
+        int best = 0;
+        for (int i = 1; i < b.rest.num_vertices(); ++i)
+          if ((b.rest.vertices[i] - x).squaredNorm() < (b.rest.vertices[best] - x).squaredNorm()) best = i;
+        const Eigen::Vector3d d = b.now.vertices[best] - b.rest.vertices[best];
+        return {d.x(), d.y(), d.z()};
+      }
+    }
+    return {};
+  }
+
+ private:
+  /// Positions at time t; velocities analytic for translation and rotation, the secant over the
+  /// last step (length dt) for keyframed paths.
+  void move(double t, double dt) {
+    for (auto& b : bodies_) {
+      const auto type = b.motion.at("type").get<std::string>();
+      for (int i = 0; i < b.rest.num_vertices(); ++i) {
+        const Eigen::Vector3d x = moved(b.motion, b.rest.vertices[i], t);
+        if (type == "translation") b.velocity[i] = vec3(b.motion.at("velocity"));
+        else if (type == "rotation")
+          b.velocity[i] = b.motion.at("angular_velocity").get<double>() *
+                          vec3(b.motion.at("axis")).normalized().cross(x - vec3(b.motion.at("center")));
+        else if (dt > 0) b.velocity[i] = (x - b.now.vertices[i]) / dt;
+        b.now.vertices[i] = x;
+      }
+    }
+  }
+
+  std::vector<Body> bodies_;
+  double dt_ = 0, time_ = 0;
+};
+
+}  // namespace
+
+RunnerEntry kinematic_runner() {
+  return {"kinematic", "solids following their prescribed motion (no fluid, no deformation)",
+          [](const scene::Scene& s) {
+            if (s["fluid"].at("type") != "none" || s["solids"].empty()) return false;
+            for (const auto& solid : s["solids"])
+              if (solid.at("motion").at("type") == "none") return false;
+            return true;
+          },
+          [] { return std::make_unique<KinematicRunner>(); }};
+}
+
+}  // namespace tetfsi::run

@@ -1,0 +1,57 @@
+#pragma once
+/// @file output.hpp
+/// The output folder of a run: per-object .pvd collections with a .vtu per frame, per-frame
+/// surfaces (PLY/OBJ), stats.csv and probes.csv. Every frame file is written atomically (temp
+/// file + rename) and a .pvd only lists frames already complete, so an interrupted run leaves
+/// whole frames. Files of earlier runs that this run does not rewrite are never deleted.
+#include <Eigen/Core>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "apps/scene/scene.hpp"
+#include "mesh/io/vtu_writer.hpp"
+#include "mesh/surface_mesh.hpp"
+
+namespace tetfsi::run {
+
+class Output {
+ public:
+  /// Creates `dir` (and parents) if needed. `export_cfg` is the resolved /export block.
+  Output(std::filesystem::path dir, scene::Json export_cfg);
+
+  const std::filesystem::path& dir() const { return dir_; }
+  /// Whether frame `frame` is written at all (export.every_n_frames).
+  bool frame_due(int frame) const;
+
+  /// Writes <object>/<object>_<frame>.vtu and lists it in <object>.pvd at `time` [s]
+  /// (nothing if export.vtu is false).
+  void write_grid(const std::string& object, int frame, double time,
+                  const mesh::io::UnstructuredGrid& grid);
+  /// Writes surfaces/<object>_<frame>.ply (with per-vertex velocity [m/s] if given) or .obj,
+  /// as export.surfaces says.
+  void write_surface(const std::string& object, int frame, const mesh::SurfaceMesh& surface,
+                     const std::vector<Eigen::Vector3d>& velocity = {});
+
+  /// Starts stats.csv with the given header (replacing the file of an earlier run).
+  void begin_stats(const std::vector<std::string>& header);
+  /// Appends one row; each row goes out in a single write, flushed.
+  void stats_row(const std::vector<double>& row);
+  /// Same for probes.csv (only created when the scene has probes).
+  void begin_probes(const std::vector<std::string>& header);
+  void probes_row(const std::vector<double>& row);
+
+ private:
+  std::filesystem::path dir_;
+  scene::Json cfg_;
+  std::map<std::string, std::unique_ptr<mesh::io::PvdCollection>> pvds_;
+  std::ofstream stats_, probes_;
+};
+
+/// One CSV row of numbers (17 significant digits, so values read back exactly).
+std::string csv_row(const std::vector<double>& row);
+
+}  // namespace tetfsi::run

@@ -1,0 +1,66 @@
+#pragma once
+/// @file simulation.hpp
+/// The interface every model's runner implements, and the registry that picks one for a scene.
+/// See apps/run/README.md for how to add a runner.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <spdlog/logger.h>
+
+#include "apps/run/output.hpp"
+#include "apps/scene/scene.hpp"
+
+namespace tetfsi::run {
+
+/// What one call of Simulation::step() did.
+struct StepReport {
+  double dt = 0;                      ///< time advanced [s]
+  std::vector<double> phase_seconds;  ///< wall time of each phase, in the order of phases()
+  std::vector<double> values;         ///< one value per columns() (counts and model statistics)
+};
+
+/// A model runner: built from the resolved scene, advanced step by step by the driver.
+class Simulation {
+ public:
+  virtual ~Simulation() = default;
+
+  /// Builds the model. Throw InputError for problems with the scene or its files.
+  virtual void setup(const scene::Scene& scene, spdlog::logger& log) = 0;
+  /// False for runners that only prepare and export (no time loop): the driver writes frame 0
+  /// and one stats row, then stops.
+  virtual bool time_dependent() const { return true; }
+  /// Names of the timed phases of a step ("remesh", "solve", ...): stats.csv columns t_<name> [s].
+  virtual std::vector<std::string> phases() const = 0;
+  /// Model-specific stats.csv columns (counts, iterations, energies), declared up front.
+  virtual std::vector<std::string> columns() const = 0;
+  /// Largest step allowed now (CFL, scene dt) [s].
+  virtual double max_dt() const = 0;
+  /// Advances the state by `dt` [s] (the driver may shorten steps to land on frame times).
+  virtual StepReport step(double dt) = 0;
+  /// Reports the first non-finite value of the state ("solid 'ball' position of vertex 12"), or
+  /// "" if the state is finite. Called after each step, before anything is written.
+  virtual std::string non_finite() const = 0;
+  /// Writes the current state as frame `frame` at time `time`.
+  virtual void write_frame(Output& out, int frame, double time) = 0;
+  /// Values of one probe (resolved JSON of /probes/i); empty if this model does not support it.
+  virtual std::vector<double> probe(const scene::Json& probe) const { return {}; }
+  /// Report for the first stats row of a runner that is not time dependent (setup statistics).
+  virtual StepReport setup_report() const { return {}; }
+};
+
+/// One registered runner.
+struct RunnerEntry {
+  std::string name;
+  std::string summary;                                  ///< for run.log
+  std::function<bool(const scene::Scene&)> accepts;     ///< can it run this scene?
+  std::function<std::unique_ptr<Simulation>()> create;
+};
+
+/// Every runner, most specific first; the first that accepts a scene runs it (runners.cpp).
+const std::vector<RunnerEntry>& runners();
+/// The runner for `scene`.
+const RunnerEntry& choose_runner(const scene::Scene& scene);
+
+}  // namespace tetfsi::run

@@ -1,0 +1,58 @@
+#include "apps/run/solid_geometry.hpp"
+
+#include <fmt/format.h>
+
+#include "apps/run/errors.hpp"
+#include "mesh/complex_mesher.hpp"
+#include "mesh/primitives.hpp"
+#include "mesh/surface_checks.hpp"
+#include "mesh/surface_import.hpp"
+
+namespace tetfsi::run {
+namespace {
+
+Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+}  // namespace
+
+mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings) {
+  const auto& g = solid.at("geometry");
+  const auto type = g.at("type").get<std::string>();
+  const auto name = solid.at("name").get<std::string>();
+  mesh::Placement placement;
+  placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));
+  placement.translation = vec3(solid.at("placement").at("translation"));
+  try {
+    mesh::SurfaceMesh s;
+    std::string label = fmt::format("solid '{}'", name);
+    if (type == "mesh") {
+      placement.unit_scale = g.at("unit_scale").get<double>();
+      label += " (" + g.at("file").get<std::string>() + ")";
+      s = mesh::import_surface(g.at("file").get<std::string>(), placement);
+    } else {
+      if (type == "box") s = mesh::make_box(vec3(g.at("size")));
+      else if (type == "sphere") s = mesh::make_sphere(g.at("radius").get<double>(), g.at("subdivisions").get<int>());
+      else  // sheet: size along x and z, thickness along y (a horizontal slab when y is up)
+        s = mesh::make_box({g.at("size")[0].get<double>(), g.at("thickness").get<double>(), g.at("size")[1].get<double>()});
+      mesh::apply_placement(s, placement);
+    }
+    for (auto& w : mesh::validate_surface(s, label)) warnings.push_back(std::move(w));
+    return s;
+  } catch (const mesh::MeshError& e) {
+    throw InputError(e.what());
+  }
+}
+
+mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std::vector<std::string>& warnings) {
+  try {
+    mesh::Placement placement;
+    placement.unit_scale = unit_scale;
+    auto s = mesh::import_surface(file, placement);
+    for (auto& w : mesh::validate_surface(s, file)) warnings.push_back(std::move(w));
+    return s;
+  } catch (const mesh::MeshError& e) {
+    throw InputError(e.what());
+  }
+}
+
+}  // namespace tetfsi::run

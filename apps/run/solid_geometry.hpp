@@ -1,0 +1,23 @@
+#pragma once
+/// @file solid_geometry.hpp
+/// The placed rest surfaces of the scene's solids, from the mesh module's primitives and assimp
+/// import (mesh/primitives.hpp, mesh/surface_import.hpp), checked with mesh/surface_checks.hpp.
+#include <string>
+#include <vector>
+
+#include "apps/scene/scene.hpp"
+#include "mesh/surface_mesh.hpp"
+
+namespace tetfsi::run {
+
+/// The placed, checked rest surface of the solid described by resolved JSON `solid` (/solids/i).
+/// Surfaces whose normals point inwards are flipped, with a message added to `warnings`.
+/// @throws InputError naming the solid (and file) if the surface is unreadable, open,
+///         non-manifold or self-intersecting
+mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings);
+
+/// Imports and checks one surface file for `tetfsi mesh`.
+/// @throws InputError as surface_of
+mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std::vector<std::string>& warnings);
+
+}  // namespace tetfsi::run

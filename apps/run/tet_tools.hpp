@@ -1,0 +1,16 @@
+#pragma once
+/// @file tet_tools.hpp
+/// Tet-mesh helpers the runners need for export: extraction of one subdomain and the boundary
+/// surface of a tet set. (Quality figures come from mesh/quality.hpp.)
+#include "mesh/surface_mesh.hpp"
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::run {
+
+/// The tets with label `subdomain`, with vertices renumbered compactly (subdomain kept).
+mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain);
+
+/// Faces of `m` that belong to one tet only, oriented outward.
+mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m);
+
+}  // namespace tetfsi::run

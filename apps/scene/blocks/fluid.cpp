@@ -1,0 +1,50 @@
+#include "apps/scene/blocks/blocks.hpp"
+
+namespace tetfsi::scene::blocks {
+namespace {
+
+Field solver() {
+  return Field::object("solver", "Linear solver of the pressure (or coupled) system.", {
+      Field::enumeration("type", {"amg", "ic"},
+                         "Preconditioner: `amg` (hypre BoomerAMG) or `ic` (incomplete Cholesky).")
+          .def("amg"),
+      Field::number("tolerance", "", "Relative residual at which the solver stops.")
+          .greater(0).less(1).def(1e-6),
+      Field::integer("max_iterations", "Iteration limit; reaching it is reported as a failure.")
+          .at_least(1).def(500),
+  });
+}
+
+Field density(double def) {
+  return Field::number("density", "kg/m^3", "Mass density of the fluid.").greater(0).def(def);
+}
+
+Field viscosity(double def) {
+  return Field::number("viscosity", "Pa s", "Dynamic viscosity; 0 for an inviscid fluid.").at_least(0).def(def);
+}
+
+}  // namespace
+
+Field fluid() {
+  return Field::object("fluid", "The fluid filling `domain`.", {
+      Field::enumeration("type", {"none", "smoke", "liquid"},
+                         "`none`: solids only; `smoke`: buoyant gas with density and temperature "
+                         "fields; `liquid`: incompressible liquid.")
+          .def("none"),
+  }).tagged_by("type")
+    .variant("none", {})
+    .variant("smoke", {
+        density(1.2), viscosity(0.0),
+        Field::number("buoyancy_alpha", "m/s^2",
+                      "Downward force per unit smoke concentration (f = (-alpha s + beta (T - T_amb)) up).")
+            .at_least(0).def(0.08),
+        Field::number("buoyancy_beta", "m/(s^2 K)", "Upward force per kelvin above ambient.")
+            .at_least(0).def(0.97),
+        Field::number("ambient_temperature", "K", "Temperature of the surrounding air.").greater(0).def(293.15),
+        Field::number("vorticity_confinement", "", "Strength of vorticity confinement; 0: off.")
+            .at_least(0).def(0),
+        solver()})
+    .variant("liquid", {density(1000), viscosity(1e-3), solver()});
+}
+
+}  // namespace tetfsi::scene::blocks

@@ -1,0 +1,64 @@
+#include "apps/scene/blocks/blocks.hpp"
+
+namespace tetfsi::scene::blocks {
+
+Field obstacles() {
+  Field plane = Field::object("", "", {
+      Field::vector("point", 3, "m", "A point on the plane.").req(),
+      Field::vector("normal", 3, "", "Normal pointing into the free side.").req()});
+  plane.checks.push_back(nonzero("normal"));
+  return Field::object("obstacles", "Static obstacles that solids collide with.", {
+      Field::array("planes", "Half-spaces.", std::move(plane)).def(Json::array()),
+      Field::array("boxes", "Solid boxes.", box("", "")).def(Json::array()),
+      Field::number("friction", "", "Coulomb friction coefficient.").at_least(0).def(0),
+  });
+}
+
+Field emitters() {
+  Field shape = Field::object("shape", "Source volume.", {
+      Field::enumeration("type", {"box", "sphere"}, "Shape of the source.").req()})
+      .tagged_by("type")
+      .variant("box", {Field::vector("lo", 3, "m", "Lower corner.").req(),
+                       Field::vector("hi", 3, "m", "Upper corner.").req()})
+      .variant("sphere", {Field::vector("center", 3, "m", "Centre.").req(),
+                          Field::number("radius", "m", "Radius.").req().greater(0)})
+      .check(lo_below_hi());
+  Field emitter = Field::object("", "", {
+      std::move(shape).req(),
+      Field::vector("velocity", 3, "m/s", "Fluid velocity imposed inside the source.").def({0, 0, 0}),
+      Field::number("smoke_density", "", "Smoke concentration set inside the source.").at_least(0).def(1),
+      Field::number("temperature", "K", "Temperature set inside the source.").greater(0).def(373.15),
+      Field::number("start_time", "s", "Time the source switches on.").at_least(0).def(0),
+      Field::number("end_time", "s", "Time the source switches off; absent: never.").greater(0),
+  });
+  return Field::array("emitters", "Smoke or liquid sources.", std::move(emitter)).def(Json::array());
+}
+
+Field probes() {
+  Field probe = Field::object("", "", {
+      Field::string("name", "Column name in probes.csv.").req(),
+      Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy"},
+                         "`point_displacement`: displacement [m] of the solid's material point nearest "
+                         "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
+                         "+ elastic + gravitational energy [J] of everything.").req()})
+      .tagged_by("kind")
+      .variant("point_displacement", {
+          Field::string("solid", "Name of the solid.").req(),
+          Field::vector("point", 3, "m", "Rest position of the tracked point.").req()})
+      .variant("solid_volume", {Field::string("solid", "Name of the solid.").req()})
+      .variant("total_energy", {});
+  return Field::array("probes", "Quantities written to probes.csv every step.", std::move(probe))
+      .def(Json::array());
+}
+
+Field output() {
+  return Field::object("export", "What is written to the output folder.", {
+      Field::boolean("vtu", "Write a .pvd collection with one .vtu per frame per object (ParaView).").def(true),
+      Field::enumeration("surfaces", {"none", "ply", "obj"},
+                         "Per-frame solid surfaces for Blender/Houdini (PLY carries per-vertex velocity).")
+          .def("ply"),
+      Field::integer("every_n_frames", "Write every n-th frame only.").at_least(1).def(1),
+  });
+}
+
+}  // namespace tetfsi::scene::blocks

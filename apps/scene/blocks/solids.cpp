@@ -1,0 +1,104 @@
+#include <fmt/format.h>
+
+#include "apps/scene/blocks/blocks.hpp"
+
+namespace tetfsi::scene::blocks {
+namespace {
+
+Field geometry() {
+  return Field::object("geometry", "The solid's rest shape, before `placement`.", {
+      Field::enumeration("type", {"mesh", "box", "sphere", "sheet"},
+                         "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `box`, "
+                         "`sphere`, `sheet`: primitives centred at the origin.").req(),
+  }).tagged_by("type")
+    .variant("mesh", {
+        Field::file("file", "Surface file, relative to the scene file's folder.").req(),
+        Field::number("unit_scale", "m/unit", "Metres per file unit (0.01 for files in cm).")
+            .greater(0).def(1.0)})
+    .variant("box", {Field::vector("size", 3, "m", "Edge lengths along x, y, z.").req().greater(0)})
+    .variant("sphere", {
+        Field::number("radius", "m", "Sphere radius.").req().greater(0),
+        Field::integer("subdivisions", "Icosphere subdivisions of the surface (20 * 4^n triangles).")
+            .at_least(0).at_most(7).def(3)})
+    .variant("sheet", {
+        Field::vector("size", 2, "m", "Extent along x and z.").req().greater(0),
+        Field::number("thickness", "m", "Extent along y.").req().greater(0)});
+}
+
+Field material() {
+  return Field::object("material", "Elastic material.", {
+      Field::number("density", "kg/m^3", "Mass density.").req().greater(0),
+      Field::number("youngs_modulus", "Pa", "Young's modulus E.").req().greater(0),
+      Field::number("poissons_ratio", "", "Poisson's ratio nu (-1 < nu < 0.5).").req().greater(-1).less(0.5),
+      Field::enumeration("constitutive", {"stvk", "neohookean"},
+                         "Stress law: St. Venant-Kirchhoff (Green strain, linear stress) or neo-Hookean.")
+          .def("stvk"),
+      Field::number("rayleigh_alpha", "1/s", "Mass-proportional Rayleigh damping.").at_least(0).def(0),
+      Field::number("rayleigh_beta", "s", "Stiffness-proportional Rayleigh damping.").at_least(0).def(0),
+  });
+}
+
+Field model() {
+  return Field::object("model", "Discretisation of the solid.", {
+      Field::enumeration("type", {"tet_fem", "hex8"},
+                         "`tet_fem`: the solid's tets of the meshed complex; `hex8`: a structured block "
+                         "of Total Lagrangian hexahedra (box geometry only).").def("tet_fem"),
+  }).tagged_by("type")
+    .variant("tet_fem", {})
+    .variant("hex8", {Field::integer("nx", "Cells along x.").at_least(1).def(8),
+                      Field::integer("ny", "Cells along y.").at_least(1).def(2),
+                      Field::integer("nz", "Cells along z.").at_least(1).def(2)});
+}
+
+Field motion() {
+  Field key = Field::object("", "", {
+      Field::number("time", "s", "Time of the keyframe.").req().at_least(0),
+      Field::vector("translation", 3, "m", "Translation at that time.").def({0, 0, 0}),
+      Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation at that time.").def({0, 0, 0})});
+  return Field::object("motion", "Prescribed (kinematic) motion; `none` lets the solid deform freely.", {
+      Field::enumeration("type", {"none", "translation", "rotation", "path"},
+                         "`translation`: constant velocity; `rotation`: constant angular velocity about "
+                         "an axis; `path`: keyframes, interpolated linearly.").def("none"),
+  }).tagged_by("type")
+    .variant("none", {})
+    .variant("translation", {Field::vector("velocity", 3, "m/s", "Constant velocity.").req()})
+    .variant("rotation", {
+        Field::vector("axis", 3, "", "Rotation axis (normalised internally).").req(),
+        Field::vector("center", 3, "m", "A point on the axis, in world coordinates.").def({0, 0, 0}),
+        Field::number("angular_velocity", "rad/s", "Angular speed (right-hand rule about `axis`).").req()})
+    .variant("path", {Field::array("keyframes", "Keyframes in increasing time.", std::move(key)).items(2)})
+    .check(nonzero("axis"))
+    .check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+      if (!o.contains("keyframes")) return;
+      const auto& k = o["keyframes"];
+      for (std::size_t i = 1; i < k.size(); ++i)
+        if (!(k[i]["time"].get<double>() > k[i - 1]["time"].get<double>()))
+          issues.push_back({fmt::format("{}/keyframes/{}/time", ptr, i),
+                            "expected keyframe times in increasing order"});
+    });
+}
+
+}  // namespace
+
+Field solids() {
+  Field solid = Field::object("", "", {
+      Field::string("name", "Unique name, used in output file names and probes.").req(),
+      geometry().req(),
+      Field::object("placement", "Rigid placement of the rest shape: rotate, then translate.", {
+          Field::vector("translation", 3, "m", "Translation.").def({0, 0, 0}),
+          Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation (about x, then y, then z).").def({0, 0, 0})}),
+      model(),
+      material().req(),
+      Field::array("fixed_regions", "Boxes (world coordinates [m]); nodes inside are fixed.",
+                   box("", "")).def(Json::array()),
+      Field::vector("initial_velocity", 3, "m/s", "Initial velocity of every node.").def({0, 0, 0}),
+      motion(),
+  });
+  solid.checks.push_back([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+    if (o.at("model").at("type") == "hex8" && o.at("geometry").at("type") != "box")
+      issues.push_back({ptr + "/model/type", "expected \"tet_fem\": `hex8` needs a box geometry"});
+  });
+  return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
+}
+
+}  // namespace tetfsi::scene::blocks

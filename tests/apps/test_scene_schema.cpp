@@ -1,0 +1,87 @@
+// The scene schema in-process: defaults are filled in, files resolve against the scene's folder,
+// "did you mean" picks the nearest key, and docs/scene_format.md is the generated text.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "apps/scene/docs.hpp"
+#include "apps/scene/scene.hpp"
+#include "apps/scene/validate.hpp"
+#include "tests/test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace tetfsi::scene;
+
+TEST(SceneSchema, DefaultsAreFilledIn) {
+  const Scene s = parse_scene(R"({"simulation": {"end_time": 2},
+      "solids": [{"name": "b", "geometry": {"type": "box", "size": [1, 2, 3]},
+                  "material": {"density": 1, "youngs_modulus": 2, "poissons_ratio": 0.25}}]})",
+                              "mem.json");
+  EXPECT_EQ(s["simulation"]["cfl"].get<double>(), 0.5);
+  EXPECT_EQ(s["simulation"]["frame_rate"].get<double>(), 30);
+  EXPECT_EQ(s["simulation"]["gravity"], Json::parse("[0, -9.81, 0]"));
+  EXPECT_FALSE(s["simulation"].contains("dt"));
+  EXPECT_FALSE(s.json.contains("domain"));
+  EXPECT_EQ(s["fluid"]["type"], "none");
+  EXPECT_EQ(s["mesh"]["edge_length"].get<double>(), 0.1);
+  const auto& solid = s["solids"][0];
+  EXPECT_EQ(solid["material"]["constitutive"], "stvk");
+  EXPECT_EQ(solid["model"]["type"], "tet_fem");
+  EXPECT_EQ(solid["motion"]["type"], "none");
+  EXPECT_EQ(solid["placement"]["rotation_deg"], Json::parse("[0, 0, 0]"));
+  EXPECT_EQ(s["export"]["surfaces"], "ply");
+  EXPECT_TRUE(s["probes"].empty());
+}
+
+TEST(SceneSchema, VariantDefaultsFollowTheTag) {
+  const Scene s = parse_scene(R"({"simulation": {"end_time": 1}, "fluid": {"type": "liquid"},
+                                  "domain": {"lo": [0,0,0], "hi": [1,1,1]}})", "mem.json");
+  EXPECT_EQ(s["fluid"]["density"].get<double>(), 1000);
+  EXPECT_EQ(s["fluid"]["solver"]["type"], "amg");
+  EXPECT_FALSE(s["fluid"].contains("buoyancy_alpha"));
+}
+
+TEST(SceneSchema, MeshFilesResolveAgainstTheSceneFolder) {
+  tetfsi::test::TempDir dir("schema");
+  fs::create_directories(dir.path() / "models");
+  std::ofstream(dir.path() / "models" / "m.obj") << "v 0 0 0\n";
+  const std::string text = R"({"simulation": {"end_time": 1}, "solids": [{"name": "m",
+      "geometry": {"type": "mesh", "file": "models/m.obj", "unit_scale": 0.01},
+      "material": {"density": 1, "youngs_modulus": 2, "poissons_ratio": 0.25}}]})";
+  const Scene s = parse_scene(text, dir.path() / "scene.json");
+  EXPECT_EQ(fs::path(s["solids"][0]["geometry"]["file"].get<std::string>()),
+            (fs::absolute(dir.path()) / "models" / "m.obj").lexically_normal());
+  // The same scene read from another folder does not find the file.
+  EXPECT_THROW(parse_scene(text, dir.path() / "models" / "scene.json"), SceneError);
+}
+
+TEST(SceneSchema, IssuesCarryPointers) {
+  try {
+    parse_scene(R"({"simulation": {"end_time": 1, "dt": -1}, "fluid": {"type": "gas"}})", "x.json");
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError& e) {
+    ASSERT_EQ(e.issues().size(), 2u) << e.what();
+    EXPECT_EQ(e.issues()[0].pointer, "/simulation/dt");
+    EXPECT_EQ(e.issues()[1].pointer, "/fluid/type");
+  }
+}
+
+TEST(SceneSchema, EditDistance) {
+  EXPECT_EQ(edit_distance("density", "density"), 0);
+  EXPECT_EQ(edit_distance("densty", "density"), 1);
+  EXPECT_EQ(edit_distance("Density", "density"), 0);
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3);
+  EXPECT_EQ(closest_match("youngs_modulos", {"density", "youngs_modulus", "poissons_ratio"}), "youngs_modulus");
+  EXPECT_EQ(closest_match("zzz", {"density", "youngs_modulus"}), "");
+}
+
+TEST(SceneSchema, CommittedDocsMatchTheSchema) {
+  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "docs" / "scene_format.md");
+  ASSERT_TRUE(in) << "docs/scene_format.md is missing";
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_EQ(ss.str(), schema_markdown(scene_schema()))
+      << "docs/scene_format.md is out of date: regenerate it with "
+         "`./build/apps/tetfsi schema > docs/scene_format.md`";
+}
