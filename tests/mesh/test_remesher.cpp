@@ -68,9 +68,14 @@ void run_steps(RemeshOptions options, int steps, const Eigen::Vector3d& dx) {
     EXPECT_EQ(q.inverted + q.degenerate, 0);
     // Solid tets identical (same vertices, through old_index), solid vertices at their targets.
     EXPECT_EQ(solid_tets(r.mesh, r.old_index), solid_tets(mesh));
-    for (int v = 0; v < r.mesh.num_vertices(); ++v)
-      if (r.old_index[v] >= 0 && target[r.old_index[v]] != mesh.vertices[r.old_index[v]])
+    int moved_solid_vertices = 0;
+    for (int v = 0; v < r.mesh.num_vertices(); ++v) {
+      if (r.old_index[v] >= 0 && target[r.old_index[v]] != mesh.vertices[r.old_index[v]]) {
         EXPECT_EQ(r.mesh.vertices[v], target[r.old_index[v]]);
+        ++moved_solid_vertices;
+      }
+    }
+    EXPECT_GT(moved_solid_vertices, 0);
     EXPECT_NEAR(volume(r.mesh, true), solid_volume, 1e-12);  // rigid motion
     EXPECT_NEAR(volume(r.mesh, false), 1.2 * 1.2 * 1.2, 1e-12);
     const InterfaceCheck check = check_interface(r.mesh);
