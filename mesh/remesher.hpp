@@ -51,7 +51,7 @@ struct RemeshResult {
 
 /// Moves the fluid vertices with the solids: displacement of solid vertices = new - old, of
 /// box-boundary vertices 0, of every other fluid vertex the average of its neighbours' (discrete
-/// harmonic extension, solved with Eigen's sparse Cholesky). Returns the moved vertex positions.
+/// harmonic extension, solved with Eigen's conjugate gradients). Returns the moved vertex positions.
 /// @param solid_positions  new position of every vertex (read only for vertices of solid tets)
 std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
                                                  const std::vector<Eigen::Vector3d>& solid_positions);
