@@ -47,7 +47,8 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing);
 
 /// Meshes the inside of one closed, outward-oriented surface alone (solid-only scenes build no
-/// fluid mesh). All tets get `subdomain`.
+/// fluid mesh). All tets get `subdomain`. Uses sizing.edge_length everywhere (no grading); the
+/// facet distance defaults as in build_complex.
 TetMesh mesh_solid(const SurfaceMesh& surface, const MeshSizing& sizing, int subdomain = solid_subdomain(0));
 
 }  // namespace tetfsi::mesh

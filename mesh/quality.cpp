@@ -90,6 +90,21 @@ QualityReport report(const TetMesh& mesh, bool filter, int label) {
 
 }  // namespace
 
+double mean_edge_length(const TetMesh& mesh, int subdomain) {
+  double sum = 0.0;
+  long count = 0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (!mesh.subdomain.empty() && mesh.subdomain[t] != subdomain) continue;
+    const auto& v = mesh.tets[t];
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        sum += (mesh.vertices[v[i]] - mesh.vertices[v[j]]).norm();
+        ++count;
+      }
+  }
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
 QualityReport quality_report(const TetMesh& mesh) { return report(mesh, false, 0); }
 
 QualityReport quality_report(const TetMesh& mesh, int subdomain) { return report(mesh, true, subdomain); }

@@ -35,6 +35,10 @@ struct QualityReport {
   std::string summary() const;
 };
 
+/// Mean length [m] of the tet edges of the given subdomain (each edge counted once per tet that
+/// has it). The natural remeshing target (RemeshOptions::target_edge_length).
+double mean_edge_length(const TetMesh& mesh, int subdomain);
+
 /// Quality of every tet of `mesh` (all tets, every subdomain).
 QualityReport quality_report(const TetMesh& mesh);
 

@@ -41,6 +41,8 @@ TEST(Quality, KuhnTetsOfTheStructuredBox) {
   EXPECT_NEAR(q.max_radius_edge, std::sqrt(3.0) / 2.0, 1e-9);
   EXPECT_EQ(q.inverted, 0);
   EXPECT_EQ(q.degenerate, 0);
+  // Each Kuhn tet of a cell of size l has edges l, l, l, l sqrt2, l sqrt2, l sqrt3.
+  EXPECT_NEAR(mean_edge_length(m, kFluidSubdomain), (3.0 + 2.0 * std::sqrt(2.0) + std::sqrt(3.0)) / 6.0 / 3.0, 1e-12);
 }
 
 TEST(Quality, InvertedAndDegenerateTetsAreCounted) {
