@@ -167,8 +167,9 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   return blocks;
 }
 
-CoupledStepReport CoupledStepper::step() {
-  const double h = settings_.time_step;
+CoupledStepReport CoupledStepper::step(double h) {
+  if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
+  for (Solid& s : solids_) s.integrator->set_time_step(h);
   CoupledStepReport report;
   move_solid_vertices();
   report.fluid = fluid_.predict(mesh_, boundary_, h);

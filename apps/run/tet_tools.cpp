@@ -28,7 +28,7 @@ mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain) {
   return out;
 }
 
-mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m) {
+mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_tet_vertex) {
   std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> count;
   for (const auto& t : m.tets)
     for (const auto& f : mesh::kTetFaceVertices) {
@@ -49,6 +49,7 @@ mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m) {
       if (v < 0) {
         v = s.num_vertices();
         s.vertices.push_back(m.vertices[entry.second[k]]);
+        if (to_tet_vertex) to_tet_vertex->push_back(entry.second[k]);
       }
       tri[k] = v;
     }
