@@ -7,7 +7,8 @@
 
 namespace tetfsi::run {
 
-/// The tets with label `subdomain`, with vertices renumbered compactly (subdomain kept).
+/// The tets with label `subdomain`, with vertices renumbered compactly (subdomain kept); empty if
+/// none has it. (mesh::extract_subdomain, which also gives the maps back, throws instead.)
 mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain);
 
 /// Faces of `m` that belong to one tet only, oriented outward, with vertices renumbered
