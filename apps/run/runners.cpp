@@ -7,11 +7,13 @@
 namespace tetfsi::run {
 
 RunnerEntry kinematic_runner();
+RunnerEntry mpm_runner();
 RunnerEntry mesh_only_runner();
 
 const std::vector<RunnerEntry>& runners() {
   static const std::vector<RunnerEntry> list = {
       kinematic_runner(),
+      mpm_runner(),
       mesh_only_runner(),  // fallback: keep last
   };
   return list;
