@@ -135,3 +135,34 @@ TEST(MpmRun, CommittedMpmScenesValidate) {
   }
   EXPECT_GE(found, 4);  // gas_expansion, gas_expansion_ci, membrane_on_sphere, water_sphere
 }
+
+TEST(MpmRun, WaterSphereFliesFreelyUntilContact) {
+  // Section 7.2 at a coarse grid (cell 2 mm, spacing 1 mm), run for 25 us: the sphere starts
+  // 0.5 mm above the membrane at 10 m/s and contact is confirmed within distance_factor x cell =
+  // 0.2 mm, so there is no contact before 30 us. Unstressed water in uniform
+  // motion stays so: the sphere top moves by exactly -10 m/s x t, the membrane centre stays at 0
+  // and the kinetic energy 1/2 m v^2 is unchanged.
+  TempDir dir("mpm_water");
+  const fs::path scene = dir.path() / "water.json", out = dir.path() / "out";
+  std::ofstream(scene) << R"({"simulation": {"end_time": 2.5e-5, "frame_rate": 1e5},
+    "mpm": {"example": "water_sphere_impact", "cell": 2e-3, "particle_spacing": 1e-3,
+            "contact": {"distance_factor": 0.1}},
+    "probes": [{"name": "c", "kind": "membrane_center_z"}, {"name": "top", "kind": "sphere_top_z"},
+               {"name": "e", "kind": "total_energy"}]})";
+  int status = -1;
+  const std::string log = run_tetfsi("run -q " + scene.string() + " --out " + out.string(), &status);
+  ASSERT_EQ(status, 0) << log;
+  const Csv probes = read_csv(out / "probes.csv");
+  const std::size_t n = probes.rows.size() - 1;
+  ASSERT_GT(n, 10u);
+  EXPECT_NEAR(probes.at(n, "time"), 2.5e-5, 1e-15);
+  EXPECT_NEAR(probes.at(0, "top"), 9.5e-3, 0.5e-3);  // nearest particle to the top (0, 0, 9.5) mm
+  EXPECT_NEAR(probes.at(n, "top") - probes.at(0, "top"), -10 * 2.5e-5, 1e-3 * 10 * 2.5e-5);
+  EXPECT_EQ(probes.at(n, "c"), 0.0);
+  EXPECT_NEAR(probes.at(n, "e"), probes.at(0, "e"), 1e-6 * probes.at(0, "e"));
+  const Csv stats = read_csv(out / "stats.csv");
+  EXPECT_EQ(stats.at(stats.rows.size() - 1, "contact_nodes"), 0);
+  EXPECT_GT(stats.at(0, "particles"), 300);  // (4/3) pi 4.5^3 mm^3 / 1 mm^3 = 382 lattice sites
+  EXPECT_LT(stats.at(0, "particles"), 460);
+  EXPECT_EQ(stats.at(0, "membrane_elements"), 25 * 25);
+}
