@@ -17,6 +17,7 @@ Field obstacles();
 Field emitters();
 Field probes();
 Field output();
+Field mpm();
 
 // Shared pieces.
 /// Check that object[lo] < object[hi] componentwise.
