@@ -7,11 +7,15 @@
 namespace tetfsi::run {
 
 RunnerEntry kinematic_runner();
+RunnerEntry solid_runner();
+RunnerEntry hex_runner();
 RunnerEntry mesh_only_runner();
 
 const std::vector<RunnerEntry>& runners() {
   static const std::vector<RunnerEntry> list = {
       kinematic_runner(),
+      solid_runner(),  // fluid none, a deforming tet solid
+      hex_runner(),    // fluid none, deforming hex8 solids only
       mesh_only_runner(),  // fallback: keep last
   };
   return list;
