@@ -168,16 +168,16 @@ class SolidRunner : public Simulation {
     double assemble = 0, solve = 0;
     std::vector<double> v(7, 0.0);
     for (auto& b : bodies_) {
-      const auto& st = b.integrator->settings();
-      if (std::abs(dt - st.time_step) > 1e-12 * st.time_step) {
+      const auto& cur = b.integrator->settings();
+      if (std::abs(dt - cur.time_step) > 1e-12 * cur.time_step) {
         // The driver shortened the step to land on a frame: a new integrator at the same state.
-        solid::TrapezoidalSettings s = st;
+        solid::TrapezoidalSettings s = cur;
         s.time_step = dt;
         rebuild(b, s);
       }
-      const solid::StepStats* stats = nullptr;
+      solid::StepStats st;  // a copy: rebuild() replaces the integrator
       try {
-        stats = &b.integrator->step();
+        st = b.integrator->step();
       } catch (const solid::SolidError& e) {
         throw RunError(fmt::format("solid '{}': {}", b.name, e.what()));
       }
@@ -185,8 +185,8 @@ class SolidRunner : public Simulation {
         solid::TrapezoidalSettings s = b.integrator->settings();
         s.time_step = dt_;
         rebuild(b, s);
-        stats = &b.integrator->last_stats();
       }
+      const solid::StepStats* stats = &st;
       assemble += stats->assembly_seconds;
       solve += stats->solve_seconds;
       const double vals[] = {stats->kinetic, stats->strain, stats->gravity_potential, stats->total(),
