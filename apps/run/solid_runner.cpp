@@ -128,12 +128,18 @@ class SolidRunner : public Simulation {
       settings.rayleigh_beta = material.rayleigh_beta;
       settings.gravity = vec3(sim.at("gravity"));
       try {
+        material.validate();
+      } catch (const solid::SolidError& e) {
+        throw InputError(fmt::format("{}/material: {}", ptr, e.what()));
+      }
+      try {
         settings.scheme = solid::parse_newmark_scheme(s.at("integrator").at("scheme").get<std::string>());
         settings.solver = solid::parse_solver_kind(s.at("integrator").at("linear_solver").get<std::string>());
         b.model = std::make_unique<solid::TetModel>(tets, material, options);
         b.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*b.model, settings);
-      } catch (const solid::SolidError& e) {
-        throw InputError(fmt::format("{}/material: {}", ptr, e.what()));
+      } catch (const solid::SolidError& e) {  // e.g. a degenerate tet from the mesher: try another mesh size
+        throw InputError(fmt::format("{}: solid '{}' (mesh.edge_length {} m): {}", ptr, b.name,
+                                     sizing.edge_length, e.what()));
       }
       auto& integ = *b.integrator;
       for (std::size_t r = 0; r < s.at("fixed_regions").size(); ++r) {
@@ -179,7 +185,9 @@ class SolidRunner : public Simulation {
       try {
         st = b.integrator->step();
       } catch (const solid::SolidError& e) {
-        throw RunError(fmt::format("solid '{}': {}", b.name, e.what()));
+        const bool stvk = b.model->material().law == solid::ConstitutiveLaw::kStVK;
+        throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
+                                   stvk ? " (in the scene: material.constitutive \"neohookean\")" : ""));
       }
       if (std::abs(dt - dt_) > 1e-12 * dt_) {
         solid::TrapezoidalSettings s = b.integrator->settings();

@@ -168,3 +168,24 @@ TEST(SolidRuns, ScenesValidateAndBadMaterialExitsTwo) {
   EXPECT_EQ(status, 2) << out;
   EXPECT_NE(out.find("/solids/0/material/youngs_modulus"), std::string::npos) << out;
 }
+
+// A soft StVK box with the energy-conserving scheme crushes its bottom layer at h = 1/30 s
+// (solid/README.md "Hard cases"): the run must stop with exit code 1 and name the inverted
+// element, and write nothing of the failed step.
+TEST(SolidRuns, InvertedStVKStopsWithExitOne) {
+  TempDir dir("invert");
+  std::string text = read_text(scene_file("soft_drop.json"));
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"\"youngs_modulus\": 2e4", "\"youngs_modulus\": 5e3"},
+           {"\"constitutive\": \"neohookean\"", "\"constitutive\": \"stvk\"},\n      \"integrator\": {\"scheme\": \"trapezoidal\""}}) {
+    ASSERT_NE(text.find(from), std::string::npos) << from;
+    text.replace(text.find(from), from.size(), to);
+  }
+  std::ofstream(dir.path() / "invert.json") << text;
+  int status = -1;
+  const std::string out = run_scene(dir.path() / "invert.json", dir.path() / "out", &status);
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find("inverted"), std::string::npos) << out;
+  const Csv stats = read_csv(dir.path() / "out" / "stats.csv");
+  for (std::size_t r = 0; r < stats.rows.size(); ++r) EXPECT_TRUE(std::isfinite(stats.at(r, "total_energy")));
+}
