@@ -156,10 +156,12 @@ class SolidRunner : public Simulation {
       for (const auto& bx : obs.at("boxes")) integ.obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
       integ.obstacles().set_friction(obs.at("friction").get<double>());
       b.surface = boundary_with_map(tets, b.surface_nodes);
+      log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
+               s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),
+               mat["constitutive"].get<std::string>());
       bodies_.push_back(std::move(b));
     }
-    log.info("solid runner: {} tet solid(s), step {} s, scheme {}", bodies_.size(), dt_,
-             js["solids"][0].at("integrator").at("scheme").get<std::string>());
+    log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), dt_);
   }
 
   std::vector<std::string> phases() const override { return {"assemble", "solve"}; }
