@@ -156,6 +156,9 @@ Field solids() {
   solid.checks.push_back([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
     if (o.at("model").at("type") == "hex8" && o.at("geometry").at("type") != "box")
       issues.push_back({ptr + "/model/type", "expected \"tet_fem\": `hex8` needs a box geometry"});
+    if (o.at("model").at("type") != "hex8" && !o.at("boundary_conditions").empty())
+      issues.push_back({ptr + "/boundary_conditions", "expected []: boundary conditions need model `hex8` "
+                                                      "(tet solids use `fixed_regions`)"});
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
 }
