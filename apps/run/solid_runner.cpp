@@ -11,14 +11,12 @@
 /// potential -sum m g.x [J], total [J], solver iterations, inverted elements, contact nodes.
 #include <fmt/format.h>
 
-#include <map>
-
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/stopwatch.hpp"
+#include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
-#include "mesh/interface.hpp"
 #include "mesh/quality.hpp"
 #include "solid/integrator/trapezoidal.hpp"
 #include "solid/output/solid_output.hpp"
@@ -37,37 +35,6 @@ struct Body {
   mesh::SurfaceMesh surface;      ///< boundary of the tet mesh, at rest
   std::vector<int> surface_nodes; ///< tet-mesh node of each surface vertex
 };
-
-/// Boundary faces of `m` (faces of one tet only, outward), with the tet-mesh node of each vertex.
-mesh::SurfaceMesh boundary_with_map(const mesh::TetMesh& m, std::vector<int>& nodes) {
-  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> count;
-  for (const auto& t : m.tets)
-    for (const auto& f : mesh::kTetFaceVertices) {
-      std::array<int, 3> tri{t[f[0]], t[f[1]], t[f[2]]}, key = tri;
-      std::sort(key.begin(), key.end());
-      auto& e = count[key];
-      ++e.first;
-      e.second = tri;
-    }
-  mesh::SurfaceMesh s;
-  std::vector<int> map(m.vertices.size(), -1);
-  nodes.clear();
-  for (const auto& [key, e] : count) {
-    if (e.first != 1) continue;
-    std::array<int, 3> tri;
-    for (int k = 0; k < 3; ++k) {
-      int& v = map[e.second[k]];
-      if (v < 0) {
-        v = s.num_vertices();
-        s.vertices.push_back(m.vertices[e.second[k]]);
-        nodes.push_back(e.second[k]);
-      }
-      tri[k] = v;
-    }
-    s.triangles.push_back(tri);
-  }
-  return s;
-}
 
 bool deforms_as(const scene::Json& solid, const char* model) {
   return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == model;
@@ -155,7 +122,7 @@ class SolidRunner : public Simulation {
         integ.obstacles().add_plane({vec3(p.at("point")), vec3(p.at("normal"))});
       for (const auto& bx : obs.at("boxes")) integ.obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
       integ.obstacles().set_friction(obs.at("friction").get<double>());
-      b.surface = boundary_with_map(tets, b.surface_nodes);
+      b.surface = boundary_surface(tets, &b.surface_nodes);
       log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
                s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),
                mat["constitutive"].get<std::string>());
@@ -176,14 +143,8 @@ class SolidRunner : public Simulation {
     double assemble = 0, solve = 0;
     std::vector<double> v(7, 0.0);
     for (auto& b : bodies_) {
-      const auto& cur = b.integrator->settings();
-      if (std::abs(dt - cur.time_step) > 1e-12 * cur.time_step) {
-        // The driver shortened the step to land on a frame: a new integrator at the same state.
-        solid::TrapezoidalSettings s = cur;
-        s.time_step = dt;
-        rebuild(b, s);
-      }
-      solid::StepStats st;  // a copy: rebuild() replaces the integrator
+      b.integrator->set_time_step(dt);  // the driver may shorten a step to land on a frame
+      solid::StepStats st;
       try {
         st = b.integrator->step();
       } catch (const solid::SolidError& e) {
@@ -191,16 +152,10 @@ class SolidRunner : public Simulation {
         throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
                                    stvk ? " (in the scene: material.constitutive \"neohookean\")" : ""));
       }
-      if (std::abs(dt - dt_) > 1e-12 * dt_) {
-        solid::TrapezoidalSettings s = b.integrator->settings();
-        s.time_step = dt_;
-        rebuild(b, s);
-      }
-      const solid::StepStats* stats = &st;
-      assemble += stats->assembly_seconds;
-      solve += stats->solve_seconds;
-      const double vals[] = {stats->kinetic, stats->strain, stats->gravity_potential, stats->total(),
-                             double(stats->solver_iterations), double(stats->inverted), double(stats->contacts)};
+      assemble += st.assembly_seconds;
+      solve += st.solve_seconds;
+      const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
+                             double(st.solver_iterations), double(st.inverted), double(st.contacts)};
       for (int k = 0; k < 7; ++k) v[k] += vals[k];
     }
     r.phase_seconds = {assemble, solve};
@@ -269,21 +224,6 @@ class SolidRunner : public Simulation {
   }
 
  private:
-  /// Replaces b's integrator by one with `settings`, carrying over the state, the fixed nodes,
-  /// and the obstacles.
-  static void rebuild(Body& b, const solid::TrapezoidalSettings& settings) {
-    auto next = std::make_unique<solid::TrapezoidalIntegrator>(*b.model, settings);
-    std::vector<int> fixed;
-    const auto& f = b.integrator->fixed_dofs();
-    for (std::size_t i = 0; i + 2 < f.size(); i += 3)
-      if (f[i] || f[i + 1] || f[i + 2]) fixed.push_back(static_cast<int>(i / 3));
-    if (!fixed.empty()) next->fix_nodes(fixed);
-    next->set_displacement(b.integrator->displacement());
-    next->set_velocity(b.integrator->velocity());
-    next->obstacles() = b.integrator->obstacles();
-    b.integrator = std::move(next);
-  }
-
   std::vector<Body> bodies_;
   double dt_ = 0;
 };

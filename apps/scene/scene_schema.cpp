@@ -39,6 +39,7 @@ Field build() {
       blocks::mesh(),
       blocks::fluid(),
       blocks::solids(),
+      blocks::coupling(),
       blocks::obstacles(),
       blocks::emitters(),
       blocks::probes(),

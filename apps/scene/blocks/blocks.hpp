@@ -12,6 +12,7 @@ Field domain();
 Field mesh();
 Field fluid();
 Field solids();
+Field coupling();
 Field obstacles();
 Field emitters();
 Field probes();
