@@ -8,6 +8,8 @@ namespace tetfsi::run {
 
 RunnerEntry coupled_runner();
 RunnerEntry kinematic_runner();
+RunnerEntry solid_runner();
+RunnerEntry hex_runner();
 RunnerEntry mpm_runner();
 RunnerEntry mesh_only_runner();
 
@@ -15,6 +17,8 @@ const std::vector<RunnerEntry>& runners() {
   static const std::vector<RunnerEntry> list = {
       coupled_runner(),
       kinematic_runner(),
+      solid_runner(),  // fluid none, a deforming tet solid
+      hex_runner(),    // fluid none, deforming hex8 solids only
       mpm_runner(),
       mesh_only_runner(),  // fallback: keep last
   };

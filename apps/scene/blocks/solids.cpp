@@ -47,8 +47,62 @@ Field model() {
     .variant("tet_fem", {})
     .variant("hex8", {Field::integer("nx", "Cells along x.").at_least(1).def(8),
                       Field::integer("ny", "Cells along y.").at_least(1).def(2),
-                      Field::integer("nz", "Cells along z.").at_least(1).def(2)});
+                      Field::integer("nz", "Cells along z.").at_least(1).def(2),
+                      Field::enumeration("analysis", {"dynamic", "static"},
+                                         "`dynamic`: the trapezoidal integrator in time; `static`: "
+                                         "load stepping with Newton-Raphson, one output frame per "
+                                         "load step (time = load factor).").def("dynamic")});
 }
+
+Field integrator() {
+  return Field::object("integrator", "Time integration of a deforming solid (solid-only runs).", {
+      Field::enumeration("scheme", {"chentanez", "trapezoidal"},
+                         "`chentanez`: Newmark beta = 1/2, gamma = 1 as in the paper's appendix (eq. 18; "
+                         "slightly dissipative); `trapezoidal`: beta = 1/4, gamma = 1/2 (energy "
+                         "conserving for linear models, can blow up for stiff nonlinear bodies).")
+          .def("chentanez"),
+      Field::enumeration("linear_solver", {"cholmod", "cg", "cg_ic"},
+                         "Sparse SPD solver: CHOLMOD Cholesky, CG + Jacobi, or CG + incomplete Cholesky.")
+          .def("cholmod"),
+  });
+}
+
+Field static_solver() {
+  return Field::object("static", "Load stepping of a `hex8` solid with `analysis: static`.", {
+      Field::integer("load_steps", "Equal load increments up to load factor 1.").at_least(1).def(10),
+      Field::integer("max_iterations", "Newton iterations per load step before the step is halved.")
+          .at_least(1).def(30),
+      Field::number("residual_tolerance", "", "Relative residual |R| / max(|lambda F_ext|, |F_int|).")
+          .greater(0).def(1e-9),
+      Field::number("increment_tolerance", "", "Relative increment |du| / |u|.").greater(0).def(1e-8),
+      Field::integer("max_step_cuts", "Successive halvings of one load increment before giving up.")
+          .at_least(0).def(8),
+      Field::enumeration("linear_solver", {"cholmod", "cg"}, "Newton solves: CHOLMOD or Jacobi CG.")
+          .def("cholmod"),
+  });
+}
+
+Field boundary_condition() {
+  return Field::object("", "", {
+      Field::enumeration("type", {"fixed", "displacement", "nodal_force", "traction", "moment_rotation",
+                                  "moment_traction"},
+                         "`fixed`: `components` held at 0; `displacement`: `value` [m] on `components` "
+                         "(reached at load factor 1); `nodal_force`: `value` [N] on every node; "
+                         "`traction`: dead `value` [Pa] on the boundary faces in the box; "
+                         "`moment_rotation`: the nodes turn rigidly by `angle` [rad] about `axis` "
+                         "through `center`, free translation (a pure end couple); `moment_traction`: "
+                         "dead linear traction with couple `moment` [N m] about `axis`.").req(),
+      box("box", "Region (world coordinates [m]) selecting the nodes or boundary faces.").req(),
+      Field::string("components", "Subset of \"xyz\" for `fixed` and `displacement`.").def("xyz"),
+      Field::vector("value", 3, "m | N | Pa", "Displacement [m], nodal force [N] or traction [Pa].")
+          .def({0, 0, 0}),
+      Field::vector("axis", 3, "", "Rotation / moment axis (normalised internally).").def({0, 0, 1}),
+      Field::vector("center", 3, "m", "A point on the rotation axis.").def({0, 0, 0}),
+      Field::number("angle", "rad", "`moment_rotation`: rotation at load factor 1.").def(0),
+      Field::number("moment", "N m", "`moment_traction`: couple at load factor 1.").def(0),
+  });
+}
+
 
 Field motion() {
   Field key = Field::object("", "", {
@@ -93,10 +147,18 @@ Field solids() {
                    box("", "")).def(Json::array()),
       Field::vector("initial_velocity", 3, "m/s", "Initial velocity of every node.").def({0, 0, 0}),
       motion(),
+      integrator(),
+      static_solver(),
+      Field::array("boundary_conditions", "`hex8` only: conditions and loads by region (static and "
+                   "dynamic; in dynamic runs loads are applied at full value, rotations are not supported).",
+                   boundary_condition()).def(Json::array()),
   });
   solid.checks.push_back([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
     if (o.at("model").at("type") == "hex8" && o.at("geometry").at("type") != "box")
       issues.push_back({ptr + "/model/type", "expected \"tet_fem\": `hex8` needs a box geometry"});
+    if (o.at("model").at("type") != "hex8" && !o.at("boundary_conditions").empty())
+      issues.push_back({ptr + "/boundary_conditions", "expected []: boundary conditions need model `hex8` "
+                                                      "(tet solids use `fixed_regions`)"});
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
 }

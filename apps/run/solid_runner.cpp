@@ -1,0 +1,244 @@
+/// @file solid_runner.cpp
+/// Solid-only scenes with tetrahedral FEM bodies (Chentanez et al. 2006 sec. 3.2, appendix
+/// eqs. 9-18): /fluid/type is "none" and at least one solid deforms (motion "none", model
+/// "tet_fem"; hex8 solids go to the hex runner). Each deforming solid is meshed alone
+/// (mesh::mesh_solid, no fluid), becomes a TetModel advanced by its own TrapezoidalIntegrator
+/// with the scene's gravity, fixed regions, initial velocity and static obstacles. Solids do not
+/// collide with each other. Solids with a prescribed motion in the same scene are not moved
+/// (a warning says so).
+///
+/// stats.csv columns (sums over the solids): kinetic 1/2 u^T M u [J], strain [J], gravity
+/// potential -sum m g.x [J], total [J], solver iterations, inverted elements, contact nodes.
+#include <fmt/format.h>
+
+#include "apps/run/errors.hpp"
+#include "apps/run/simulation.hpp"
+#include "apps/run/solid_geometry.hpp"
+#include "apps/run/stopwatch.hpp"
+#include "apps/run/tet_tools.hpp"
+#include "mesh/complex_mesher.hpp"
+#include "mesh/quality.hpp"
+#include "solid/integrator/trapezoidal.hpp"
+#include "solid/output/solid_output.hpp"
+#include "solid/solid_error.hpp"
+#include "solid/tet/tet_model.hpp"
+
+namespace tetfsi::run {
+namespace {
+
+Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+struct Body {
+  std::string name;
+  std::unique_ptr<solid::TetModel> model;
+  std::unique_ptr<solid::TrapezoidalIntegrator> integrator;
+  mesh::SurfaceMesh surface;      ///< boundary of the tet mesh, at rest
+  std::vector<int> surface_nodes; ///< tet-mesh node of each surface vertex
+};
+
+bool deforms_as(const scene::Json& solid, const char* model) {
+  return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == model;
+}
+
+class SolidRunner : public Simulation {
+ public:
+  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+    solid::limit_blas_threads(1);  // solid/README.md: a busy-waiting BLAS costs more than it gains here
+    const auto& js = scene.json;
+    const auto& sim = js.at("simulation");
+    dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
+    const auto& m = js.at("mesh");
+    mesh::MeshSizing sizing;
+    sizing.edge_length = m.at("edge_length").get<double>();
+    sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
+    sizing.grading_distance = m.at("grading_distance").get<double>();
+    sizing.facet_distance = m.at("facet_distance").get<double>();
+    const auto& obs = js.at("obstacles");
+
+    for (std::size_t i = 0; i < js.at("solids").size(); ++i) {
+      const auto& s = js["solids"][i];
+      const std::string ptr = fmt::format("/solids/{}", i);
+      if (!deforms_as(s, "tet_fem")) {
+        log.warn("solid '{}' ({}) is not simulated by the solid runner and is left out",
+                 s.at("name").get<std::string>(), s.at("motion").at("type") != "none" ? "kinematic" : "hex8");
+        continue;
+      }
+      Body b;
+      b.name = s.at("name").get<std::string>();
+      std::vector<std::string> warnings;
+      const mesh::SurfaceMesh surface = surface_of(s, warnings);
+      for (const auto& w : warnings) log.warn("{}", w);
+      mesh::TetMesh tets;
+      try {
+        tets = mesh::mesh_solid(surface, sizing, mesh::solid_subdomain(static_cast<int>(i)));
+      } catch (const mesh::MeshError& e) {
+        throw InputError(fmt::format("{}: meshing solid '{}' failed: {}", ptr, b.name, e.what()));
+      }
+      log.info("mesh: solid '{}': {} vertices, {} tets; {}", b.name, tets.num_vertices(), tets.num_tets(),
+               mesh::quality_report(tets).summary());
+
+      const auto& mat = s.at("material");
+      solid::TetMaterial material;
+      material.youngs_modulus = mat.at("youngs_modulus").get<double>();
+      material.poisson_ratio = mat.at("poissons_ratio").get<double>();
+      material.density = mat.at("density").get<double>();
+      material.rayleigh_alpha = mat.at("rayleigh_alpha").get<double>();
+      material.rayleigh_beta = mat.at("rayleigh_beta").get<double>();
+      const bool neo = mat.at("constitutive") == "neohookean";
+      material.law = neo ? solid::ConstitutiveLaw::kStableNeoHookean : solid::ConstitutiveLaw::kStVK;
+      solid::TetModelOptions options;
+      options.project_spd = neo;  // keeps A positive definite under strong compression (README)
+
+      solid::TrapezoidalSettings settings;
+      settings.time_step = dt_;
+      settings.rayleigh_alpha = material.rayleigh_alpha;
+      settings.rayleigh_beta = material.rayleigh_beta;
+      settings.gravity = vec3(sim.at("gravity"));
+      try {
+        material.validate();
+      } catch (const solid::SolidError& e) {
+        throw InputError(fmt::format("{}/material: {}", ptr, e.what()));
+      }
+      try {
+        settings.scheme = solid::parse_newmark_scheme(s.at("integrator").at("scheme").get<std::string>());
+        settings.solver = solid::parse_solver_kind(s.at("integrator").at("linear_solver").get<std::string>());
+        b.model = std::make_unique<solid::TetModel>(tets, material, options);
+        b.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*b.model, settings);
+      } catch (const solid::SolidError& e) {  // e.g. a degenerate tet from the mesher: try another mesh size
+        throw InputError(fmt::format("{}: solid '{}' (mesh.edge_length {} m): {}", ptr, b.name,
+                                     sizing.edge_length, e.what()));
+      }
+      auto& integ = *b.integrator;
+      for (std::size_t r = 0; r < s.at("fixed_regions").size(); ++r) {
+        const auto& box = s["fixed_regions"][r];
+        const auto nodes = integ.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi")));
+        if (nodes.empty())
+          throw InputError(fmt::format("{}/fixed_regions/{}: the box contains no node of solid '{}'", ptr, r, b.name));
+        integ.fix_nodes(nodes);
+        log.info("solid '{}': fixed region {} holds {} nodes", b.name, r, nodes.size());
+      }
+      integ.set_uniform_velocity(vec3(s.at("initial_velocity")));
+      for (const auto& p : obs.at("planes"))
+        integ.obstacles().add_plane({vec3(p.at("point")), vec3(p.at("normal"))});
+      for (const auto& bx : obs.at("boxes")) integ.obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
+      integ.obstacles().set_friction(obs.at("friction").get<double>());
+      b.surface = boundary_surface(tets, &b.surface_nodes);
+      log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
+               s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),
+               mat["constitutive"].get<std::string>());
+      bodies_.push_back(std::move(b));
+    }
+    log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), dt_);
+  }
+
+  std::vector<std::string> phases() const override { return {"assemble", "solve"}; }
+  std::vector<std::string> columns() const override {
+    return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts"};
+  }
+  double max_dt() const override { return dt_; }
+
+  StepReport step(double dt) override {
+    StepReport r;
+    r.dt = dt;
+    double assemble = 0, solve = 0;
+    std::vector<double> v(7, 0.0);
+    for (auto& b : bodies_) {
+      b.integrator->set_time_step(dt);  // the driver may shorten a step to land on a frame
+      solid::StepStats st;
+      try {
+        st = b.integrator->step();
+      } catch (const solid::SolidError& e) {
+        const bool stvk = b.model->material().law == solid::ConstitutiveLaw::kStVK;
+        throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
+                                   stvk ? " (in the scene: material.constitutive \"neohookean\")" : ""));
+      }
+      assemble += st.assembly_seconds;
+      solve += st.solve_seconds;
+      const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
+                             double(st.solver_iterations), double(st.inverted), double(st.contacts)};
+      for (int k = 0; k < 7; ++k) v[k] += vals[k];
+    }
+    r.phase_seconds = {assemble, solve};
+    r.values = v;
+    return r;
+  }
+
+  std::string non_finite() const override {
+    for (const auto& b : bodies_) {
+      const auto& d = b.integrator->displacement();
+      const auto& u = b.integrator->velocity();
+      for (int i = 0; i < d.size(); ++i) {
+        if (!std::isfinite(d[i])) return fmt::format("solid '{}': displacement of node {}", b.name, i / 3);
+        if (!std::isfinite(u[i])) return fmt::format("solid '{}': velocity of node {}", b.name, i / 3);
+      }
+    }
+    return "";
+  }
+
+  void write_frame(Output& out, int frame, double time) override {
+    for (const auto& b : bodies_) {
+      const auto& d = b.integrator->displacement();
+      const auto& u = b.integrator->velocity();
+      try {
+        out.write_grid(b.name, frame, time, solid::solid_grid(*b.model, d, u));
+      } catch (const solid::SolidError& e) {
+        throw RunError(fmt::format("solid '{}': {}", b.name, e.what()));
+      }
+      mesh::SurfaceMesh now = b.surface;
+      std::vector<Eigen::Vector3d> vel(now.vertices.size());
+      for (std::size_t k = 0; k < now.vertices.size(); ++k) {
+        const int n = b.surface_nodes[k];
+        now.vertices[k] += d.segment<3>(3 * n);
+        vel[k] = u.segment<3>(3 * n);
+      }
+      out.write_surface(b.name, frame, now, vel);
+    }
+  }
+
+  std::vector<double> probe(const scene::Json& p) const override {
+    const auto kind = p.at("kind").get<std::string>();
+    if (kind == "total_energy") {
+      double e = 0;
+      for (const auto& b : bodies_) e += b.integrator->energies().total();
+      return {e};
+    }
+    for (const auto& b : bodies_) {
+      if (!p.contains("solid") || p["solid"] != b.name) continue;
+      if (kind == "point_displacement") {  // the node nearest to the rest point
+        const Eigen::Vector3d x = vec3(p.at("point"));
+        const auto& X = b.model->reference_positions();
+        int best = 0;
+        for (int i = 1; i < b.model->num_nodes(); ++i)
+          if ((X.segment<3>(3 * i) - x).squaredNorm() < (X.segment<3>(3 * best) - x).squaredNorm()) best = i;
+        const Eigen::Vector3d d = b.integrator->displacement().segment<3>(3 * best);
+        return {d.x(), d.y(), d.z()};
+      }
+      if (kind == "solid_volume") {
+        const Eigen::VectorXd J = b.model->volume_ratios(b.integrator->displacement());
+        double vol = 0;
+        for (int t = 0; t < b.model->num_tets(); ++t) vol += J[t] * b.model->rest_volume(t);
+        return {vol};
+      }
+    }
+    return {};
+  }
+
+ private:
+  std::vector<Body> bodies_;
+  double dt_ = 0;
+};
+
+}  // namespace
+
+RunnerEntry solid_runner() {
+  return {"solid", "deformable tet FEM solids without fluid (trapezoidal implicit integration, contact)",
+          [](const scene::Scene& s) {
+            if (s["fluid"].at("type") != "none") return false;
+            for (const auto& solid : s["solids"])
+              if (deforms_as(solid, "tet_fem")) return true;
+            return false;
+          },
+          [] { return std::make_unique<SolidRunner>(); }};
+}
+
+}  // namespace tetfsi::run
