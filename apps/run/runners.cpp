@@ -6,11 +6,13 @@
 
 namespace tetfsi::run {
 
+RunnerEntry fluid_runner();
 RunnerEntry kinematic_runner();
 RunnerEntry mesh_only_runner();
 
 const std::vector<RunnerEntry>& runners() {
   static const std::vector<RunnerEntry> list = {
+      fluid_runner(),
       kinematic_runner(),
       mesh_only_runner(),  // fallback: keep last
   };

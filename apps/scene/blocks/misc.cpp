@@ -25,7 +25,8 @@ Field emitters() {
       .check(lo_below_hi());
   Field emitter = Field::object("", "", {
       std::move(shape).req(),
-      Field::vector("velocity", 3, "m/s", "Fluid velocity imposed inside the source.").def({0, 0, 0}),
+      Field::vector("velocity", 3, "m/s",
+                    "Fluid velocity imposed inside the source (not imposed if [0, 0, 0]).").def({0, 0, 0}),
       Field::number("smoke_density", "", "Smoke concentration set inside the source.").at_least(0).def(1),
       Field::number("temperature", "K", "Temperature set inside the source.").greater(0).def(373.15),
       Field::number("start_time", "s", "Time the source switches on.").at_least(0).def(0),
@@ -37,16 +38,26 @@ Field emitters() {
 Field probes() {
   Field probe = Field::object("", "", {
       Field::string("name", "Column name in probes.csv.").req(),
-      Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy"},
+      Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy", "fluid_point",
+                                  "fluid_kinetic_energy"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
-                         "+ elastic + gravitational energy [J] of everything.").req()})
+                         "+ elastic + gravitational energy [J] of everything; `fluid_point`: one fluid "
+                         "`quantity` at `point` (NaN outside the fluid); `fluid_kinetic_energy`: "
+                         "1/2 rho sum V |u|^2 of the fluid [J].").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
           Field::vector("point", 3, "m", "Rest position of the tracked point.").req()})
       .variant("solid_volume", {Field::string("solid", "Name of the solid.").req()})
-      .variant("total_energy", {});
+      .variant("total_energy", {})
+      .variant("fluid_point", {
+          Field::vector("point", 3, "m", "Where to sample (world coordinates).").req(),
+          Field::enumeration("quantity", {"pressure", "smoke", "temperature", "speed", "velocity_x",
+                                          "velocity_y", "velocity_z"},
+                             "`pressure` [Pa] (linear in the tet), `smoke` [-], `temperature` [K], "
+                             "`speed` and velocity components [m/s] (the tet's value).").req()})
+      .variant("fluid_kinetic_energy", {});
   return Field::array("probes", "Quantities written to probes.csv every step.", std::move(probe))
       .def(Json::array());
 }
