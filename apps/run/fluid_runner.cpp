@@ -82,6 +82,7 @@ struct Emitter {
 class FluidRunner : public Simulation {
  public:
   void setup(const scene::Scene& scene, spdlog::logger& log) override {
+    log_ = &log;
     const auto& js = scene.json;
     const auto& f = js.at("fluid");
     const auto& sim = js.at("simulation");
@@ -226,12 +227,33 @@ class FluidRunner : public Simulation {
       std::vector<Eigen::Vector3d> target = complex_.vertices;
       for (std::size_t v = 0; v < target.size(); ++v)
         if (vertex_solid_[v] >= 0) target[v] = moved(motions_[vertex_solid_[v]], rest_[v], time_);
+      // remesh_step returns its last pass even when the quality check failed. A fluid tet that
+      // is flat or inverted would break the pressure matrix: then remesh again from the moved
+      // mesh with more CGAL iterations, the last time over the whole fluid instead of a band. A
+      // positive but small minimum dihedral angle is only reported.
       mesh::RemeshResult r;
-      try {
-        r = mesh::remesh_step(complex_, target, remesh_);
-      } catch (const mesh::MeshError& e) {
-        throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce dt or cfl)", time_, e.what()));
+      mesh::QualityReport q;
+      for (int attempt = 0;; ++attempt) {
+        mesh::RemeshOptions opt = remesh_;
+        opt.iterations += 2 * attempt;
+        if (attempt == 2) opt.band = 0;
+        try {
+          r = mesh::remesh_step(complex_, target, opt);
+        } catch (const mesh::MeshError& e) {
+          throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce dt or cfl)", time_, e.what()));
+        }
+        q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
+        if (q.inverted + q.degenerate == 0) break;
+        if (attempt == 2)
+          throw RunError(fmt::format("remeshing at t = {} s left {} inverted and {} flat fluid tets ({})", time_,
+                                     q.inverted, q.degenerate, r.report.summary()));
+        log_->warn("t = {} s: remesh left {} inverted and {} flat fluid tets; remeshing again with {} iterations",
+                   time_, q.inverted, q.degenerate, opt.iterations + 2);
       }
+      if (!r.report.quality_ok)
+        log_->warn("t = {} s: fluid min dihedral angle {:.3g} deg is below {} deg", time_, q.min_dihedral_deg,
+                   remesh_.min_dihedral_deg);
+      log_->debug("t = {} s: remesh {}", time_, r.report.summary());
       std::vector<Eigen::Vector3d> rest(r.mesh.num_vertices());
       for (int v = 0; v < r.mesh.num_vertices(); ++v)
         rest[v] = r.old_index[v] >= 0 ? rest_[r.old_index[v]] : r.mesh.vertices[v];
@@ -352,6 +374,7 @@ class FluidRunner : public Simulation {
     return s;
   }
 
+  spdlog::logger* log_ = nullptr;
   std::unique_ptr<fluid::FluidSolver> solver_;
   fluid::BoundaryConditions bc_;
   std::vector<Emitter> emitters_;
