@@ -268,7 +268,12 @@ class FluidRunner : public Simulation {
     for (const auto& e : emitters_)
       if (time_ - dt >= e.start - 1e-12 && time_ - dt < e.end) bc.sources.push_back(e.source);
     bc.solid_vertex_velocity = solid_velocity_;
-    const fluid::StepReport s = solver_->step(complex_, bc, dt);
+    fluid::StepReport s;
+    try {
+      s = solver_->step(complex_, bc, dt);
+    } catch (const std::exception& e) {  // SolverError, non-finite values, bad boundary input
+      throw RunError(fmt::format("fluid step at t = {} s failed: {}", time_, e.what()));
+    }
     last_ = s;
     h_ = solver_->mesh().mean_edge_length();
 
