@@ -5,7 +5,7 @@
 //    above the inflow and not off to the side, the fluid frames read back with VTK match stats.csv;
 //  - paddle.json (shortened): the fluid is remeshed every step with positive dihedral angles,
 //    one stats row per step, the exported paddle surface moves with v = omega x (x - c);
-//  - a misspelt fluid key exits 2 naming its JSON pointer.
+//  - a misspelt fluid key exits 2 naming its JSON pointer; deformable solids go to another runner.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -175,11 +175,36 @@ TEST(FluidRunner, BadFluidKeyExitsTwoWithPointer) {
   EXPECT_NE(log.find("/domain/open_faces/0"), std::string::npos) << log;
 }
 
-TEST(FluidRunner, CommittedScenesValidateAndPickTheFluidRunner) {
+TEST(FluidRunner, CommittedScenesValidate) {
   for (const char* name : {"smoke_plume.json", "paddle.json"}) {
     int status = -1;
     const std::string path = std::string(TETFSI_SOURCE_DIR) + "/data/scenes/" + name;
     const std::string log = tetfsi_cmd("validate " + path, &status);
     EXPECT_EQ(status, 0) << name << ": " << log;
   }
+}
+
+// Deformable solids (motion none) in a fluid belong to the coupled runner: the fluid runner
+// declines the scene; a zero translation is a fixed obstacle and it takes the scene.
+TEST(FluidRunner, DeclinesDeformableSolids) {
+  json scene = json::parse(R"({
+    "simulation": {"end_time": 0.02, "dt": 0.01},
+    "domain": {"lo": [-0.5, -0.5, -0.5], "hi": [0.5, 0.5, 0.5]},
+    "mesh": {"edge_length": 0.2},
+    "fluid": {"type": "smoke"},
+    "solids": [{"name": "ball", "geometry": {"type": "sphere", "radius": 0.2, "subdivisions": 1},
+                "material": {"density": 1000, "youngs_modulus": 1e5, "poissons_ratio": 0.3}}]
+  })");
+  TempDir dir("fluid_choice");
+  int status = -1;
+  std::string log;
+  fs::path out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  const std::string first = read_text(out / "run.log");
+  EXPECT_NE(first.find("runner: "), std::string::npos) << first;
+  EXPECT_EQ(first.find("runner: fluid"), std::string::npos) << first;
+  scene["solids"][0]["motion"] = json::parse(R"({"type": "translation", "velocity": [0, 0, 0]})");
+  out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_NE(read_text(out / "run.log").find("runner: fluid"), std::string::npos);
 }
