@@ -110,7 +110,7 @@ class FluidRunner : public Simulation {
     params.solver.tolerance = f.at("solver").at("tolerance").get<double>();
     params.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();
     if (f.at("viscosity").get<double>() > 0)
-      log.warn("/fluid/viscosity = {} is ignored: the fluid model is inviscid", f.at("viscosity").get<double>());
+      log.info("/fluid/viscosity = {} is not used: the fluid model is inviscid", f.at("viscosity").get<double>());
 
     // ---- boundary conditions ----
     const Eigen::Vector3d lo = vec3(js.at("domain").at("lo")), hi = vec3(js.at("domain").at("hi"));

@@ -15,7 +15,7 @@ Field obstacles() {
 }
 
 Field emitters() {
-  Field shape = Field::object("shape", "Source volume.", {
+  Field shape = Field::object("shape", "Source volume: the fluid tets whose centroid lies inside (a sphere acts on its bounding box in the fluid runner).", {
       Field::enumeration("type", {"box", "sphere"}, "Shape of the source.").req()})
       .tagged_by("type")
       .variant("box", {Field::vector("lo", 3, "m", "Lower corner.").req(),
