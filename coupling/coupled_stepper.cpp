@@ -6,6 +6,7 @@
 
 #include "coupling/interface_maps.hpp"
 #include "fluid/operators/p1_operators.hpp"
+#include "fluid/projection/amg_preconditioner.hpp"
 
 namespace tetfsi::coupling {
 namespace {
@@ -62,7 +63,16 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     solids_.push_back(std::move(s));
   }
   fluid_.initialize(mesh_);
-  solver_ = make_coupled_solver(settings_.solver, settings_.solver_options);
+  CoupledSolverOptions options = settings_.solver_options;
+  if (settings_.solver == CoupledSolverKind::SchurCG && fluid_.params().solver.backend == fluid::SolverBackend::kHypreAmgCg &&
+      !options.preconditioner_apply) {
+    // BoomerAMG of Ŝ = C + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change).
+    auto amg = std::make_shared<fluid::AmgPreconditioner>();
+    options.preconditioner_setup = [amg](const SparseMatrix& S_hat) { amg->setup(S_hat); };
+    options.preconditioner_apply = [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
+    options.preconditioner_name = "boomeramg";
+  }
+  solver_ = make_coupled_solver(settings_.solver, std::move(options));
   previous_pressure_ = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
 }
 
@@ -167,8 +177,9 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   return blocks;
 }
 
-CoupledStepReport CoupledStepper::step() {
-  const double h = settings_.time_step;
+CoupledStepReport CoupledStepper::step(double h) {
+  if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
+  for (Solid& s : solids_) s.integrator->set_time_step(h);
   CoupledStepReport report;
   move_solid_vertices();
   report.fluid = fluid_.predict(mesh_, boundary_, h);

@@ -81,7 +81,9 @@ class CoupledStepper {
   /// One coupled step of length settings.time_step.
   /// @throws CoupledSolveError, fluid::SolverError, solid::SolidError or std::runtime_error on
   ///         divergence (never returns a non-finite state)
-  CoupledStepReport step();
+  CoupledStepReport step() { return step(settings_.time_step); }
+  /// One coupled step of length h [s] (e.g. shortened to land on a frame time).
+  CoupledStepReport step(double h);
 
  private:
   struct Solid {

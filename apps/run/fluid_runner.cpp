@@ -401,6 +401,7 @@ class FluidRunner : public Simulation {
 RunnerEntry fluid_runner() {
   return {"fluid", "smoke or liquid around static or kinematic solids (remeshed every step when they move)",
           [](const scene::Scene& s) {
+            if (s.json.contains("mpm")) return false;  // MPM + membranes: the mpm runner
             const auto type = s["fluid"].at("type");
             if (type != "smoke" && type != "liquid") return false;
             for (const auto& solid : s["solids"])

@@ -6,14 +6,18 @@
 
 namespace tetfsi::run {
 
+RunnerEntry coupled_runner();
 RunnerEntry fluid_runner();
 RunnerEntry kinematic_runner();
+RunnerEntry mpm_runner();
 RunnerEntry mesh_only_runner();
 
 const std::vector<RunnerEntry>& runners() {
   static const std::vector<RunnerEntry> list = {
+      coupled_runner(),
       fluid_runner(),
       kinematic_runner(),
+      mpm_runner(),
       mesh_only_runner(),  // fallback: keep last
   };
   return list;

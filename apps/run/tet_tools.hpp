@@ -7,10 +7,12 @@
 
 namespace tetfsi::run {
 
-/// The tets with label `subdomain`, with vertices renumbered compactly (subdomain kept).
+/// The tets with label `subdomain`, with vertices renumbered compactly (subdomain kept); empty if
+/// none has it. (mesh::extract_subdomain, which also gives the maps back, throws instead.)
 mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain);
 
-/// Faces of `m` that belong to one tet only, oriented outward.
-mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m);
+/// Faces of `m` that belong to one tet only, oriented outward, with vertices renumbered
+/// compactly; `to_tet_vertex` (optional) receives, per surface vertex, its vertex in `m`.
+mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_tet_vertex = nullptr);
 
 }  // namespace tetfsi::run

@@ -101,7 +101,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
   const auto base = std::filesystem::absolute(file).parent_path();
   Json resolved = validate(input, scene_schema(), base, issues);
   if (!issues.empty()) throw SceneError(name, std::move(issues));
-  return Scene{file, std::move(resolved)};
+  return Scene{file, std::move(resolved), std::move(input)};
 }
 
 Scene load_scene(const std::filesystem::path& file) {

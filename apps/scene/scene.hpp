@@ -15,6 +15,7 @@ namespace tetfsi::scene {
 struct Scene {
   std::filesystem::path file;  ///< the scene file
   Json json;                   ///< resolved scene
+  Json input;                  ///< the scene as written (no defaults): which blocks the user gave
 
   const Json& operator[](const char* block) const { return json.at(block); }
 };

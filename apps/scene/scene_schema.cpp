@@ -1,3 +1,4 @@
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -6,6 +7,52 @@
 
 namespace tetfsi::scene {
 namespace {
+
+// Probe kinds of the mpm examples and the examples that have each (coupling/mpm/examples).
+const std::map<std::string, std::set<std::string>>& mpm_probe_kinds() {
+  static const std::map<std::string, std::set<std::string>> kinds = {
+      {"membrane_radius_0deg", {"gas_expansion"}},
+      {"membrane_radius_90deg", {"gas_expansion"}},
+      {"membrane_radius_min", {"gas_expansion"}},
+      {"membrane_radius_max", {"gas_expansion"}},
+      {"membrane_center_z", {"membrane_on_sphere", "sphere_on_membrane", "water_sphere_impact"}},
+      {"membrane_corner_z", {"membrane_on_sphere"}},
+      {"sphere_top_z", {"sphere_on_membrane", "water_sphere_impact"}},
+  };
+  return kinds;
+}
+
+// An mpm scene is particles + membranes only: no tet fluid, no tet solids; its probes must be
+// ones the chosen example has. The mpm probe kinds need an mpm block.
+void check_mpm(const Json& s, std::vector<Issue>& issues) {
+  const bool mpm = s.contains("mpm");
+  const std::string example = mpm ? s["mpm"]["example"].get<std::string>() : "";
+  if (mpm && s["fluid"]["type"] != "none")
+    issues.push_back({"/fluid/type", fmt::format("an mpm scene has its fluid as particles (/mpm); expected "
+                                                 "\"none\", got \"{}\"", s["fluid"]["type"].get<std::string>())});
+  if (mpm && !s["solids"].empty())
+    issues.push_back({"/solids", "an mpm scene has no tet solids (its bodies come from /mpm/example); "
+                                 "expected an empty list"});
+  for (std::size_t i = 0; i < s["probes"].size(); ++i) {
+    const auto kind = s["probes"][i]["kind"].get<std::string>();
+    const auto it = mpm_probe_kinds().find(kind);
+    if (it == mpm_probe_kinds().end()) {
+      if (mpm && kind != "total_energy")
+        issues.push_back({fmt::format("/probes/{}/kind", i),
+                          fmt::format("probe kind \"{}\" needs tet solids; an mpm scene has \"total_energy\" "
+                                      "and the mpm kinds", kind)});
+    } else if (!mpm) {
+      issues.push_back({fmt::format("/probes/{}/kind", i),
+                        fmt::format("probe kind \"{}\" needs an /mpm block", kind)});
+    } else if (!it->second.count(example)) {
+      std::string list;
+      for (const auto& e : it->second) list += (list.empty() ? "" : ", ") + e;
+      issues.push_back({fmt::format("/probes/{}/kind", i),
+                        fmt::format("probe kind \"{}\" exists for the example(s) {}, not for \"{}\"", kind,
+                                    list, example)});
+    }
+  }
+}
 
 // Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.
 void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
@@ -24,7 +71,8 @@ void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) 
       issues.push_back({fmt::format("/probes/{}/solid", i),
                         fmt::format("no solid named \"{}\" in /solids", p["solid"].get<std::string>())});
   }
-  if (!s.contains("domain") && s["solids"].empty())
+  check_mpm(s, issues);
+  if (!s.contains("domain") && s["solids"].empty() && !s.contains("mpm"))
     issues.push_back({"/solids", "the scene has neither a domain nor any solid: nothing to simulate"});
   if (s["fluid"]["type"] != "none" && !s.contains("domain"))
     issues.push_back({"/domain", fmt::format("missing: a {} fluid needs a domain box {{\"lo\": [...], \"hi\": [...]}}",
@@ -39,10 +87,12 @@ Field build() {
       blocks::mesh(),
       blocks::fluid(),
       blocks::solids(),
+      blocks::coupling(),
       blocks::obstacles(),
       blocks::emitters(),
       blocks::probes(),
       blocks::output(),
+      blocks::mpm(),
   }).check(check_scene);
 }
 

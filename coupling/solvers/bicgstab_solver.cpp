@@ -81,10 +81,7 @@ CoupledSolveReport BiCGSTABSolver::solve(const CoupledSystem& s, Eigen::VectorXd
   report.iterations = static_cast<int>(bicg.iterations());
   const Eigen::VectorXd x = d.cwiseProduct(y);
   if (!x.allFinite()) throw CoupledSolveError("bicgstab: breakdown (non-finite iterate)");
-  u = x.head(n);
-  p = x.tail(m);
-  report.residual = residuals(s, u, p);
-  require_converged(report, options_.tolerance);
+  split_and_check(s, x, options_.tolerance, report, u, p);
   return report;
 }
 

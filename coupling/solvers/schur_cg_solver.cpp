@@ -31,7 +31,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>> ic;
   std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)> precondition;
   if (options_.preconditioner_apply) {
-    if (options_.preconditioner_setup) options_.preconditioner_setup(S_hat);
+    if (options_.preconditioner_setup && m > 0) options_.preconditioner_setup(S_hat);
     precondition = options_.preconditioner_apply;
     report.solver = "schur_cg+" + (options_.preconditioner_name.empty() ? "custom" : options_.preconditioner_name);
   } else {

@@ -22,4 +22,12 @@ void require_converged(const CoupledSolveReport& report, double tolerance) {
   throw CoupledSolveError(msg.str());
 }
 
+void split_and_check(const CoupledSystem& s, const Eigen::VectorXd& x, double tolerance, CoupledSolveReport& report,
+                     Eigen::VectorXd& u, Eigen::VectorXd& p) {
+  u = x.head(s.num_solid_dofs());
+  p = x.tail(s.num_pressures());
+  report.residual = residuals(s, u, p);
+  require_converged(report, tolerance);
+}
+
 }  // namespace tetfsi::coupling::detail

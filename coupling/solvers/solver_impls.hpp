@@ -12,6 +12,11 @@ SparseMatrix approximate_schur_complement(const CoupledSystem& system);
 /// Throws CoupledSolveError if the residuals of (u, p) exceed the tolerance.
 void require_converged(const CoupledSolveReport& report, double tolerance);
 
+/// Splits the monolithic solution x = [u; p] (n + m), records its residuals in `report` and
+/// checks them against `tolerance` (throws CoupledSolveError).
+void split_and_check(const CoupledSystem& s, const Eigen::VectorXd& x, double tolerance, CoupledSolveReport& report,
+                     Eigen::VectorXd& u, Eigen::VectorXd& p);
+
 class UmfpackSolver final : public CoupledSolver {
  public:
   explicit UmfpackSolver(CoupledSolverOptions o) : options_(std::move(o)) {}

@@ -25,10 +25,7 @@ CoupledSolveReport UmfpackSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   const Eigen::VectorXd x = lu.solve(rhs);
   report.solve_seconds = clock.lap();
   if (lu.info() != Eigen::Success || !x.allFinite()) throw CoupledSolveError("umfpack: solve failed");
-  u = x.head(n);
-  p = x.tail(m);
-  report.residual = residuals(s, u, p);
-  require_converged(report, options_.tolerance);
+  split_and_check(s, x, options_.tolerance, report, u, p);
   return report;
 }
 

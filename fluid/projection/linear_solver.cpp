@@ -1,13 +1,6 @@
-// Only the C API of MPI is used: keep Open MPI's C++ bindings (libmpi_cxx) out of the link.
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
 #include "fluid/projection/linear_solver.hpp"
 
-#include <HYPRE.h>
-#include <HYPRE_krylov.h>
-#include <HYPRE_parcsr_ls.h>
-#include <HYPRE_utilities.h>
-#include <mpi.h>
+#include "fluid/projection/hypre_support.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <chrono>
@@ -22,95 +15,35 @@ double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-void finalize_mpi() {
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (!finalized) MPI_Finalize();
-}
-
-/// MPI and hypre are initialised once per process (a singleton run without mpirun works with Open MPI).
-void ensure_hypre() {
-  static const bool ready = [] {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (!initialized) {
-      MPI_Init(nullptr, nullptr);
-      std::atexit(finalize_mpi);
-    }
-    HYPRE_Init();
-    return true;
-  }();
-  (void)ready;
-}
-
 SolveReport solve_hypre(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                         const SolverOptions& o) {
-  ensure_hypre();
-  const int n = static_cast<int>(a.rows());
-  // A is symmetric, so its compressed columns are also its compressed rows.
-  std::vector<int> ncols(n), rows(n);
-  for (int i = 0; i < n; ++i) {
-    rows[i] = i;
-    ncols[i] = a.outerIndexPtr()[i + 1] - a.outerIndexPtr()[i];
-  }
-  HYPRE_IJMatrix ij_a;
-  HYPRE_IJMatrixCreate(MPI_COMM_WORLD, 0, n - 1, 0, n - 1, &ij_a);
-  HYPRE_IJMatrixSetObjectType(ij_a, HYPRE_PARCSR);
-  HYPRE_IJMatrixSetRowSizes(ij_a, ncols.data());
-  HYPRE_IJMatrixInitialize(ij_a);
-  HYPRE_IJMatrixSetValues(ij_a, n, ncols.data(), rows.data(), a.innerIndexPtr(), a.valuePtr());
-  HYPRE_IJMatrixAssemble(ij_a);
-  HYPRE_ParCSRMatrix par_a;
-  HYPRE_IJMatrixGetObject(ij_a, reinterpret_cast<void**>(&par_a));
+  const hypre::Matrix matrix(a);
+  const hypre::Vector rhs(matrix.rows(), b.data());
+  hypre::Vector solution(matrix.rows(), x.data());
 
-  auto make_vector = [&](const Eigen::VectorXd& v, HYPRE_IJVector& ij, HYPRE_ParVector& par) {
-    HYPRE_IJVectorCreate(MPI_COMM_WORLD, 0, n - 1, &ij);
-    HYPRE_IJVectorSetObjectType(ij, HYPRE_PARCSR);
-    HYPRE_IJVectorInitialize(ij);
-    HYPRE_IJVectorSetValues(ij, n, rows.data(), v.data());
-    HYPRE_IJVectorAssemble(ij);
-    HYPRE_IJVectorGetObject(ij, reinterpret_cast<void**>(&par));
-  };
-  HYPRE_IJVector ij_b, ij_x;
-  HYPRE_ParVector par_b, par_x;
-  make_vector(b, ij_b, par_b);
-  make_vector(x, ij_x, par_x);
-
-  HYPRE_Solver pcg, amg;
+  HYPRE_Solver pcg;
   HYPRE_ParCSRPCGCreate(MPI_COMM_WORLD, &pcg);
   HYPRE_PCGSetMaxIter(pcg, o.max_iterations);
   HYPRE_PCGSetTol(pcg, o.tolerance);
   HYPRE_PCGSetTwoNorm(pcg, 1);
   HYPRE_PCGSetPrintLevel(pcg, 0);
   HYPRE_PCGSetLogging(pcg, 1);
-  HYPRE_BoomerAMGCreate(&amg);
-  HYPRE_BoomerAMGSetPrintLevel(amg, 0);
-  HYPRE_BoomerAMGSetCoarsenType(amg, 10);     // HMIS
-  HYPRE_BoomerAMGSetInterpType(amg, 6);       // extended+i, the usual partner of HMIS
-  HYPRE_BoomerAMGSetPMaxElmts(amg, 4);
-  HYPRE_BoomerAMGSetStrongThreshold(amg, 0.5);  // recommended for 3D Laplacians
-  HYPRE_BoomerAMGSetRelaxType(amg, 6);        // symmetric hybrid Gauss-Seidel (keeps PCG symmetric)
-  HYPRE_BoomerAMGSetNumSweeps(amg, 1);
-  HYPRE_BoomerAMGSetTol(amg, 0.0);
-  HYPRE_BoomerAMGSetMaxIter(amg, 1);
+  HYPRE_Solver amg = hypre::make_boomeramg_preconditioner();
   HYPRE_PCGSetPrecond(pcg, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
                       reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg);
   SolveReport r;
   double t0 = now();
-  HYPRE_ParCSRPCGSetup(pcg, par_a, par_b, par_x);
+  HYPRE_ParCSRPCGSetup(pcg, matrix.par(), rhs.par(), solution.par());
   r.setup_seconds = now() - t0;
   t0 = now();
-  HYPRE_ParCSRPCGSolve(pcg, par_a, par_b, par_x);
+  HYPRE_ParCSRPCGSolve(pcg, matrix.par(), rhs.par(), solution.par());
   r.solve_seconds = now() - t0;
   HYPRE_PCGGetNumIterations(pcg, &r.iterations);
-  HYPRE_IJVectorGetValues(ij_x, n, rows.data(), x.data());
+  solution.get(x.data());
   HYPRE_ClearAllErrors();  // a non-converged PCG sets an error flag; convergence is checked below
 
   HYPRE_BoomerAMGDestroy(amg);
   HYPRE_ParCSRPCGDestroy(pcg);
-  HYPRE_IJVectorDestroy(ij_x);
-  HYPRE_IJVectorDestroy(ij_b);
-  HYPRE_IJMatrixDestroy(ij_a);
   return r;
 }
 

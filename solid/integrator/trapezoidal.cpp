@@ -67,6 +67,11 @@ void TrapezoidalIntegrator::set_uniform_velocity(const Eigen::Vector3d& v) {
   set_velocity(v.replicate(model_.num_nodes(), 1));
 }
 
+void TrapezoidalIntegrator::set_time_step(double h) {
+  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
+  settings_.time_step = h;
+}
+
 void TrapezoidalIntegrator::set_external_forces(const Eigen::VectorXd& f) {
   if (f.size() != f_ext_.size() || !f.allFinite()) throw SolidError("set_external_forces: wrong size or non-finite");
   f_ext_ = f;

@@ -95,6 +95,9 @@ class TrapezoidalIntegrator {
   void set_uniform_velocity(const Eigen::Vector3d& v);
   /// Constant external nodal forces, 3n [N] (added to M g).
   void set_external_forces(const Eigen::VectorXd& f);
+  /// Changes h for the following steps (runners shorten a step to land on a frame time).
+  /// @throws SolidError if h <= 0
+  void set_time_step(double h);
   void add_spring(const LinearSpring& spring);
   StaticObstacles& obstacles() { return obstacles_; }
 

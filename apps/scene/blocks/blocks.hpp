@@ -12,10 +12,12 @@ Field domain();
 Field mesh();
 Field fluid();
 Field solids();
+Field coupling();
 Field obstacles();
 Field emitters();
 Field probes();
 Field output();
+Field mpm();
 
 // Shared pieces.
 /// Check that object[lo] < object[hi] componentwise.

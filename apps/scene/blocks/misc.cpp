@@ -38,13 +38,22 @@ Field emitters() {
 Field probes() {
   Field probe = Field::object("", "", {
       Field::string("name", "Column name in probes.csv.").req(),
-      Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy", "fluid_point",
-                                  "fluid_kinetic_energy"},
+      Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy",
+                                  "membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min",
+                                  "membrane_radius_max", "membrane_center_z", "membrane_corner_z",
+                                  "sphere_top_z", "fluid_point", "fluid_kinetic_energy"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
-                         "+ elastic + gravitational energy [J] of everything; `fluid_point`: one fluid "
-                         "`quantity` at `point` (NaN outside the fluid); `fluid_kinetic_energy`: "
-                         "1/2 rho sum V |u|^2 of the fluid [J].").req()})
+                         "+ elastic + gravitational energy [J] of everything. Scenes with an `mpm` block "
+                         "(Lian et al. 2014): `membrane_radius_0deg` / `_90deg`: x of the membrane node on "
+                         "y = 0 / y of the node on x = 0, `membrane_radius_min` / `_max`: smallest / largest "
+                         "node distance from the z axis (gas_expansion, Fig. 16); `membrane_center_z`: z [m] "
+                         "of the membrane's centre node (Figs. 6, 9, 11, 12); `membrane_corner_z`: z [m] of "
+                         "the corner (-25, -25) mm (membrane_on_sphere, Fig. 6); `sphere_top_z`: z [m] of "
+                         "the particle starting at the sphere's top (sphere_on_membrane, water_sphere_impact, "
+                         "Figs. 9, 11, 12); `total_energy`: stored energy of particles and membrane. Fluid runner: "
+                         "`fluid_point`: one fluid `quantity` at `point` (NaN outside the fluid); "
+                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J].").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
@@ -58,6 +67,9 @@ Field probes() {
                              "`pressure` [Pa] (linear in the tet), `smoke` [-], `temperature` [K], "
                              "`speed` and velocity components [m/s] (the tet's value).").req()})
       .variant("fluid_kinetic_energy", {});
+  for (const char* k : {"membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min", "membrane_radius_max",
+                        "membrane_center_z", "membrane_corner_z", "sphere_top_z"})
+    probe.variants[k] = {};
   return Field::array("probes", "Quantities written to probes.csv every step.", std::move(probe))
       .def(Json::array());
 }

@@ -3,18 +3,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "coupling/mpm/examples/example_model.hpp"
 #include "solid/membrane/membrane_mesh.hpp"
 
 namespace tetfsi::mpm_contact {
 
-namespace {
-double stored_energy(const CoupledEnergies& e) {
-  return e.mpm.kinetic + e.mpm.internal + e.membrane.kinetic + e.membrane.strain + e.membrane.hourglass;
-}
-}  // namespace
-
-GasExpansionResult run_gas_expansion(const GasExpansionParams& prm,
-                                     const std::function<void(const StepRecord&)>& on_record) {
+std::unique_ptr<ExampleModel> make_gas_expansion(const GasExpansionParams& prm) {
   if (!(prm.cell > 0) || !(prm.particle_spacing > 0) || !(prm.t_end > 0))
     throw std::invalid_argument("gas expansion: cell, particle spacing and end time must be positive");
   const double depth = 0.1;
@@ -48,47 +42,47 @@ GasExpansionResult run_gas_expansion(const GasExpansionParams& prm,
   mem.fix_where([](const membrane::Vec3& x) { return std::abs(x[0]) < 1e-9; }, {true, false, false});
   const int node_0deg = 0, node_90deg = static_cast<int>(line.size()) - 1;
 
-  MpmMembraneCoupling coupling(gas, mem, prm.contact);
-  GasExpansionResult res;
-  res.particles = gas.particles().size();
-  res.elements = mem.num_elements();
-  res.energy_initial = stored_energy(coupling.energies());
-  auto record = [&](long step, double t, double dt, int contacts) {
-    if (!on_record) return;
-    StepRecord r;
-    r.step = step;
-    r.time = t;
-    r.dt = dt;
-    r.contact_nodes = contacts;
-    r.mpm = &gas;
-    r.membrane = &mem;
-    r.energies = coupling.energies();
+  auto model = std::make_unique<ExampleModel>(std::move(gas), std::move(mem), prm.contact, prm.cfl / 0.9);
+  const ExampleModel* m = model.get();
+  model->set_probes([m, node_0deg, node_90deg] {
+    const auto& x = m->membrane().positions();
     double rmin = 1e9, rmax = 0;
-    for (const auto& x : mem.positions()) {
-      rmin = std::min(rmin, x.head<2>().norm());
-      rmax = std::max(rmax, x.head<2>().norm());
+    for (const auto& p : x) {
+      rmin = std::min(rmin, p.head<2>().norm());
+      rmax = std::max(rmax, p.head<2>().norm());
     }
-    r.probes = {{"r_0deg", mem.positions()[node_0deg][0]},
-                {"r_90deg", mem.positions()[node_90deg][1]},
-                {"r_min", rmin},
-                {"r_max", rmax}};
-    on_record(r);
+    return ExampleModel::Probes{
+        {"r_0deg", x[node_0deg][0]}, {"r_90deg", x[node_90deg][1]}, {"r_min", rmin}, {"r_max", rmax}};
+  });
+  return model;
+}
+
+GasExpansionResult run_gas_expansion(const GasExpansionParams& prm,
+                                     const std::function<void(const StepRecord&)>& on_record) {
+  auto model = make_gas_expansion(prm);
+  GasExpansionResult res;
+  res.particles = model->mpm().particles().size();
+  res.elements = model->membrane().num_elements();
+  res.energy_initial = model->stored_energy();
+  auto record = [&](long step, double t, double dt, int contacts) {
+    if (on_record) on_record(model->record(step, t, dt, contacts));
   };
   record(0, 0, 0, 0);
   double t = 0;
   long step = 0;
   while (t < prm.t_end - 1e-12) {
-    const double dt = std::min(prm.cfl * coupling.critical_time_step() / 0.9, prm.t_end - t);
-    const auto rep = coupling.step(dt);
+    const double dt = std::min(model->max_dt(), prm.t_end - t);
+    const auto rep = model->step(dt);
     t += dt;
     ++step;
     if (step % prm.record_every == 0 || t >= prm.t_end - 1e-12) record(step, t, dt, rep.contact_nodes);
   }
   res.steps = step;
   res.particle_updates = step * static_cast<long>(res.particles);
-  res.radius_0deg = mem.positions()[node_0deg][0];
-  res.radius_90deg = mem.positions()[node_90deg][1];
-  res.energy_final = stored_energy(coupling.energies());
+  const auto probes = model->probes();
+  res.radius_0deg = probes[0].second;
+  res.radius_90deg = probes[1].second;
+  res.energy_final = model->stored_energy();
   return res;
 }
 

@@ -3,12 +3,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "coupling/mpm/examples/example_model.hpp"
 #include "solid/membrane/membrane_mesh.hpp"
 
 namespace tetfsi::mpm_contact {
 
-SphereMembraneResult run_sphere_membrane(const SphereMembraneParams& prm,
-                                         const std::function<void(const StepRecord&)>& on_record) {
+std::unique_ptr<ExampleModel> make_sphere_membrane(const SphereMembraneParams& prm) {
   using Case = SphereMembraneParams::Case;
   using mpm::Vec3;
   if (!(prm.cell > 0) || !(prm.particle_spacing > 0) || !(prm.t_end > 0))
@@ -63,48 +63,44 @@ SphereMembraneResult run_sphere_membrane(const SphereMembraneParams& prm,
     if ((mem.positions()[k].head<2>() - Eigen::Vector2d(-half, -half)).norm() < 1e-9) corner_node = k;
   }
 
-  MpmMembraneCoupling coupling(solver, mem, prm.contact);
+  auto model = std::make_unique<ExampleModel>(std::move(solver), std::move(mem), prm.contact, 1.0);
+  const ExampleModel* m = model.get();
+  model->set_probes([m, centre_node, corner_node, top, drop_membrane] {
+    const double second = drop_membrane ? m->membrane().positions()[corner_node][2] : m->mpm().particles().x[top][2];
+    return ExampleModel::Probes{{"membrane_center_z", m->membrane().positions()[centre_node][2]},
+                                {drop_membrane ? "membrane_corner_z" : "sphere_top_z", second}};
+  });
+  return model;
+}
+
+SphereMembraneResult run_sphere_membrane(const SphereMembraneParams& prm,
+                                         const std::function<void(const StepRecord&)>& on_record) {
+  auto model = make_sphere_membrane(prm);
   SphereMembraneResult res;
-  res.particles = P.size();
-  res.elements = mem.num_elements();
-  res.min_membrane_center_z = mem.positions()[centre_node][2];
-  auto stored = [&] {
-    const auto e = coupling.energies();
-    return e.mpm.kinetic + e.mpm.internal + e.mpm.gravity + e.membrane.kinetic + e.membrane.strain +
-           e.membrane.hourglass;
-  };
-  res.energy_initial = stored();
-  auto second = [&] { return drop_membrane ? mem.positions()[corner_node][2] : solver.particles().x[top][2]; };
+  res.particles = model->mpm().particles().size();
+  res.elements = model->membrane().num_elements();
+  res.min_membrane_center_z = model->probes()[0].second;
+  res.energy_initial = model->stored_energy();
   auto record = [&](long step, double t, double dt, int contacts) {
-    if (!on_record) return;
-    StepRecord r;
-    r.step = step;
-    r.time = t;
-    r.dt = dt;
-    r.contact_nodes = contacts;
-    r.mpm = &solver;
-    r.membrane = &mem;
-    r.energies = coupling.energies();
-    r.probes = {{"membrane_center_z", mem.positions()[centre_node][2]},
-                {drop_membrane ? "membrane_corner_z" : "sphere_top_z", second()}};
-    on_record(r);
+    if (on_record) on_record(model->record(step, t, dt, contacts));
   };
   record(0, 0, 0, 0);
   double t = 0;
   long step = 0;
   while (t < prm.t_end * (1 - 1e-12)) {
-    const double dt = std::min(coupling.critical_time_step(), prm.t_end - t);
-    const auto rep = coupling.step(dt);
+    const double dt = std::min(model->max_dt(), prm.t_end - t);
+    const auto rep = model->step(dt);
     t += dt;
     ++step;
-    res.min_membrane_center_z = std::min(res.min_membrane_center_z, mem.positions()[centre_node][2]);
+    res.min_membrane_center_z = std::min(res.min_membrane_center_z, model->probes()[0].second);
     if (step % prm.record_every == 0 || t >= prm.t_end * (1 - 1e-12)) record(step, t, dt, rep.contact_nodes);
   }
+  const auto probes = model->probes();
   res.steps = step;
-  res.particle_updates = step * static_cast<long>(P.size());
-  res.membrane_center_z = mem.positions()[centre_node][2];
-  res.second_probe_z = second();
-  res.energy_final = stored();
+  res.particle_updates = step * static_cast<long>(res.particles);
+  res.membrane_center_z = probes[0].second;
+  res.second_probe_z = probes[1].second;
+  res.energy_final = model->stored_energy();
   return res;
 }
 

@@ -1,0 +1,78 @@
+#include "fluid/projection/hypre_support.hpp"
+
+#include <cstdlib>
+
+namespace tetfsi::fluid::hypre {
+namespace {
+void finalize_mpi() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
+}  // namespace
+
+void ensure_initialized() {
+  static const bool ready = [] {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (!initialized) {
+      MPI_Init(nullptr, nullptr);
+      std::atexit(finalize_mpi);
+    }
+    HYPRE_Init();
+    return true;
+  }();
+  (void)ready;
+}
+
+Matrix::Matrix(const Eigen::SparseMatrix<double>& a) : n_(static_cast<int>(a.rows())), rows_(n_) {
+  ensure_initialized();
+  // A is symmetric, so its compressed columns are also its compressed rows.
+  std::vector<int> ncols(n_);
+  for (int i = 0; i < n_; ++i) {
+    rows_[i] = i;
+    ncols[i] = a.outerIndexPtr()[i + 1] - a.outerIndexPtr()[i];
+  }
+  HYPRE_IJMatrixCreate(MPI_COMM_WORLD, 0, n_ - 1, 0, n_ - 1, &ij_);
+  HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR);
+  HYPRE_IJMatrixSetRowSizes(ij_, ncols.data());
+  HYPRE_IJMatrixInitialize(ij_);
+  HYPRE_IJMatrixSetValues(ij_, n_, ncols.data(), rows_.data(), a.innerIndexPtr(), a.valuePtr());
+  HYPRE_IJMatrixAssemble(ij_);
+  HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void**>(&par_));
+}
+
+Vector::Vector(const std::vector<int>& rows, const double* values) : rows_(rows) {
+  const int n = static_cast<int>(rows.size());
+  HYPRE_IJVectorCreate(MPI_COMM_WORLD, 0, n - 1, &ij_);
+  HYPRE_IJVectorSetObjectType(ij_, HYPRE_PARCSR);
+  HYPRE_IJVectorInitialize(ij_);
+  HYPRE_IJVectorSetValues(ij_, n, rows.data(), values);
+  HYPRE_IJVectorAssemble(ij_);
+  HYPRE_IJVectorGetObject(ij_, reinterpret_cast<void**>(&par_));
+}
+
+void Vector::set(const double* values) {
+  HYPRE_IJVectorSetValues(ij_, static_cast<int>(rows_.size()), rows_.data(), values);
+}
+
+void Vector::get(double* values) const {
+  HYPRE_IJVectorGetValues(ij_, static_cast<int>(rows_.size()), rows_.data(), values);
+}
+
+HYPRE_Solver make_boomeramg_preconditioner() {
+  HYPRE_Solver amg;
+  HYPRE_BoomerAMGCreate(&amg);
+  HYPRE_BoomerAMGSetPrintLevel(amg, 0);
+  HYPRE_BoomerAMGSetCoarsenType(amg, 10);       // HMIS
+  HYPRE_BoomerAMGSetInterpType(amg, 6);         // extended+i, the usual partner of HMIS
+  HYPRE_BoomerAMGSetPMaxElmts(amg, 4);
+  HYPRE_BoomerAMGSetStrongThreshold(amg, 0.5);  // recommended for 3D Laplacians
+  HYPRE_BoomerAMGSetRelaxType(amg, 6);          // symmetric hybrid Gauss-Seidel (keeps PCG symmetric)
+  HYPRE_BoomerAMGSetNumSweeps(amg, 1);
+  HYPRE_BoomerAMGSetTol(amg, 0.0);
+  HYPRE_BoomerAMGSetMaxIter(amg, 1);
+  return amg;
+}
+
+}  // namespace tetfsi::fluid::hypre

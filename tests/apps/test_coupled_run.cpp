@@ -1,0 +1,74 @@
+// The coupled runner through the command line: a light ball released in a closed tank of water
+// (data/scenes/light_ball_in_water.json) rises with the buoyant acceleration corrected by the
+// added mass of a sphere, a = g (ρ_f − ρ_s) / (ρ_s + ρ_f/2) (benchmarks.md §2.1): g/2 here.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "csv.hpp"
+#include "tests/test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace tetfsi::test;
+
+namespace {
+
+/// Runs the committed scene with the near-solid edge length `edge` [m] for `end_time` [s]; returns
+/// the acceleration 2 y / t² of the ball's centre at the end, and the output folder's probes.
+double ball_acceleration(const TempDir& dir, double edge, double end_time, Csv* stats = nullptr) {
+  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data/scenes/light_ball_in_water.json");
+  nlohmann::json scene = nlohmann::json::parse(in);
+  scene["mesh"]["edge_length_near_solids"] = edge;
+  scene["mesh"]["facet_distance"] = edge / 10;
+  scene["simulation"]["end_time"] = end_time;
+  const fs::path file = dir.path() / ("ball_" + std::to_string(edge) + ".json");
+  std::ofstream(file) << scene.dump(2);
+  const fs::path out = dir.path() / ("out_" + std::to_string(edge));
+  int status = -1;
+  const std::string log = run_command(std::string(TETFSI_BINARY) + " run " + file.string() + " --out " +
+                                          out.string() + " --quiet 2>&1",
+                                      &status);
+  EXPECT_EQ(status, 0) << log;
+  if (stats) *stats = read_csv(out / "stats.csv");
+  const Csv probes = read_csv(out / "probes.csv");
+  const std::size_t last = probes.rows.size() - 1;
+  const double t = probes.at(last, "time"), y = probes.at(last, "centre_y");
+  return 2 * y / (t * t);
+}
+
+}  // namespace
+
+TEST(CoupledRun, LightBallRisesWithAddedMassCorrectedBuoyancy) {
+  TempDir dir("coupled");
+  const double g = 9.81, exact = g * (1000.0 - 500.0) / (500.0 + 500.0);
+  Csv stats;
+  const double coarse = ball_acceleration(dir, 0.025, 0.04, &stats);
+  const double fine = ball_acceleration(dir, 0.015, 0.01);
+  std::printf("light ball: a = %.4f (edge a/4), %.4f (edge 0.15 a); exact %.4f m/s^2\n", coarse, fine, exact);
+  // The nodal-pressure fluid under-resolves the added mass on coarse meshes (fluid/README.md
+  // measures -10.7% at h/a = 0.24 and second-order convergence). Seen: +11.1% and +6.4%.
+  EXPECT_LT(std::abs(fine - exact), std::abs(coarse - exact));
+  EXPECT_NEAR(coarse, exact, 0.15 * exact);
+  EXPECT_NEAR(fine, exact, 0.08 * exact);
+  // Every step converged to the coupled solver's tolerance (1e-8 per block).
+  for (std::size_t r = 0; r < stats.rows.size(); ++r) EXPECT_LE(stats.at(r, "solver_residual"), 1e-8);
+}
+
+TEST(CoupledRun, SceneWithoutCouplingBlockIsNotRunCoupled) {
+  // Fluid + deformable solids but no `coupling` block: the coupled runner does not take it.
+  TempDir dir("uncoupled");
+  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data/scenes/light_ball_in_water.json");
+  nlohmann::json scene = nlohmann::json::parse(in);
+  scene.erase("coupling");
+  const fs::path file = dir.path() / "ball.json";
+  std::ofstream(file) << scene.dump(2);
+  int status = -1;
+  run_command(std::string(TETFSI_BINARY) + " run " + file.string() + " --out " + (dir.path() / "o").string() +
+                  " --quiet 2>&1",
+              &status);
+  std::ifstream log(dir.path() / "o" / "run.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), {});
+  EXPECT_EQ(text.find("runner: coupled"), std::string::npos) << text;
+  EXPECT_NE(text.find("runner: mesh_only"), std::string::npos) << text;
+}

@@ -1,0 +1,168 @@
+// The mpm runner through the built tetfsi binary: the committed CI gas-expansion scene (Lian, Liu
+// & Zhang 2014, section 7.3) settles to the paper's radius and energy loss; its frames read back
+// with VTK; bad mpm keys exit with code 2 naming the key; every committed mpm scene validates.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "csv.hpp"
+#include "ply_reader.hpp"
+#include "tests/test_support.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace tetfsi::test;
+
+namespace {
+
+std::string run_tetfsi(const std::string& args, int* status) {
+  return run_command(std::string(TETFSI_BINARY) + " " + args + " 2>&1", status);
+}
+
+const fs::path kScenes = fs::path(TETFSI_SOURCE_DIR) / "data" / "scenes";
+
+}  // namespace
+
+TEST(MpmRun, GasExpansionCiSettlesToPaperRadiusAndEnergyLoss) {
+  TempDir dir("mpm_run");
+  const fs::path out = dir.path() / "out";
+  int status = -1;
+  const std::string log = run_tetfsi("run -q " + (kScenes / "gas_expansion_ci.json").string() + " --out " + out.string(),
+                                 &status);
+  ASSERT_EQ(status, 0) << log;
+
+  // Fig. 16: both tracked radii end within 2% of the paper's 0.96.
+  const Csv probes = read_csv(out / "probes.csv");
+  ASSERT_GT(probes.rows.size(), 2u);
+  const std::size_t last = probes.rows.size() - 1;
+  EXPECT_NEAR(probes.at(last, "time"), 3.5, 1e-9);
+  EXPECT_NEAR(probes.at(0, "r_0deg"), 0.5, 1e-12);   // initial membrane: x = 0.5, y = 1
+  EXPECT_NEAR(probes.at(0, "r_90deg"), 1.0, 1e-12);
+  std::printf("[gas ci] r_0deg=%.4f r_90deg=%.4f\n", probes.at(last, "r_0deg"), probes.at(last, "r_90deg"));
+  EXPECT_NEAR(probes.at(last, "r_0deg") / 0.96, 1.0, 0.02);
+  EXPECT_NEAR(probes.at(last, "r_90deg") / 0.96, 1.0, 0.02);
+
+  // Fig. 18: 3-7% of the initial energy E0 V0 = 25 x (0.45 x 0.95 x 0.1) (Table 2, quarter model)
+  // is lost by the end; the stats column agrees with the stored energy it is made of.
+  const Csv stats = read_csv(out / "stats.csv");
+  const std::size_t n = stats.rows.size() - 1;
+  const double e0 = 25.0 * 0.45 * 0.95 * 0.1;
+  const double loss = 1 - stats.at(n, "stored_energy") / e0;
+  std::printf("[gas ci] %zu steps, energy lost %.2f%%\n", n + 1, 100 * loss);
+  EXPECT_NEAR(stats.at(0, "stored_energy"), e0, 1e-5 * e0);  // one step after t = 0
+  EXPECT_NEAR(stats.at(n, "energy_loss_fraction"), loss, 1e-9);
+  EXPECT_GT(loss, 0.03);
+  EXPECT_LT(loss, 0.07);
+  const double particles = 9 * 19 * 2;  // lattice of spacing 0.05 in the 0.45 x 0.95 x 0.1 block
+  EXPECT_EQ(stats.at(n, "particles"), particles);
+  EXPECT_EQ(stats.at(n, "membrane_elements"), 15);  // 10 + 5 elements of size 0.1 along the quarter
+  EXPECT_NEAR(stats.at(n, "r_0deg"), probes.at(last, "r_0deg"), 1e-12);
+
+  // Frames every 0.25 (frame_rate 4): VTK reads the particle point cloud and the membrane quads.
+  const auto frames = lines(vtk_describe(out / "particles.pvd", &status));
+  ASSERT_EQ(status, 0);
+  ASSERT_EQ(frames.size(), 15u);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    std::istringstream ss(frames[k]);
+    double t;
+    std::string rest;
+    ss >> t;
+    std::getline(ss, rest);
+    EXPECT_NEAR(t, 0.25 * k, 1e-9);
+    EXPECT_EQ(rest, " 342 342 p:velocity:3 p:pressure:1 p:density:1 p:internal_energy:1") << "frame " << k;
+  }
+  const auto membrane = lines(vtk_describe(out / "membrane.pvd", &status));
+  ASSERT_EQ(status, 0);
+  ASSERT_EQ(membrane.size(), 15u);
+  EXPECT_NE(membrane.back().find(" 32 15 p:velocity:3 c:stress:9"), std::string::npos) << membrane.back();
+  const auto ply = read_ply(out / "surfaces" / "membrane_00014.ply");
+  EXPECT_EQ(ply.positions.size(), 32u);
+  EXPECT_EQ(ply.triangles.size(), 30u);
+  // The last PLY frame is the final state: node 0 is the membrane node on y = 0 (radius at 0 deg).
+  EXPECT_NEAR(ply.positions[0].x(), probes.at(last, "r_0deg"), 1e-6);
+}
+
+TEST(MpmRun, BadMpmKeysExitWith2AndNameTheKey) {
+  TempDir dir("mpm_bad");
+  struct Case {
+    std::string name, scene, pointer, fragment;
+  };
+  const std::string sim = R"("simulation": {"end_time": 1.0})";
+  const std::vector<Case> cases = {
+      {"negative_cell", "{" + sim + R"(, "mpm": {"example": "gas_expansion", "cell": -0.1}})", "/mpm/cell",
+       "got -0.1"},
+      {"unknown_example", "{" + sim + R"(, "mpm": {"example": "gas_expanson"}})", "/mpm/example",
+       "did you mean \"gas_expansion\"?"},
+      {"spacing_above_cell", "{" + sim + R"(, "mpm": {"example": "water_sphere_impact", "particle_spacing": 2e-3}})",
+       "/mpm/particle_spacing", "between cell / 4"},
+      {"bad_distance", "{" + sim + R"(, "mpm": {"example": "gas_expansion", "contact": {"distance_factor": 2}}})",
+       "/mpm/contact/distance_factor", "got 2"},
+      {"with_tet_fluid", "{" + sim + R"(, "domain": {"lo": [0,0,0], "hi": [1,1,1]}, "fluid": {"type": "smoke"},
+         "mpm": {"example": "gas_expansion"}})", "/fluid/type", "mpm scene"},
+      {"probe_of_other_example", "{" + sim + R"(, "mpm": {"example": "gas_expansion"},
+         "probes": [{"name": "z", "kind": "sphere_top_z"}]})", "/probes/0/kind", "not for \"gas_expansion\""},
+      {"mpm_probe_without_mpm", "{" + sim + R"(, "solids": [{"name": "b", "geometry": {"type": "sphere", "radius": 0.1},
+         "material": {"density": 1000, "youngs_modulus": 1e5, "poissons_ratio": 0.3}}],
+         "probes": [{"name": "r", "kind": "membrane_radius_0deg"}]})", "/probes/0/kind", "needs an /mpm block"},
+  };
+  for (const auto& c : cases) {
+    const fs::path file = dir.path() / (c.name + ".json");
+    std::ofstream(file) << c.scene;
+    for (const std::string& cmd : std::vector<std::string>{"validate ", "run -q --out " + (dir.path() / "out").string() + " "}) {
+      int status = -1;
+      const std::string msg = run_tetfsi(cmd + file.string(), &status);
+      EXPECT_EQ(status, 2) << c.name << ": " << msg;
+      EXPECT_NE(msg.find(file.filename().string() + ": " + c.pointer + ": "), std::string::npos) << c.name << ": " << msg;
+      EXPECT_NE(msg.find(c.fragment), std::string::npos) << c.name << ": " << msg;
+    }
+  }
+}
+
+TEST(MpmRun, CommittedMpmScenesValidate) {
+  int found = 0;
+  for (const auto& entry : fs::directory_iterator(kScenes)) {
+    if (entry.path().extension() != ".json") continue;
+    std::ifstream in(entry.path());
+    const json scene = json::parse(in);
+    if (!scene.contains("mpm")) continue;
+    ++found;
+    int status = -1;
+    const std::string msg = run_tetfsi("validate " + entry.path().string(), &status);
+    EXPECT_EQ(status, 0) << entry.path() << ": " << msg;
+  }
+  EXPECT_GE(found, 4);  // gas_expansion, gas_expansion_ci, membrane_on_sphere, water_sphere
+}
+
+TEST(MpmRun, WaterSphereFliesFreelyUntilContact) {
+  // Section 7.2 at a coarse grid (cell 2 mm, spacing 1 mm), run for 25 us: the sphere starts
+  // 0.5 mm above the membrane at 10 m/s and contact is confirmed within distance_factor x cell =
+  // 0.2 mm, so there is no contact before 30 us. Unstressed water in uniform
+  // motion stays so: the sphere top moves by exactly -10 m/s x t, the membrane centre stays at 0
+  // and the kinetic energy 1/2 m v^2 is unchanged.
+  TempDir dir("mpm_water");
+  const fs::path scene = dir.path() / "water.json", out = dir.path() / "out";
+  std::ofstream(scene) << R"({"simulation": {"end_time": 2.5e-5, "frame_rate": 1e5},
+    "mpm": {"example": "water_sphere_impact", "cell": 2e-3, "particle_spacing": 1e-3,
+            "contact": {"distance_factor": 0.1}},
+    "probes": [{"name": "c", "kind": "membrane_center_z"}, {"name": "top", "kind": "sphere_top_z"},
+               {"name": "e", "kind": "total_energy"}]})";
+  int status = -1;
+  const std::string log = run_tetfsi("run -q " + scene.string() + " --out " + out.string(), &status);
+  ASSERT_EQ(status, 0) << log;
+  const Csv probes = read_csv(out / "probes.csv");
+  const std::size_t n = probes.rows.size() - 1;
+  ASSERT_GT(n, 10u);
+  EXPECT_NEAR(probes.at(n, "time"), 2.5e-5, 1e-15);
+  EXPECT_NEAR(probes.at(0, "top"), 9.5e-3, 0.5e-3);  // nearest particle to the top (0, 0, 9.5) mm
+  EXPECT_NEAR(probes.at(n, "top") - probes.at(0, "top"), -10 * 2.5e-5, 1e-3 * 10 * 2.5e-5);
+  EXPECT_EQ(probes.at(n, "c"), 0.0);
+  EXPECT_NEAR(probes.at(n, "e"), probes.at(0, "e"), 1e-6 * probes.at(0, "e"));
+  const Csv stats = read_csv(out / "stats.csv");
+  EXPECT_EQ(stats.at(stats.rows.size() - 1, "contact_nodes"), 0);
+  EXPECT_GT(stats.at(0, "particles"), 300);  // (4/3) pi 4.5^3 mm^3 / 1 mm^3 = 382 lattice sites
+  EXPECT_LT(stats.at(0, "particles"), 460);
+  EXPECT_EQ(stats.at(0, "membrane_elements"), 25 * 25);
+}
