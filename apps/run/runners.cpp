@@ -7,6 +7,7 @@
 namespace tetfsi::run {
 
 RunnerEntry coupled_runner();
+RunnerEntry fluid_runner();
 RunnerEntry kinematic_runner();
 RunnerEntry solid_runner();
 RunnerEntry hex_runner();
@@ -16,6 +17,7 @@ RunnerEntry mesh_only_runner();
 const std::vector<RunnerEntry>& runners() {
   static const std::vector<RunnerEntry> list = {
       coupled_runner(),
+      fluid_runner(),
       kinematic_runner(),
       solid_runner(),  // fluid none, a deforming tet solid
       hex_runner(),    // fluid none, deforming hex8 solids only

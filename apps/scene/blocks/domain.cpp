@@ -3,9 +3,28 @@
 namespace tetfsi::scene::blocks {
 
 Field domain() {
-  return box("domain",
-             "The fluid box [m]. Required when `fluid.type` is not `none`; every solid must lie "
-             "strictly inside it.");
+  Field inflow = Field::object("", "", {
+      Field::vector("lo", 3, "m", "Lower corner of the patch region.").req(),
+      Field::vector("hi", 3, "m", "Upper corner of the patch region.").req(),
+      Field::vector("velocity", 3, "m/s", "Inflow velocity.").req(),
+      Field::number("smoke_density", "", "Smoke concentration of the inflow.").at_least(0).def(0),
+      Field::number("temperature", "K", "Temperature of the inflow; 0: ambient.").at_least(0).def(0)});
+  inflow.checks.push_back(lo_below_hi());
+  return Field::object("domain",
+                       "The fluid box [m]. Required when `fluid.type` is not `none`; every solid must lie "
+                       "strictly inside it. Box faces are walls (no flux) unless listed in `open_faces` "
+                       "or covered by an `inflows` patch.", {
+      Field::vector("lo", 3, "m", "Lower corner.").req(),
+      Field::vector("hi", 3, "m", "Upper corner (> lo in every coordinate).").req(),
+      Field::array("open_faces", "Box faces with pressure 0 (flow leaves or enters freely).",
+                   Field::enumeration("", {"x-", "x+", "y-", "y+", "z-", "z+"}, "A box face."))
+          .def(Json::array()),
+      Field::array("inflows",
+                   "Inflow patches: boundary faces of the box whose centroid lies in [lo, hi] get the "
+                   "prescribed velocity, smoke and temperature (first match wins, before open faces).",
+                   std::move(inflow))
+          .def(Json::array()),
+  }).check(lo_below_hi());
 }
 
 Field mesh() {

@@ -23,6 +23,28 @@ Field viscosity(double def) {
   return Field::number("viscosity", "Pa s", "Dynamic viscosity; 0 for an inviscid fluid.").at_least(0).def(def);
 }
 
+Field advection() {
+  return Field::enumeration("advection", {"linear", "semi_lagrangian", "bfecc"},
+                            "Advection scheme across meshes (fluid/advection/semi_lagrangian.hpp): `linear` "
+                            "(tet-wise linear reconstruction, least dissipative), `semi_lagrangian` (plain "
+                            "back-trace), `bfecc` (error-compensated).")
+      .def("linear");
+}
+
+Field apply_gravity(bool def) {
+  return Field::boolean("apply_gravity",
+                        "Add `simulation.gravity` to the fluid velocity (for smoke it only adds a "
+                        "hydrostatic pressure; buoyancy acts either way).")
+      .def(def);
+}
+
+Field remesh_band() {
+  return Field::number("remesh_band", "m",
+                       "With moving (kinematic) solids the fluid is remeshed every step; > 0: only fluid "
+                       "tets within this distance of a solid vertex; 0: the whole fluid.")
+      .at_least(0).def(0);
+}
+
 }  // namespace
 
 Field fluid() {
@@ -43,8 +65,9 @@ Field fluid() {
         Field::number("ambient_temperature", "K", "Temperature of the surrounding air.").greater(0).def(293.15),
         Field::number("vorticity_confinement", "", "Strength of vorticity confinement; 0: off.")
             .at_least(0).def(0),
-        solver()})
-    .variant("liquid", {density(1000), viscosity(1e-3), solver()});
+        advection(), apply_gravity(false), remesh_band(), solver()})
+    .variant("liquid", {density(1000), viscosity(1e-3), advection(), apply_gravity(true), remesh_band(),
+                        solver()});
 }
 
 }  // namespace tetfsi::scene::blocks

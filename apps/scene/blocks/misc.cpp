@@ -15,7 +15,7 @@ Field obstacles() {
 }
 
 Field emitters() {
-  Field shape = Field::object("shape", "Source volume.", {
+  Field shape = Field::object("shape", "Source volume: the fluid tets whose centroid lies inside (a sphere acts on its bounding box in the fluid runner).", {
       Field::enumeration("type", {"box", "sphere"}, "Shape of the source.").req()})
       .tagged_by("type")
       .variant("box", {Field::vector("lo", 3, "m", "Lower corner.").req(),
@@ -25,7 +25,8 @@ Field emitters() {
       .check(lo_below_hi());
   Field emitter = Field::object("", "", {
       std::move(shape).req(),
-      Field::vector("velocity", 3, "m/s", "Fluid velocity imposed inside the source.").def({0, 0, 0}),
+      Field::vector("velocity", 3, "m/s",
+                    "Fluid velocity imposed inside the source (not imposed if [0, 0, 0]).").def({0, 0, 0}),
       Field::number("smoke_density", "", "Smoke concentration set inside the source.").at_least(0).def(1),
       Field::number("temperature", "K", "Temperature set inside the source.").greater(0).def(373.15),
       Field::number("start_time", "s", "Time the source switches on.").at_least(0).def(0),
@@ -40,7 +41,7 @@ Field probes() {
       Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy",
                                   "membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min",
                                   "membrane_radius_max", "membrane_center_z", "membrane_corner_z",
-                                  "sphere_top_z"},
+                                  "sphere_top_z", "fluid_point", "fluid_kinetic_energy"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
                          "+ elastic + gravitational energy [J] of everything. Scenes with an `mpm` block "
@@ -50,13 +51,22 @@ Field probes() {
                          "of the membrane's centre node (Figs. 6, 9, 11, 12); `membrane_corner_z`: z [m] of "
                          "the corner (-25, -25) mm (membrane_on_sphere, Fig. 6); `sphere_top_z`: z [m] of "
                          "the particle starting at the sphere's top (sphere_on_membrane, water_sphere_impact, "
-                         "Figs. 9, 11, 12); `total_energy`: stored energy of particles and membrane.").req()})
+                         "Figs. 9, 11, 12); `total_energy`: stored energy of particles and membrane. Fluid runner: "
+                         "`fluid_point`: one fluid `quantity` at `point` (NaN outside the fluid); "
+                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J].").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
           Field::vector("point", 3, "m", "Rest position of the tracked point.").req()})
       .variant("solid_volume", {Field::string("solid", "Name of the solid.").req()})
-      .variant("total_energy", {});
+      .variant("total_energy", {})
+      .variant("fluid_point", {
+          Field::vector("point", 3, "m", "Where to sample (world coordinates).").req(),
+          Field::enumeration("quantity", {"pressure", "smoke", "temperature", "speed", "velocity_x",
+                                          "velocity_y", "velocity_z"},
+                             "`pressure` [Pa] (linear in the tet), `smoke` [-], `temperature` [K], "
+                             "`speed` and velocity components [m/s] (the tet's value).").req()})
+      .variant("fluid_kinetic_energy", {});
   for (const char* k : {"membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min", "membrane_radius_max",
                         "membrane_center_z", "membrane_corner_z", "sphere_top_z"})
     probe.variants[k] = {};

@@ -1,0 +1,414 @@
+/// @file fluid_runner.cpp
+/// Smoke or liquid in the domain box, around solids that are static or follow a prescribed motion
+/// (fluid/README.md, "What a scene runner needs"). Deformable solids (motion `none`) belong to the
+/// coupled runner and are not accepted here.
+///
+/// Set-up: one CGAL complex of the box and every solid (mesh::build_complex, sizes from /mesh).
+/// A solid whose motion is a zero translation or zero rotation is static: the mesh is kept for the
+/// whole run. Otherwise, every step: the solid vertices move to x(t) = motion(rest position, t),
+/// mesh::remesh_step carries the fluid vertices along and remeshes the fluid (band
+/// /fluid/remesh_band) with the solids frozen, and the FluidSolver steps onto the new mesh with
+/// u.n = v_solid.n on the interface (v = the motion's velocity at each solid vertex).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "apps/run/errors.hpp"
+#include "apps/run/simulation.hpp"
+#include "apps/run/solid_geometry.hpp"
+#include "apps/run/stopwatch.hpp"
+#include "fluid/advection/point_locator.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "fluid/io/fluid_output.hpp"
+#include "mesh/complex_mesher.hpp"
+#include "mesh/surface_import.hpp"
+#include "mesh/quality.hpp"
+#include "mesh/remesher.hpp"
+
+namespace tetfsi::run {
+namespace {
+
+Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+/// Position at time t [s] of the point with rest position x0 under `motion` (as the kinematic runner).
+Eigen::Vector3d moved(const scene::Json& motion, const Eigen::Vector3d& x0, double t) {
+  const auto type = motion.at("type").get<std::string>();
+  if (type == "translation") return x0 + t * vec3(motion.at("velocity"));
+  if (type == "rotation") {
+    const Eigen::Vector3d c = vec3(motion.at("center"));
+    const Eigen::AngleAxisd R(motion.at("angular_velocity").get<double>() * t, vec3(motion.at("axis")).normalized());
+    return c + R * (x0 - c);
+  }
+  if (type == "path") {  // piecewise-linear translation and Euler angles, held beyond the ends
+    const auto& k = motion.at("keyframes");
+    std::size_t i = 0;
+    while (i + 2 < k.size() && t > k[i + 1]["time"].get<double>()) ++i;
+    const double t0 = k[i]["time"].get<double>(), t1 = k[i + 1]["time"].get<double>();
+    const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
+    const Eigen::Vector3d tr = (1 - s) * vec3(k[i]["translation"]) + s * vec3(k[i + 1]["translation"]);
+    const Eigen::Vector3d rot = (1 - s) * vec3(k[i]["rotation_deg"]) + s * vec3(k[i + 1]["rotation_deg"]);
+    return mesh::placement_rotation(rot) * x0 + tr;
+  }
+  return x0;
+}
+
+/// Velocity [m/s] at time t of the point with rest position x0: analytic for translation and
+/// rotation, the secant over [t - dt, t] for keyframed paths.
+Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d& x0, double t, double dt) {
+  const auto type = motion.at("type").get<std::string>();
+  if (type == "translation") return vec3(motion.at("velocity"));
+  if (type == "rotation")
+    return motion.at("angular_velocity").get<double>() *
+           vec3(motion.at("axis")).normalized().cross(moved(motion, x0, t) - vec3(motion.at("center")));
+  if (type == "path" && dt > 0) return (moved(motion, x0, t) - moved(motion, x0, t - dt)) / dt;
+  return Eigen::Vector3d::Zero();
+}
+
+bool is_static(const scene::Json& motion) {
+  const auto type = motion.at("type").get<std::string>();
+  if (type == "translation") return vec3(motion.at("velocity")).norm() == 0.0;
+  if (type == "rotation") return motion.at("angular_velocity").get<double>() == 0.0;
+  return false;
+}
+
+struct Emitter {
+  fluid::SourceVolume source;
+  double start = 0, end = std::numeric_limits<double>::infinity();
+};
+
+class FluidRunner : public Simulation {
+ public:
+  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+    log_ = &log;
+    const auto& js = scene.json;
+    const auto& f = js.at("fluid");
+    const auto& sim = js.at("simulation");
+    fixed_dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
+    cfl_ = sim.at("cfl").get<double>();
+    frame_dt_ = 1.0 / sim.at("frame_rate").get<double>();
+
+    // ---- fluid parameters ----
+    fluid::FluidParams params;
+    params.density = f.at("density").get<double>();
+    params.gravity = vec3(sim.at("gravity"));
+    params.apply_gravity = f.at("apply_gravity").get<bool>();
+    if (f.at("type") == "smoke") {
+      params.buoyancy.alpha = f.at("buoyancy_alpha").get<double>();
+      params.buoyancy.beta = f.at("buoyancy_beta").get<double>();
+      params.buoyancy.ambient_temperature = f.at("ambient_temperature").get<double>();
+      params.vorticity_epsilon = f.at("vorticity_confinement").get<double>();
+      ambient_ = params.buoyancy.ambient_temperature;
+    }
+    const auto adv = f.at("advection").get<std::string>();
+    params.advection = adv == "bfecc" ? fluid::AdvectionScheme::kBfecc
+                       : adv == "semi_lagrangian" ? fluid::AdvectionScheme::kSemiLagrangian
+                                                  : fluid::AdvectionScheme::kLinear;
+    params.solver.backend = fluid::parse_solver_backend(f.at("solver").at("type").get<std::string>());
+    params.solver.tolerance = f.at("solver").at("tolerance").get<double>();
+    params.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();
+    if (f.at("viscosity").get<double>() > 0)
+      log.info("/fluid/viscosity = {} is not used: the fluid model is inviscid", f.at("viscosity").get<double>());
+
+    // ---- boundary conditions ----
+    const Eigen::Vector3d lo = vec3(js.at("domain").at("lo")), hi = vec3(js.at("domain").at("hi"));
+    for (const auto& in : js["domain"].at("inflows")) {
+      fluid::BoundaryPatch p;
+      p.region = {vec3(in.at("lo")), vec3(in.at("hi"))};
+      p.kind = fluid::FaceKind::kInflow;
+      p.velocity = vec3(in.at("velocity"));
+      p.smoke = in.at("smoke_density").get<double>();
+      const double T = in.at("temperature").get<double>();
+      p.temperature = T > 0 ? T : ambient_;
+      bc_.patches.push_back(p);
+    }
+    const double eps = 1e-6 * (hi - lo).norm();
+    for (const auto& face : js["domain"].at("open_faces")) {
+      const auto name = face.get<std::string>();
+      const int axis = name[0] - 'x';
+      fluid::BoundaryPatch p;
+      p.kind = fluid::FaceKind::kOpen;
+      p.region = {lo, hi};
+      if (name[1] == '+') p.region.lo[axis] = hi[axis] - eps;
+      else p.region.hi[axis] = lo[axis] + eps;
+      bc_.patches.push_back(p);
+    }
+    for (std::size_t i = 0; i < js.at("emitters").size(); ++i) {
+      const auto& e = js["emitters"][i];
+      Emitter em;
+      const auto& shape = e.at("shape");
+      if (shape.at("type") == "box") {
+        em.source.region = {vec3(shape.at("lo")), vec3(shape.at("hi"))};
+      } else {
+        const Eigen::Vector3d c = vec3(shape.at("center"));
+        const double r = shape.at("radius").get<double>();
+        em.source.region = {c.array() - r, c.array() + r};
+        log.warn("/emitters/{}: a sphere source acts on the tets whose centroid lies in its bounding box", i);
+      }
+      em.source.smoke = e.at("smoke_density").get<double>();
+      em.source.temperature = e.at("temperature").get<double>();
+      em.source.velocity = vec3(e.at("velocity"));
+      em.source.set_velocity = em.source.velocity.norm() > 0;
+      em.start = e.at("start_time").get<double>();
+      if (e.contains("end_time")) em.end = e["end_time"].get<double>();
+      emitters_.push_back(em);
+    }
+    if (!js.at("obstacles").at("planes").empty() || !js.at("obstacles").at("boxes").empty())
+      log.warn("/obstacles are for solid contact and are ignored by the fluid runner (use a solid with a "
+               "zero motion as a fixed obstacle in the fluid)");
+
+    // ---- mesh ----
+    mesh::MeshSizing sizing;
+    const auto& m = js.at("mesh");
+    sizing.edge_length = m.at("edge_length").get<double>();
+    sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
+    sizing.grading_distance = m.at("grading_distance").get<double>();
+    sizing.facet_distance = m.at("facet_distance").get<double>();
+    std::vector<mesh::SurfaceMesh> surfaces;
+    for (const auto& s : js.at("solids")) {
+      names_.push_back(s.at("name").get<std::string>());
+      motions_.push_back(s.at("motion"));
+      if (!is_static(s.at("motion"))) moving_ = true;
+      std::vector<std::string> warnings;
+      surfaces.push_back(surface_of(s, warnings));
+      for (const auto& w : warnings) log.warn("{}", w);
+    }
+    Stopwatch clock;
+    try {
+      complex_ = mesh::build_complex(lo, hi, surfaces, sizing);
+    } catch (const mesh::MeshError& e) {
+      throw InputError(std::string("meshing failed: ") + e.what());
+    }
+    rest_ = complex_.vertices;
+    const auto q = mesh::quality_report(complex_, mesh::kFluidSubdomain);
+    min_dihedral_ = q.min_dihedral_deg;
+    log.info("fluid runner: {} fluid, {} tets ({} fluid), meshed in {:.2f} s; fluid quality: {}",
+             f.at("type").get<std::string>(), complex_.num_tets(), q.num_tets, clock.seconds(), q.summary());
+    remesh_.target_edge_length = mesh::mean_edge_length(complex_, mesh::kFluidSubdomain);
+    remesh_.band = f.at("remesh_band").get<double>();
+    if (moving_)
+      log.info("kinematic solids: the fluid is remeshed every step (target edge {:.4g} m, band {} m)",
+               remesh_.target_edge_length, remesh_.band);
+
+    solver_ = std::make_unique<fluid::FluidSolver>(params);
+    fluid::FluidFields fields;
+    const int nt = q.num_tets;
+    fields.velocity.assign(nt, Eigen::Vector3d::Zero());
+    fields.smoke = Eigen::VectorXd::Zero(nt);
+    fields.temperature = Eigen::VectorXd::Constant(nt, ambient_);
+    try {
+      solver_->initialize(complex_, fields);
+    } catch (const std::invalid_argument& e) {
+      throw RunError(std::string("fluid initialisation failed: ") + e.what());
+    }
+    h_ = solver_->mesh().mean_edge_length();
+    update_solid_velocity(0.0, 0.0);
+  }
+
+  std::vector<std::string> phases() const override { return {"remesh", "advect", "forces", "assemble", "solve"}; }
+  std::vector<std::string> columns() const override {
+    return {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence", "kinetic_energy",
+            "min_dihedral", "clamped_traces"};
+  }
+
+  double max_dt() const override {
+    if (fixed_dt_ > 0) return fixed_dt_;
+    double umax = max_solid_speed_;
+    for (const auto& u : solver_->fields().velocity) umax = std::max(umax, u.norm());
+    return umax > 0 ? std::min(frame_dt_, cfl_ * h_ / umax) : frame_dt_;
+  }
+
+  StepReport step(double dt) override {
+    time_ += dt;
+    Stopwatch clock;
+    if (moving_) {
+      std::vector<Eigen::Vector3d> target = complex_.vertices;
+      for (std::size_t v = 0; v < target.size(); ++v)
+        if (vertex_solid_[v] >= 0) target[v] = moved(motions_[vertex_solid_[v]], rest_[v], time_);
+      // remesh_step returns its last pass even when the quality check failed. A fluid tet that
+      // is flat or inverted would break the pressure matrix: then remesh again from the moved
+      // mesh with more CGAL iterations, the last time over the whole fluid instead of a band. A
+      // positive but small minimum dihedral angle is only reported.
+      mesh::RemeshResult r;
+      mesh::QualityReport q;
+      for (int attempt = 0;; ++attempt) {
+        mesh::RemeshOptions opt = remesh_;
+        opt.iterations += 2 * attempt;
+        if (attempt == 2) opt.band = 0;
+        try {
+          r = mesh::remesh_step(complex_, target, opt);
+        } catch (const mesh::MeshError& e) {
+          throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce dt or cfl)", time_, e.what()));
+        }
+        q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
+        if (q.inverted + q.degenerate == 0) break;
+        if (attempt == 2)
+          throw RunError(fmt::format("remeshing at t = {} s left {} inverted and {} flat fluid tets ({})", time_,
+                                     q.inverted, q.degenerate, r.report.summary()));
+        log_->warn("t = {} s: remesh left {} inverted and {} flat fluid tets; remeshing again with {} iterations",
+                   time_, q.inverted, q.degenerate, opt.iterations + 2);
+      }
+      if (!r.report.quality_ok)
+        log_->warn("t = {} s: fluid min dihedral angle {:.3g} deg is below {} deg", time_, q.min_dihedral_deg,
+                   remesh_.min_dihedral_deg);
+      log_->debug("t = {} s: remesh {}", time_, r.report.summary());
+      std::vector<Eigen::Vector3d> rest(r.mesh.num_vertices());
+      for (int v = 0; v < r.mesh.num_vertices(); ++v)
+        rest[v] = r.old_index[v] >= 0 ? rest_[r.old_index[v]] : r.mesh.vertices[v];
+      rest_ = std::move(rest);
+      complex_ = std::move(r.mesh);
+      min_dihedral_ = r.report.min_dihedral_deg;
+      update_solid_velocity(time_, dt);
+    }
+    const double t_remesh = clock.seconds();
+
+    fluid::BoundaryConditions bc = bc_;
+    for (const auto& e : emitters_)
+      if (time_ - dt >= e.start - 1e-12 && time_ - dt < e.end) bc.sources.push_back(e.source);
+    bc.solid_vertex_velocity = solid_velocity_;
+    fluid::StepReport s;
+    try {
+      s = solver_->step(complex_, bc, dt);
+    } catch (const std::exception& e) {  // SolverError, non-finite values, bad boundary input
+      throw RunError(fmt::format("fluid step at t = {} s failed: {}", time_, e.what()));
+    }
+    last_ = s;
+    h_ = solver_->mesh().mean_edge_length();
+
+    StepReport rep;
+    rep.dt = dt;
+    rep.phase_seconds = {t_remesh, s.advect_seconds, s.forces_seconds, s.assemble_seconds, s.solve_seconds};
+    rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
+                  s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces)};
+    return rep;
+  }
+
+  std::string non_finite() const override {
+    const auto& fl = solver_->fields();
+    for (std::size_t t = 0; t < fl.velocity.size(); ++t)
+      if (!fl.velocity[t].allFinite()) return fmt::format("fluid velocity of tet {}", t);
+    for (Eigen::Index t = 0; t < fl.smoke.size(); ++t)
+      if (!std::isfinite(fl.smoke[t]) || !std::isfinite(fl.temperature[t]))
+        return fmt::format("fluid smoke or temperature of tet {}", t);
+    for (Eigen::Index n = 0; n < solver_->pressure().size(); ++n)
+      if (!std::isfinite(solver_->pressure()[n])) return fmt::format("fluid pressure of node {}", n);
+    return "";
+  }
+
+  void write_frame(Output& out, int frame, double time) override {
+    out.write_grid("fluid", frame, time, fluid::make_fluid_grid(solver_->mesh(), solver_->fields(), solver_->pressure()));
+    for (std::size_t i = 0; i < names_.size(); ++i) {
+      std::vector<Eigen::Vector3d> vel;
+      const auto surface = solid_surface(static_cast<int>(i), vel);
+      out.write_surface(names_[i], frame, surface, vel);
+    }
+  }
+
+  std::vector<double> probe(const scene::Json& p) const override {
+    const auto kind = p.at("kind").get<std::string>();
+    if (kind == "fluid_kinetic_energy") return {last_.kinetic_energy};
+    if (kind != "fluid_point") return {};
+    const auto& fm = solver_->mesh();
+    const fluid::PointLocator locator(fm);
+    const auto loc = locator.locate(vec3(p.at("point")), 0);
+    if (!loc.inside) return {std::numeric_limits<double>::quiet_NaN()};
+    const auto q = p.at("quantity").get<std::string>();
+    const auto& fl = solver_->fields();
+    if (q == "pressure") {
+      double v = 0;
+      for (int k = 0; k < 4; ++k) v += loc.bary[k] * solver_->pressure()[fm.tets[loc.tet][k]];
+      return {v};
+    }
+    if (q == "smoke") return {fl.smoke[loc.tet]};
+    if (q == "temperature") return {fl.temperature[loc.tet]};
+    const Eigen::Vector3d u = fl.velocity[loc.tet];
+    if (q == "speed") return {u.norm()};
+    return {u[q.back() - 'x']};
+  }
+
+ private:
+  /// Which solid each complex vertex belongs to (-1: fluid only), and the solid vertex velocities.
+  void update_solid_velocity(double t, double dt) {
+    vertex_solid_.assign(complex_.num_vertices(), -1);
+    for (int k = 0; k < complex_.num_tets(); ++k)
+      if (complex_.subdomain[k] >= mesh::solid_subdomain(0))
+        for (int v : complex_.tets[k]) vertex_solid_[v] = complex_.subdomain[k] - mesh::solid_subdomain(0);
+    solid_velocity_.assign(complex_.num_vertices(), Eigen::Vector3d::Zero());
+    max_solid_speed_ = 0;
+    for (int v = 0; v < complex_.num_vertices(); ++v)
+      if (vertex_solid_[v] >= 0 && !is_static(motions_[vertex_solid_[v]])) {
+        solid_velocity_[v] = motion_velocity(motions_[vertex_solid_[v]], rest_[v], t, dt);
+        max_solid_speed_ = std::max(max_solid_speed_, solid_velocity_[v].norm());
+      }
+  }
+
+  /// Outward boundary surface of solid i's tets in the complex, with the vertex velocities.
+  mesh::SurfaceMesh solid_surface(int i, std::vector<Eigen::Vector3d>& velocity) const {
+    std::map<std::array<int, 3>, std::array<int, 4>> faces;  // sorted face -> (oriented face, opposite)
+    static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+    for (int k = 0; k < complex_.num_tets(); ++k) {
+      if (complex_.subdomain[k] != mesh::solid_subdomain(i)) continue;
+      const auto& t = complex_.tets[k];
+      for (int f = 0; f < 4; ++f) {
+        std::array<int, 3> key{t[kFace[f][0]], t[kFace[f][1]], t[kFace[f][2]]};
+        std::array<int, 3> sorted = key;
+        std::sort(sorted.begin(), sorted.end());
+        auto it = faces.find(sorted);
+        if (it != faces.end()) faces.erase(it);
+        else faces[sorted] = {key[0], key[1], key[2], t[f]};
+      }
+    }
+    mesh::SurfaceMesh s;
+    std::map<int, int> index;
+    auto id = [&](int v) {
+      auto [it, added] = index.emplace(v, static_cast<int>(s.vertices.size()));
+      if (added) {
+        s.vertices.push_back(complex_.vertices[v]);
+        velocity.push_back(solid_velocity_[v]);
+      }
+      return it->second;
+    };
+    for (const auto& [key, f] : faces) {
+      const Eigen::Vector3d &a = complex_.vertices[f[0]], &b = complex_.vertices[f[1]], &c = complex_.vertices[f[2]];
+      const bool outward = (b - a).cross(c - a).dot(complex_.vertices[f[3]] - a) < 0;
+      const int i0 = id(f[0]), i1 = id(f[1]), i2 = id(f[2]);
+      s.triangles.push_back(outward ? std::array<int, 3>{i0, i1, i2} : std::array<int, 3>{i0, i2, i1});
+    }
+    return s;
+  }
+
+  spdlog::logger* log_ = nullptr;
+  std::unique_ptr<fluid::FluidSolver> solver_;
+  fluid::BoundaryConditions bc_;
+  std::vector<Emitter> emitters_;
+  mesh::TetMesh complex_;
+  std::vector<Eigen::Vector3d> rest_;  ///< rest (t = 0) position of every complex vertex (used for solid vertices)
+  std::vector<int> vertex_solid_;
+  std::vector<Eigen::Vector3d> solid_velocity_;
+  std::vector<std::string> names_;
+  std::vector<scene::Json> motions_;
+  mesh::RemeshOptions remesh_;
+  fluid::StepReport last_;
+  bool moving_ = false;
+  double fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_ = 0, time_ = 0, ambient_ = 293.15;
+  double max_solid_speed_ = 0, min_dihedral_ = 0;
+};
+
+}  // namespace
+
+RunnerEntry fluid_runner() {
+  return {"fluid", "smoke or liquid around static or kinematic solids (remeshed every step when they move)",
+          [](const scene::Scene& s) {
+            if (s.json.contains("mpm")) return false;  // MPM + membranes: the mpm runner
+            const auto type = s["fluid"].at("type");
+            if (type != "smoke" && type != "liquid") return false;
+            for (const auto& solid : s["solids"])
+              if (solid.at("motion").at("type") == "none") return false;  // deformable: coupled runner
+            return true;
+          },
+          [] { return std::make_unique<FluidRunner>(); }};
+}
+
+}  // namespace tetfsi::run

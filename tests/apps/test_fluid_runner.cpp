@@ -1,0 +1,210 @@
+// `tetfsi run` with the fluid runner (apps/run/fluid_runner.cpp), end to end through the binary:
+//  - still liquid in a closed box under gravity: velocity stays at solver round-off
+//    (< 1e-8 sqrt(g H)) and the pressure difference between two depths is rho g dz within 1%;
+//  - smoke_plume.json (shortened): every projection leaves max |div| <= 1e-8 U/h, smoke has risen
+//    above the inflow and not off to the side, the fluid frames read back with VTK match stats.csv;
+//  - paddle.json (shortened): the fluid is remeshed every step with positive dihedral angles,
+//    one stats row per step, the exported paddle surface moves with v = omega x (x - c);
+//  - a misspelt fluid key exits 2 naming its JSON pointer; deformable solids go to another runner.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "csv.hpp"
+#include "ply_reader.hpp"
+#include "tests/test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace tetfsi::test;
+using nlohmann::json;
+
+namespace {
+
+std::string tetfsi_cmd(const std::string& args, int* status) {
+  return run_command(std::string(TETFSI_BINARY) + " " + args + " 2>&1", status);
+}
+
+/// Runs `scene` (written to dir/scene.json) into dir/out; returns the output folder.
+fs::path run_scene(const TempDir& dir, const json& scene, int* status, std::string* log) {
+  const fs::path file = dir.path() / "scene.json", out = dir.path() / "out";
+  std::ofstream(file) << scene.dump(2);
+  *log = tetfsi_cmd("run " + file.string() + " --out " + out.string() + " --quiet --threads 1", status);
+  return out;
+}
+
+json committed(const std::string& name) {
+  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / name);
+  return json::parse(in);
+}
+
+}  // namespace
+
+TEST(FluidRunner, StillLiquidStaysStillWithHydrostaticPressure) {
+  const double rho = 1000, g = 9.81, H = 0.4;
+  json scene = json::parse(R"({
+    "simulation": {"end_time": 0.2, "dt": 0.01, "frame_rate": 10, "gravity": [0, -9.81, 0]},
+    "domain": {"lo": [0, 0, 0], "hi": [0.4, 0.4, 0.4]},
+    "mesh": {"edge_length": 0.1},
+    "fluid": {"type": "liquid", "density": 1000, "solver": {"type": "amg", "tolerance": 1e-12}},
+    "probes": [
+      {"name": "p_low", "kind": "fluid_point", "point": [0.2, 0.1, 0.2], "quantity": "pressure"},
+      {"name": "p_high", "kind": "fluid_point", "point": [0.2, 0.3, 0.2], "quantity": "pressure"},
+      {"name": "speed_a", "kind": "fluid_point", "point": [0.1, 0.2, 0.3], "quantity": "speed"},
+      {"name": "speed_b", "kind": "fluid_point", "point": [0.3, 0.05, 0.1], "quantity": "speed"},
+      {"name": "ke", "kind": "fluid_kinetic_energy"}]
+  })");
+  TempDir dir("fluid_still");
+  int status = -1;
+  std::string log;
+  const fs::path out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  const Csv stats = read_csv(out / "stats.csv"), probes = read_csv(out / "probes.csv");
+  ASSERT_EQ(stats.rows.size(), 20u);
+  ASSERT_EQ(probes.rows.size(), 21u);  // t = 0 and every step
+  const double u_max = 1e-8 * std::sqrt(g * H);
+  // KE = 1/2 rho sum V |u|^2 >= 1/2 rho V_t |u_t|^2: a bound on every tet's speed needs
+  // KE <= 1/2 rho V_min u_max^2; 1e-6 m^3 is far below the smallest tet of this 0.1 m mesh.
+  const double ke_bound = 0.5 * rho * 1e-6 * u_max * u_max;
+  for (std::size_t r = 1; r < probes.rows.size(); ++r) {
+    EXPECT_LT(probes.at(r, "speed_a"), u_max) << "row " << r;
+    EXPECT_LT(probes.at(r, "speed_b"), u_max) << "row " << r;
+    EXPECT_LT(probes.at(r, "ke"), ke_bound) << "row " << r;
+    const double dp = probes.at(r, "p_low") - probes.at(r, "p_high");
+    EXPECT_NEAR(dp, rho * g * 0.2, 0.01 * rho * g * 0.2) << "row " << r;
+  }
+  EXPECT_NE(read_text(out / "run.log").find("fluid runner"), std::string::npos);
+}
+
+TEST(FluidRunner, SmokePlumeIsDivergenceFreeAndRises) {
+  json scene = committed("smoke_plume.json");
+  scene["simulation"]["end_time"] = 0.5;
+  scene["probes"] = json::parse(R"([
+    {"name": "smoke_axis", "kind": "fluid_point", "point": [0, 0.25, 0], "quantity": "smoke"},
+    {"name": "smoke_side", "kind": "fluid_point", "point": [0.3, 0.25, 0.3], "quantity": "smoke"},
+    {"name": "vy_axis", "kind": "fluid_point", "point": [0, 0.25, 0], "quantity": "velocity_y"}])");
+  TempDir dir("fluid_plume");
+  int status = -1;
+  std::string log;
+  const fs::path out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  const Csv stats = read_csv(out / "stats.csv"), probes = read_csv(out / "probes.csv");
+  ASSERT_EQ(stats.rows.size(), 25u);
+  // Velocity scale: the 0.5 m/s inflow; mesh size: the edge length at the sphere.
+  const double U = 0.5, h = scene["mesh"]["edge_length_near_solids"].get<double>();
+  for (std::size_t r = 0; r < stats.rows.size(); ++r) {
+    EXPECT_LE(stats.at(r, "max_divergence"), 1e-8 * U / h) << "step " << r + 1;
+    EXPECT_LT(stats.at(r, "residual"), 1e-9) << "step " << r + 1;
+    EXPECT_GT(stats.at(r, "min_dihedral"), 0.0);
+  }
+  // The inflow top is at y = 0; after 0.5 s smoke has reached y = 0.25 above it, rising, while
+  // the same height 0.42 m off the axis has (almost) none.
+  const std::size_t last = probes.rows.size() - 1;
+  EXPECT_GT(probes.at(last, "smoke_axis"), 5e-3);
+  EXPECT_GT(probes.at(last, "smoke_axis"), probes.at(last - 5, "smoke_axis"));
+  EXPECT_LT(probes.at(last, "smoke_side"), 1e-3 * probes.at(last, "smoke_axis"));
+  EXPECT_GT(probes.at(last, "vy_axis"), 0.0);
+
+  // VTK reads back every fluid frame with the counts of stats.csv and the four fields.
+  const auto frames = lines(vtk_describe(out / "fluid.pvd", &status));
+  ASSERT_EQ(status, 0);
+  ASSERT_EQ(frames.size(), 6u);  // t = 0, 0.1, ..., 0.5
+  const std::string expected = " " + std::to_string(int(stats.at(0, "nodes"))) + " " +
+                               std::to_string(int(stats.at(0, "tets"))) +
+                               " p:pressure:1 p:velocity:3 p:smoke:1 p:temperature:1 c:velocity:3 c:smoke:1 "
+                               "c:temperature:1";
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    std::istringstream ss(frames[k]);
+    double t;
+    std::string rest;
+    ss >> t;
+    std::getline(ss, rest);
+    EXPECT_NEAR(t, 0.1 * k, 1e-12);
+    EXPECT_EQ(rest, expected);
+  }
+  EXPECT_TRUE(fs::exists(out / "surfaces" / "sphere_00005.ply"));
+}
+
+TEST(FluidRunner, PaddleRemeshesEveryStep) {
+  json scene = committed("paddle.json");
+  scene["simulation"]["end_time"] = 0.1;
+  scene["simulation"]["frame_rate"] = 10;
+  TempDir dir("fluid_paddle");
+  int status = -1;
+  std::string log;
+  const fs::path out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  const Csv stats = read_csv(out / "stats.csv");
+  ASSERT_EQ(stats.rows.size(), 5u);
+  const double omega = 2.0, U = omega * 0.2, h = scene["mesh"]["edge_length_near_solids"].get<double>();
+  for (std::size_t r = 0; r < stats.rows.size(); ++r) {
+    EXPECT_GT(stats.at(r, "min_dihedral"), 0.0) << "step " << r + 1;
+    EXPECT_GT(stats.at(r, "t_remesh"), 0.0) << "step " << r + 1;
+    EXPECT_LE(stats.at(r, "max_divergence"), 1e-8 * U / h) << "step " << r + 1;
+    EXPECT_GT(stats.at(r, "kinetic_energy"), 0.0) << "step " << r + 1;  // the paddle stirs the smoke
+  }
+  // The exported paddle surface at t = 0.1 s: vertices turned by omega t about the y axis
+  // through c (|x - c| in the xz plane unchanged is checked through v), v = omega y x (x - c).
+  const Eigen::Vector3d c(0, 0.4, 0), w(0, omega, 0);
+  const auto ply = read_ply(out / "surfaces" / "paddle_00001.ply");
+  ASSERT_FALSE(ply.positions.empty());
+  ASSERT_EQ(ply.velocities.size(), ply.positions.size());
+  for (std::size_t i = 0; i < ply.positions.size(); ++i)
+    EXPECT_LT((ply.velocities[i] - w.cross(ply.positions[i] - c)).norm(), 1e-5) << "vertex " << i;
+}
+
+TEST(FluidRunner, BadFluidKeyExitsTwoWithPointer) {
+  json scene = json::parse(R"({
+    "simulation": {"end_time": 0.1, "dt": 0.01},
+    "domain": {"lo": [0, 0, 0], "hi": [1, 1, 1], "open_faces": ["y+"]},
+    "fluid": {"type": "smoke", "buoyancy_alfa": 0.1}
+  })");
+  TempDir dir("fluid_bad");
+  int status = -1;
+  std::string log;
+  run_scene(dir, scene, &status, &log);
+  EXPECT_EQ(status, 2) << log;
+  EXPECT_NE(log.find("/fluid/buoyancy_alfa"), std::string::npos) << log;
+
+  scene["fluid"].erase("buoyancy_alfa");
+  scene["domain"]["open_faces"] = {"top"};
+  run_scene(dir, scene, &status, &log);
+  EXPECT_EQ(status, 2) << log;
+  EXPECT_NE(log.find("/domain/open_faces/0"), std::string::npos) << log;
+}
+
+TEST(FluidRunner, CommittedScenesValidate) {
+  for (const char* name : {"smoke_plume.json", "paddle.json"}) {
+    int status = -1;
+    const std::string path = std::string(TETFSI_SOURCE_DIR) + "/data/scenes/" + name;
+    const std::string log = tetfsi_cmd("validate " + path, &status);
+    EXPECT_EQ(status, 0) << name << ": " << log;
+  }
+}
+
+// Deformable solids (motion none) in a fluid belong to the coupled runner: the fluid runner
+// declines the scene; a zero translation is a fixed obstacle and it takes the scene.
+TEST(FluidRunner, DeclinesDeformableSolids) {
+  json scene = json::parse(R"({
+    "simulation": {"end_time": 0.02, "dt": 0.01},
+    "domain": {"lo": [-0.5, -0.5, -0.5], "hi": [0.5, 0.5, 0.5]},
+    "mesh": {"edge_length": 0.2},
+    "fluid": {"type": "smoke"},
+    "solids": [{"name": "ball", "geometry": {"type": "sphere", "radius": 0.2, "subdivisions": 1},
+                "material": {"density": 1000, "youngs_modulus": 1e5, "poissons_ratio": 0.3}}]
+  })");
+  TempDir dir("fluid_choice");
+  int status = -1;
+  std::string log;
+  fs::path out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  const std::string first = read_text(out / "run.log");
+  EXPECT_NE(first.find("runner: "), std::string::npos) << first;
+  EXPECT_EQ(first.find("runner: fluid"), std::string::npos) << first;
+  scene["solids"][0]["motion"] = json::parse(R"({"type": "translation", "velocity": [0, 0, 0]})");
+  out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_NE(read_text(out / "run.log").find("runner: fluid"), std::string::npos);
+}
