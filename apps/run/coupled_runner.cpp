@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 
+#include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -29,7 +30,6 @@
 namespace tetfsi::run {
 namespace {
 
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 bool is_deformable_tet(const scene::Json& solid) {
   return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == "tet_fem";
@@ -72,11 +72,7 @@ class CoupledRunner : public Simulation {
     solid::limit_blas_threads(1);  // multi-threaded OpenBLAS slows CHOLMOD here (solid/README.md)
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
-    mesh::MeshSizing sizing;
-    sizing.edge_length = m.at("edge_length").get<double>();
-    sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
-    sizing.grading_distance = m.at("grading_distance").get<double>();
-    sizing.facet_distance = m.at("facet_distance").get<double>();
+    const mesh::MeshSizing sizing = mesh_sizing(m);
 
     std::vector<mesh::SurfaceMesh> surfaces;
     std::vector<solid::TetMaterial> materials;

@@ -16,6 +16,7 @@
 #include <limits>
 #include <map>
 
+#include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -31,29 +32,6 @@
 namespace tetfsi::run {
 namespace {
 
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
-
-/// Position at time t [s] of the point with rest position x0 under `motion` (as the kinematic runner).
-Eigen::Vector3d moved(const scene::Json& motion, const Eigen::Vector3d& x0, double t) {
-  const auto type = motion.at("type").get<std::string>();
-  if (type == "translation") return x0 + t * vec3(motion.at("velocity"));
-  if (type == "rotation") {
-    const Eigen::Vector3d c = vec3(motion.at("center"));
-    const Eigen::AngleAxisd R(motion.at("angular_velocity").get<double>() * t, vec3(motion.at("axis")).normalized());
-    return c + R * (x0 - c);
-  }
-  if (type == "path") {  // piecewise-linear translation and Euler angles, held beyond the ends
-    const auto& k = motion.at("keyframes");
-    std::size_t i = 0;
-    while (i + 2 < k.size() && t > k[i + 1]["time"].get<double>()) ++i;
-    const double t0 = k[i]["time"].get<double>(), t1 = k[i + 1]["time"].get<double>();
-    const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
-    const Eigen::Vector3d tr = (1 - s) * vec3(k[i]["translation"]) + s * vec3(k[i + 1]["translation"]);
-    const Eigen::Vector3d rot = (1 - s) * vec3(k[i]["rotation_deg"]) + s * vec3(k[i + 1]["rotation_deg"]);
-    return mesh::placement_rotation(rot) * x0 + tr;
-  }
-  return x0;
-}
 
 /// Velocity [m/s] at time t of the point with rest position x0: analytic for translation and
 /// rotation, the secant over [t - dt, t] for keyframed paths.
@@ -160,12 +138,8 @@ class FluidRunner : public Simulation {
                "zero motion as a fixed obstacle in the fluid)");
 
     // ---- mesh ----
-    mesh::MeshSizing sizing;
     const auto& m = js.at("mesh");
-    sizing.edge_length = m.at("edge_length").get<double>();
-    sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
-    sizing.grading_distance = m.at("grading_distance").get<double>();
-    sizing.facet_distance = m.at("facet_distance").get<double>();
+    const mesh::MeshSizing sizing = mesh_sizing(m);
     std::vector<mesh::SurfaceMesh> surfaces;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());

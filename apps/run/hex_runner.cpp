@@ -13,6 +13,7 @@
 
 #include <fstream>
 
+#include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "solid/hex/block_mesh.hpp"
@@ -25,7 +26,6 @@ namespace tetfsi::run {
 namespace {
 
 namespace hex = solid::hex;
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 bool is_hex(const scene::Json& s) { return s.at("motion").at("type") == "none" && s.at("model").at("type") == "hex8"; }
 

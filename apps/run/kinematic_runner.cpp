@@ -5,6 +5,7 @@
 /// scene's animation before the physics is added.
 #include <fmt/format.h>
 
+#include "apps/run/scene_values.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/stopwatch.hpp"
@@ -14,7 +15,6 @@
 namespace tetfsi::run {
 namespace {
 
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 struct Body {
   std::string name;
@@ -22,29 +22,6 @@ struct Body {
   std::vector<Eigen::Vector3d> velocity;
   scene::Json motion;
 };
-
-/// Position at time t [s] of a point at rest position x0, following `motion`.
-Eigen::Vector3d moved(const scene::Json& motion, const Eigen::Vector3d& x0, double t) {
-  const auto type = motion.at("type").get<std::string>();
-  if (type == "translation") return x0 + t * vec3(motion.at("velocity"));
-  if (type == "rotation") {
-    const Eigen::Vector3d c = vec3(motion.at("center"));
-    const Eigen::AngleAxisd R(motion.at("angular_velocity").get<double>() * t,
-                              vec3(motion.at("axis")).normalized());
-    return c + R * (x0 - c);
-  }
-  if (type == "path") {  // piecewise-linear translation and Euler angles, held beyond the ends
-    const auto& k = motion.at("keyframes");
-    std::size_t i = 0;
-    while (i + 2 < k.size() && t > k[i + 1]["time"].get<double>()) ++i;
-    const double t0 = k[i]["time"].get<double>(), t1 = k[i + 1]["time"].get<double>();
-    const double s = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
-    const Eigen::Vector3d tr = (1 - s) * vec3(k[i]["translation"]) + s * vec3(k[i + 1]["translation"]);
-    const Eigen::Vector3d rot = (1 - s) * vec3(k[i]["rotation_deg"]) + s * vec3(k[i + 1]["rotation_deg"]);
-    return mesh::placement_rotation(rot) * x0 + tr;
-  }
-  return x0;
-}
 
 class KinematicRunner : public Simulation {
  public:

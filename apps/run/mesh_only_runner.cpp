@@ -4,6 +4,7 @@
 /// domain), reports the mesh quality, and exports frame 0. No time stepping.
 #include <fmt/format.h>
 
+#include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -16,7 +17,6 @@
 namespace tetfsi::run {
 namespace {
 
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 class MeshOnlyRunner : public Simulation {
  public:
@@ -24,11 +24,7 @@ class MeshOnlyRunner : public Simulation {
     log.warn("no physics model runs this scene yet: meshing and exporting frame 0 only");
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
-    mesh::MeshSizing sizing;
-    sizing.edge_length = m.at("edge_length").get<double>();
-    sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
-    sizing.grading_distance = m.at("grading_distance").get<double>();
-    sizing.facet_distance = m.at("facet_distance").get<double>();
+    const mesh::MeshSizing sizing = mesh_sizing(m);
 
     Stopwatch clock;
     std::vector<mesh::SurfaceMesh> surfaces;

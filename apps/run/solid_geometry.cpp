@@ -1,3 +1,4 @@
+#include "apps/run/scene_values.hpp"
 #include "apps/run/solid_geometry.hpp"
 
 #include <fmt/format.h>
@@ -11,7 +12,6 @@
 namespace tetfsi::run {
 namespace {
 
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 /// potential -sum m g.x [J], total [J], solver iterations, inverted elements, contact nodes.
 #include <fmt/format.h>
 
+#include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -26,7 +27,6 @@
 namespace tetfsi::run {
 namespace {
 
-Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 struct Body {
   std::string name;
@@ -48,11 +48,7 @@ class SolidRunner : public Simulation {
     const auto& sim = js.at("simulation");
     dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     const auto& m = js.at("mesh");
-    mesh::MeshSizing sizing;
-    sizing.edge_length = m.at("edge_length").get<double>();
-    sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
-    sizing.grading_distance = m.at("grading_distance").get<double>();
-    sizing.facet_distance = m.at("facet_distance").get<double>();
+    const mesh::MeshSizing sizing = mesh_sizing(m);
     const auto& obs = js.at("obstacles");
 
     for (std::size_t i = 0; i < js.at("solids").size(); ++i) {
