@@ -17,6 +17,7 @@
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/stopwatch.hpp"
@@ -45,25 +46,6 @@ solid::TetMaterial material_of(const scene::Json& m) {
   mat.rayleigh_alpha = m.at("rayleigh_alpha").get<double>();
   mat.rayleigh_beta = m.at("rayleigh_beta").get<double>();
   return mat;
-}
-
-fluid::FluidParams fluid_params_of(const scene::Json& js) {
-  const auto& f = js.at("fluid");
-  fluid::FluidParams p;
-  p.density = f.at("density").get<double>();
-  p.gravity = vec3(js.at("simulation").at("gravity"));
-  const bool smoke = f.at("type") == "smoke";
-  p.apply_gravity = !smoke;  // in smoke, gravity acts through buoyancy only (Boussinesq)
-  if (smoke) {
-    p.buoyancy.alpha = f.at("buoyancy_alpha").get<double>();
-    p.buoyancy.beta = f.at("buoyancy_beta").get<double>();
-    p.buoyancy.ambient_temperature = f.at("ambient_temperature").get<double>();
-    p.vorticity_epsilon = f.at("vorticity_confinement").get<double>();
-  }
-  p.solver.backend = fluid::parse_solver_backend(f.at("solver").at("type").get<std::string>());
-  p.solver.tolerance = f.at("solver").at("tolerance").get<double>();
-  p.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();
-  return p;
 }
 
 class CoupledRunner : public Simulation {
@@ -106,7 +88,7 @@ class CoupledRunner : public Simulation {
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
     try {
-      stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params_of(js), materials, cs);
+      stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs);
     } catch (const std::exception& e) {
       throw InputError(std::string("cannot set up the coupled model: ") + e.what());
     }
@@ -124,25 +106,9 @@ class CoupledRunner : public Simulation {
         integrator.obstacles().set_friction(o.at("friction").get<double>());
       }
     }
-    for (const auto& e : js.at("emitters")) {
-      fluid::SourceVolume src;
-      const auto& shape = e.at("shape");
-      if (shape.at("type") == "box") {
-        src.region.lo = vec3(shape.at("lo"));
-        src.region.hi = vec3(shape.at("hi"));
-      } else {  // sphere: its bounding box (fluid::SourceVolume regions are boxes)
-        const Eigen::Vector3d c0 = vec3(shape.at("center"));
-        const double r = shape.at("radius").get<double>();
-        src.region.lo = c0.array() - r;
-        src.region.hi = c0.array() + r;
-        log.warn("emitter: a sphere source is applied over its bounding box");
-      }
-      src.smoke = e.at("smoke_density").get<double>();
-      src.temperature = e.at("temperature").get<double>();
-      src.velocity = vec3(e.at("velocity"));
-      src.set_velocity = src.velocity.squaredNorm() > 0;
-      stepper_->fluid_boundary().sources.push_back(src);
-    }
+    const double ambient = js.at("fluid").value("ambient_temperature", 293.15);
+    stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
+    emitters_ = timed_sources(js, log);
     log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {}, dt = {} s", stepper_->num_solids(),
              stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
              c.at("solver").get<std::string>(), dt_);
@@ -156,6 +122,10 @@ class CoupledRunner : public Simulation {
   double max_dt() const override { return dt_; }
 
   StepReport step(double dt) override {
+    auto& sources = stepper_->fluid_boundary().sources;
+    sources.clear();
+    for (const auto& e : emitters_)
+      if (e.active(stepper_->time())) sources.push_back(e.source);
     const coupling::CoupledStepReport r = stepper_->step(dt);
     last_ = r;
     StepReport out;
@@ -245,6 +215,7 @@ class CoupledRunner : public Simulation {
   std::unique_ptr<coupling::CoupledStepper> stepper_;
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
+  std::vector<TimedSource> emitters_;
   double dt_ = 1.0 / 60.0;
 };
 

@@ -16,6 +16,7 @@
 #include <limits>
 #include <map>
 
+#include "apps/run/fluid_setup.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
@@ -52,10 +53,6 @@ bool is_static(const scene::Json& motion) {
   return false;
 }
 
-struct Emitter {
-  fluid::SourceVolume source;
-  double start = 0, end = std::numeric_limits<double>::infinity();
-};
 
 class FluidRunner : public Simulation {
  public:
@@ -68,71 +65,12 @@ class FluidRunner : public Simulation {
     cfl_ = sim.at("cfl").get<double>();
     frame_dt_ = 1.0 / sim.at("frame_rate").get<double>();
 
-    // ---- fluid parameters ----
-    fluid::FluidParams params;
-    params.density = f.at("density").get<double>();
-    params.gravity = vec3(sim.at("gravity"));
-    params.apply_gravity = f.at("apply_gravity").get<bool>();
-    if (f.at("type") == "smoke") {
-      params.buoyancy.alpha = f.at("buoyancy_alpha").get<double>();
-      params.buoyancy.beta = f.at("buoyancy_beta").get<double>();
-      params.buoyancy.ambient_temperature = f.at("ambient_temperature").get<double>();
-      params.vorticity_epsilon = f.at("vorticity_confinement").get<double>();
-      ambient_ = params.buoyancy.ambient_temperature;
-    }
-    const auto adv = f.at("advection").get<std::string>();
-    params.advection = adv == "bfecc" ? fluid::AdvectionScheme::kBfecc
-                       : adv == "semi_lagrangian" ? fluid::AdvectionScheme::kSemiLagrangian
-                                                  : fluid::AdvectionScheme::kLinear;
-    params.solver.backend = fluid::parse_solver_backend(f.at("solver").at("type").get<std::string>());
-    params.solver.tolerance = f.at("solver").at("tolerance").get<double>();
-    params.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();
-    if (f.at("viscosity").get<double>() > 0)
-      log.info("/fluid/viscosity = {} is not used: the fluid model is inviscid", f.at("viscosity").get<double>());
-
-    // ---- boundary conditions ----
+    // ---- fluid parameters, boundary patches, emitters (fluid_setup.hpp) ----
+    const fluid::FluidParams params = fluid_params(js, log);
+    ambient_ = params.buoyancy.ambient_temperature > 0 ? params.buoyancy.ambient_temperature : ambient_;
+    bc_.patches = boundary_patches(js, ambient_);
+    emitters_ = timed_sources(js, log);
     const Eigen::Vector3d lo = vec3(js.at("domain").at("lo")), hi = vec3(js.at("domain").at("hi"));
-    for (const auto& in : js["domain"].at("inflows")) {
-      fluid::BoundaryPatch p;
-      p.region = {vec3(in.at("lo")), vec3(in.at("hi"))};
-      p.kind = fluid::FaceKind::kInflow;
-      p.velocity = vec3(in.at("velocity"));
-      p.smoke = in.at("smoke_density").get<double>();
-      const double T = in.at("temperature").get<double>();
-      p.temperature = T > 0 ? T : ambient_;
-      bc_.patches.push_back(p);
-    }
-    const double eps = 1e-6 * (hi - lo).norm();
-    for (const auto& face : js["domain"].at("open_faces")) {
-      const auto name = face.get<std::string>();
-      const int axis = name[0] - 'x';
-      fluid::BoundaryPatch p;
-      p.kind = fluid::FaceKind::kOpen;
-      p.region = {lo, hi};
-      if (name[1] == '+') p.region.lo[axis] = hi[axis] - eps;
-      else p.region.hi[axis] = lo[axis] + eps;
-      bc_.patches.push_back(p);
-    }
-    for (std::size_t i = 0; i < js.at("emitters").size(); ++i) {
-      const auto& e = js["emitters"][i];
-      Emitter em;
-      const auto& shape = e.at("shape");
-      if (shape.at("type") == "box") {
-        em.source.region = {vec3(shape.at("lo")), vec3(shape.at("hi"))};
-      } else {
-        const Eigen::Vector3d c = vec3(shape.at("center"));
-        const double r = shape.at("radius").get<double>();
-        em.source.region = {c.array() - r, c.array() + r};
-        log.warn("/emitters/{}: a sphere source acts on the tets whose centroid lies in its bounding box", i);
-      }
-      em.source.smoke = e.at("smoke_density").get<double>();
-      em.source.temperature = e.at("temperature").get<double>();
-      em.source.velocity = vec3(e.at("velocity"));
-      em.source.set_velocity = em.source.velocity.norm() > 0;
-      em.start = e.at("start_time").get<double>();
-      if (e.contains("end_time")) em.end = e["end_time"].get<double>();
-      emitters_.push_back(em);
-    }
     if (!js.at("obstacles").at("planes").empty() || !js.at("obstacles").at("boxes").empty())
       log.warn("/obstacles are for solid contact and are ignored by the fluid runner (use a solid with a "
                "zero motion as a fixed obstacle in the fluid)");
@@ -240,7 +178,7 @@ class FluidRunner : public Simulation {
 
     fluid::BoundaryConditions bc = bc_;
     for (const auto& e : emitters_)
-      if (time_ - dt >= e.start - 1e-12 && time_ - dt < e.end) bc.sources.push_back(e.source);
+      if (e.active(time_ - dt)) bc.sources.push_back(e.source);
     bc.solid_vertex_velocity = solid_velocity_;
     fluid::StepReport s;
     try {
@@ -356,7 +294,7 @@ class FluidRunner : public Simulation {
   spdlog::logger* log_ = nullptr;
   std::unique_ptr<fluid::FluidSolver> solver_;
   fluid::BoundaryConditions bc_;
-  std::vector<Emitter> emitters_;
+  std::vector<TimedSource> emitters_;
   mesh::TetMesh complex_;
   std::vector<Eigen::Vector3d> rest_;  ///< rest (t = 0) position of every complex vertex (used for solid vertices)
   std::vector<int> vertex_solid_;
