@@ -1,6 +1,8 @@
 #pragma once
 /// @file csv.hpp
-/// Test helper: reads a numeric CSV with a header row.
+/// Test helpers for output files: a numeric CSV with a header row, text lines, .pvd frames.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -52,6 +54,20 @@ inline std::string read_text(const std::filesystem::path& file) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+/// Checks the frames of a .pvd as read back by vtk_describe ("time points cells fields..." per
+/// line): frame k is at time k * frame_dt [s] and has the description `expected` (" points cells ...").
+inline void expect_pvd_frames(const std::vector<std::string>& frames, double frame_dt, const std::string& expected) {
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    std::istringstream ss(frames[k]);
+    double t;
+    std::string rest;
+    ss >> t;
+    std::getline(ss, rest);
+    EXPECT_NEAR(t, frame_dt * k, 1e-12) << "frame " << k;
+    EXPECT_EQ(rest, expected) << "frame " << k;
+  }
 }
 
 }  // namespace tetfsi::test

@@ -47,15 +47,7 @@ TEST(CliRun, KinematicRunFramesMatchWhatWasWritten) {
   const auto frames = lines(vtk_describe(out / "sheet.pvd", &status));
   ASSERT_EQ(status, 0);
   ASSERT_EQ(frames.size(), 5u);  // t = 0, 0.1, 0.2, 0.3, 0.4
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    std::istringstream ss(frames[k]);
-    double t;
-    std::string rest;
-    ss >> t;
-    std::getline(ss, rest);
-    EXPECT_NEAR(t, 0.1 * k, 1e-12);
-    EXPECT_EQ(rest, " 8 12 p:velocity:3 p:displacement:3");
-  }
+  expect_pvd_frames(frames, 0.1, " 8 12 p:velocity:3 p:displacement:3");
 
   // PLY frames: counts, and the velocity is omega x (x - c) of the written positions.
   const Eigen::Vector3d w(0, 2, 0), c(0.1, 0, 0);

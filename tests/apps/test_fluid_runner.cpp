@@ -115,15 +115,7 @@ TEST(FluidRunner, SmokePlumeIsDivergenceFreeAndRises) {
                                std::to_string(int(stats.at(0, "tets"))) +
                                " p:pressure:1 p:velocity:3 p:smoke:1 p:temperature:1 c:velocity:3 c:smoke:1 "
                                "c:temperature:1";
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    std::istringstream ss(frames[k]);
-    double t;
-    std::string rest;
-    ss >> t;
-    std::getline(ss, rest);
-    EXPECT_NEAR(t, 0.1 * k, 1e-12);
-    EXPECT_EQ(rest, expected);
-  }
+  expect_pvd_frames(frames, 0.1, expected);
   EXPECT_TRUE(fs::exists(out / "surfaces" / "sphere_00005.ply"));
 }
 

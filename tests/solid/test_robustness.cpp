@@ -15,27 +15,16 @@
 #include "tests/test_support.hpp"
 #include "solid/solid_error.hpp"
 #include "solid/tet/tet_model.hpp"
+#include "tests/solid/solid_fixtures.hpp"
 
 using namespace tetfsi;
 using namespace tetfsi::solid;
 
 namespace {
 
-mesh::TetMesh unit_tet() {
-  mesh::TetMesh m;
-  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  m.tets = {{0, 1, 2, 3}};
-  return m;
-}
+using test::unit_tet;
 
-TetMaterial soft(ConstitutiveLaw law) {
-  TetMaterial mat;
-  mat.youngs_modulus = 2e4;
-  mat.poisson_ratio = 0.3;
-  mat.density = 1000;
-  mat.law = law;
-  return mat;
-}
+TetMaterial soft(ConstitutiveLaw law) { return test::tet_material(law, 2e4); }
 
 double min_z(const TrapezoidalIntegrator& integ) {
   const Eigen::VectorXd x = integ.positions();

@@ -11,27 +11,16 @@
 #include "solid/solid_error.hpp"
 #include "solid/tet/constitutive.hpp"
 #include "solid/tet/tet_model.hpp"
+#include "tests/solid/solid_fixtures.hpp"
 
 using namespace tetfsi;
 using namespace tetfsi::solid;
 
 namespace {
 
-mesh::TetMesh unit_tet() {
-  mesh::TetMesh m;
-  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  m.tets = {{0, 1, 2, 3}};
-  return m;
-}
+using test::unit_tet;
 
-TetMaterial material(ConstitutiveLaw law) {
-  TetMaterial mat;
-  mat.youngs_modulus = 1e6;
-  mat.poisson_ratio = 0.3;
-  mat.density = 1000;
-  mat.law = law;
-  return mat;
-}
+TetMaterial material(ConstitutiveLaw law) { return test::tet_material(law, 1e6); }
 
 Eigen::VectorXd random_displacement(int n, double scale, unsigned seed) {
   std::mt19937 rng(seed);
