@@ -60,4 +60,14 @@ double Cantilever::euler_bernoulli_omega1() const {
          std::sqrt(spec.material.youngs_modulus * second_moment() / (spec.material.density * A * std::pow(spec.length, 4)));
 }
 
+CantileverSpec slender_cantilever_spec(int m) {
+  CantileverSpec s;
+  s.cells_across = m;
+  s.cells_along = 10 * m;
+  s.material.youngs_modulus = 1e6;
+  s.material.poisson_ratio = 0.0;
+  s.material.density = 1000;
+  return s;
+}
+
 }  // namespace tetfsi::solid

@@ -46,4 +46,8 @@ struct Cantilever {
 /// @throws SolidError / std::invalid_argument on bad sizes or material
 Cantilever make_cantilever(const CantileverSpec& spec);
 
+/// The validation beam of the tests and benchmark: m x m cells across, 10 m along (L/b = 10),
+/// E = 1e6 Pa, nu = 0 (no Poisson stiffening, so Euler-Bernoulli applies), rho = 1000 kg/m^3.
+CantileverSpec slender_cantilever_spec(int m);
+
 }  // namespace tetfsi::solid

@@ -42,14 +42,10 @@ BarResult run_bar(int cells, double periods) {
   // Centre-of-mass velocity ~ cos(omega t): record its zero crossings and extrema.
   std::vector<double> crossings, peaks;
   double prev = 0, prev2 = 0, t = 0;
-  auto mean_v = [&] {
-    double m = 0, mv = 0;
-    for (std::size_t p = 0; p < s.particles().size(); ++p) {
-      m += s.particles().mass[p];
-      mv += s.particles().mass[p] * s.particles().v[p][0];
-    }
-    return mv / m;
-  };
+  double total_mass = 0;
+  for (double m : s.particles().mass) total_mass += m;
+  // Centre-of-mass velocity along the bar (MpmSolver::total_momentum / mass).
+  auto mean_v = [&] { return s.total_momentum()[0] / total_mass; };
   prev = mean_v();
   const double first_amp = std::abs(prev);
   // v^{n+1/2} lives at t + dt/2.

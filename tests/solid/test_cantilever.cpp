@@ -17,15 +17,7 @@ using namespace tetfsi::solid::testing;
 
 namespace {
 
-CantileverSpec beam_spec(int m) {
-  CantileverSpec s;
-  s.cells_across = m;
-  s.cells_along = 10 * m;
-  s.material.youngs_modulus = 1e6;
-  s.material.poisson_ratio = 0.0;
-  s.material.density = 1000;
-  return s;
-}
+CantileverSpec beam_spec(int m) { return slender_cantilever_spec(m); }
 
 struct Level {
   double deflection_error, omega_error, omega;

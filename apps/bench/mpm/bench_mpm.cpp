@@ -66,14 +66,10 @@ void bench_bar() {
   const double dt = 0.1 * h / c, omega = beta * c;
   std::vector<double> crossings;
   double prev = v0, t = 0, peak_last = 0;
-  auto mean_v = [&] {
-    double m = 0, mv = 0;
-    for (std::size_t p = 0; p < s.particles().size(); ++p) {
-      m += s.particles().mass[p];
-      mv += s.particles().mass[p] * s.particles().v[p][0];
-    }
-    return mv / m;
-  };
+  double total_mass = 0;
+  for (double m : s.particles().mass) total_mass += m;
+  // Centre-of-mass velocity along the bar (MpmSolver::total_momentum / mass).
+  auto mean_v = [&] { return s.total_momentum()[0] / total_mass; };
   prev = mean_v();
   const double first = std::abs(prev);
   while (t < 10 * 2 * kPi / omega) {

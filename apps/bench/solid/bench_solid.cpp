@@ -84,12 +84,7 @@ void bench_steps(int cells, int steps, SolverKind solver, int beam_ratio = 1) {
 
 void bench_cantilever(int m) {
   bench::Stopwatch total;
-  CantileverSpec spec;
-  spec.cells_across = m;
-  spec.cells_along = 10 * m;
-  spec.material.youngs_modulus = 1e6;
-  spec.material.poisson_ratio = 0.0;
-  spec.material.density = 1000;
+  const CantileverSpec spec = slender_cantilever_spec(m);
   const auto beam = make_cantilever(spec);
   const double P = 1e-3;
   const Eigen::VectorXd d = solve_linear_static(*beam.model, beam.fixed_dofs, beam.tip_load({0, 0, -P}));
@@ -111,12 +106,7 @@ void bench_cantilever(int m) {
 /// loads), when `ccx` is on the PATH (Debian package calculix-ccx). Returns false if absent.
 bool bench_calculix(int m) {
   if (std::system("command -v ccx > /dev/null 2>&1") != 0) return false;
-  CantileverSpec spec;
-  spec.cells_across = m;
-  spec.cells_along = 10 * m;
-  spec.material.youngs_modulus = 1e6;
-  spec.material.poisson_ratio = 0.0;
-  spec.material.density = 1000;
+  const CantileverSpec spec = slender_cantilever_spec(m);
   const auto beam = make_cantilever(spec);
   const double P = 1e-3;
   char dir_template[] = "/tmp/tetfsi_ccx_XXXXXX";
