@@ -8,7 +8,6 @@
 // Usage: bench_coupling [max_cells_per_side] [umfpack_max_cells] [--solvers-only]
 //        (defaults 32 and 32; 40 gives 76k unknowns, 48 gives 127k; --solvers-only runs part 2 only)
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,6 +17,7 @@
 #include "coupling/coupled_stepper.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/structured_box.hpp"
+#include "tests/coupling/block_fixture.hpp"
 #include "tests/coupling/piston_fixture.hpp"
 #include "tests/coupling/sphere_fixture.hpp"
 
@@ -43,54 +43,7 @@ double piston_frequency(const test::PistonSetup& s, double periods) {
   return n >= 2 ? (n - 1) / (last - first) : 0.0;
 }
 
-/// A cube of fluid [0,1]³ with a soft solid block of whole cells in its middle third; open top.
-/// (Whole cells: where 1/3 cut through cells, tets hanging on by an edge made the solid's StVK
-/// tangent, and so A, indefinite in the second step at 32³.)
-mesh::TetMesh block_in_box(int cells) {
-  mesh::TetMesh m = mesh::structured_box({0, 0, 0}, {1, 1, 1}, cells, cells, cells);
-  const double lo = std::round(cells / 3.0) / cells, hi = std::round(2 * cells / 3.0) / cells;
-  for (int t = 0; t < m.num_tets(); ++t) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int v : m.tets[t]) c += m.vertices[v] / 4;
-    const bool inside = (c.array() > lo).all() && (c.array() < hi).all();
-    m.subdomain[t] = inside ? mesh::solid_subdomain(0) : mesh::kFluidSubdomain;
-  }
-  return m;
-}
-
 constexpr double kTolerance = 1e-8;  // relative residual of every solve in part 2
-
-/// The fluid of the block scene, also used for the fluid-only step: same BoomerAMG-PCG set-up.
-fluid::FluidParams block_fluid() {
-  fluid::FluidParams fp;
-  fp.density = 1000;
-  fp.solver.tolerance = kTolerance;
-  return fp;
-}
-
-fluid::BoundaryPatch open_top() {
-  fluid::BoundaryPatch open;
-  open.kind = fluid::FaceKind::kOpen;
-  open.region.lo = {-1, -1, 1 - 1e-9};
-  open.region.hi = {2, 2, 1 + 1e-9};
-  return open;
-}
-
-std::unique_ptr<coupling::CoupledStepper> make_block_scene(const mesh::TetMesh& m, coupling::CoupledSolverKind kind) {
-  const fluid::FluidParams fp = block_fluid();
-  solid::TetMaterial mat;
-  mat.density = 500;  // light solid in heavy fluid
-  mat.youngs_modulus = 1e5;
-  mat.poisson_ratio = 0.3;
-  coupling::CoupledSettings cs;
-  cs.time_step = 1.0 / 60;
-  cs.solver = kind;
-  cs.solver_options.tolerance = kTolerance;
-  cs.solid_gravity = {0, 0, -9.81};
-  auto s = std::make_unique<coupling::CoupledStepper>(m, fp, std::vector<solid::TetMaterial>{mat}, cs);
-  s->fluid_boundary().patches.push_back(open_top());
-  return s;
-}
 
 std::string ratio(double slow, double fast) { return fmt::format("{:.2f}x", slow / fast); }
 
@@ -101,15 +54,15 @@ std::string ratio(double slow, double fast) { return fmt::format("{:.2f}x", slow
 constexpr int kTimedSteps = 3;
 
 void compare_solvers(int cells, bool with_umfpack) {
-  const mesh::TetMesh m = block_in_box(cells);
+  const mesh::TetMesh m = test::block_in_box(cells);
   const std::string res = fmt::format("{}³ cells, {} tets", cells, m.num_tets());
   double fluid_step = 0;
   {
     // Fluid-only step on the same mesh: the solid is a fixed obstacle, same pressure unknowns.
-    fluid::FluidSolver fs(block_fluid());
+    fluid::FluidSolver fs(test::block_fluid(kTolerance));
     fs.initialize(m);
     fluid::BoundaryConditions bc;
-    bc.patches.push_back(open_top());
+    bc.patches.push_back(test::block_open_top());
     fs.step(m, bc, 1.0 / 60);
     fluid::StepReport rep;
     double fluid_solve = 1e300;
@@ -129,7 +82,9 @@ void compare_solvers(int cells, bool with_umfpack) {
   for (auto kind : {coupling::CoupledSolverKind::SchurCG, coupling::CoupledSolverKind::BiCGSTAB,
                     coupling::CoupledSolverKind::Umfpack}) {
     if (kind == coupling::CoupledSolverKind::Umfpack && !with_umfpack) continue;
-    auto scene = make_block_scene(m, kind);
+    coupling::CoupledSolverOptions options;
+    options.tolerance = kTolerance;
+    auto scene = test::make_block_scene(m, kind, options);
     const bool direct = kind == coupling::CoupledSolverKind::Umfpack;
     if (!direct) scene->step();
     coupling::CoupledStepReport rep;
