@@ -51,7 +51,7 @@ std::string ratio(double slow, double fast) { return fmt::format("{:.2f}x", slow
 /// first (hypre start-up; schur_cg keeps its CHOLMOD analysis from it), then kTimedSteps steps
 /// of which the fastest is reported (the machine is shared: the minimum is the least disturbed),
 /// as steps in a running simulation; umfpack takes one timed step (it keeps nothing between steps).
-constexpr int kTimedSteps = 3;
+constexpr int kTimedSteps = 5;
 
 void compare_solvers(int cells, bool with_umfpack) {
   const mesh::TetMesh m = test::block_in_box(cells);
@@ -125,6 +125,8 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[a], "--solvers-only") == 0) solvers_only = true;
     else (positional++ == 0 ? max_cells : umfpack_max_cells) = std::atoi(argv[a]);
   }
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) > 0) fmt::print("load average at start: {:.2f} {:.2f} {:.2f}\n\n", load[0], load[1], load[2]);
   bench::print_header();
   if (solvers_only) {
     for (int cells = 16; cells <= max_cells; cells += 8) compare_solvers(cells, cells <= umfpack_max_cells);
