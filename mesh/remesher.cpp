@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <set>
 #include <sstream>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
@@ -27,20 +25,25 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
   for (int t = 0; t < mesh.num_tets(); ++t)
     if (mesh.subdomain[t] != kFluidSubdomain)
       for (int v : mesh.tets[t]) kind[v] = 1;
-  // Box-boundary faces are the faces of a single tet; find them through the interface module's
-  // face adjacency convention (a face key seen once).
+  // Box-boundary faces are the faces of a single tet: sort all face keys, take those seen once.
   {
-    std::map<std::array<int, 3>, int> seen;
-    for (int t = 0; t < mesh.num_tets(); ++t)
+    std::vector<std::array<int, 3>> faces;
+    faces.reserve(4 * mesh.tets.size());
+    for (const auto& tet : mesh.tets)
       for (const auto& f : kTetFaceVertices) {
-        std::array<int, 3> key{mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]};
+        std::array<int, 3> key{tet[f[0]], tet[f[1]], tet[f[2]]};
         std::sort(key.begin(), key.end());
-        ++seen[key];
+        faces.push_back(key);
       }
-    for (const auto& [key, count] : seen)
-      if (count == 1)
-        for (int v : key)
+    std::sort(faces.begin(), faces.end());
+    for (std::size_t i = 0; i < faces.size();) {
+      std::size_t j = i;
+      while (j < faces.size() && faces[j] == faces[i]) ++j;
+      if (j - i == 1)
+        for (int v : faces[i])
           if (kind[v] == 0) kind[v] = 2;
+      i = j;
+    }
   }
   std::vector<int> unknown(n, -1);
   int m = 0;
@@ -51,13 +54,13 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
     if (kind[v] == 1) d[v] = solid_positions[v] - mesh.vertices[v];
 
   // Graph Laplacian over the fluid edges: deg(v) d_v - sum_w d_w = 0 for free v.
-  std::set<std::pair<int, int>> edges;
-  for (int t = 0; t < mesh.num_tets(); ++t)
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(6 * mesh.tets.size());
+  for (const auto& tet : mesh.tets)
     for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const int a = mesh.tets[t][i], b = mesh.tets[t][j];
-        edges.emplace(std::min(a, b), std::max(a, b));
-      }
+      for (int j = i + 1; j < 4; ++j) edges.emplace_back(std::min(tet[i], tet[j]), std::max(tet[i], tet[j]));
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
   for (const auto& [a, b] : edges)
@@ -93,6 +96,27 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
   return moved;
 }
 
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// True when the moved mesh can be kept (RemeshOptions::remesh_only_when_needed): fluid min
+/// dihedral at or above the threshold and every fluid tet's volume within a factor of its old one.
+bool moved_mesh_is_good(const TetMesh& before, const TetMesh& moved, const QualityReport& fluid,
+                        const RemeshOptions& options) {
+  if (fluid.inverted + fluid.degenerate > 0 || fluid.min_dihedral_deg < options.min_dihedral_deg) return false;
+  for (int t = 0; t < moved.num_tets(); ++t) {
+    if (moved.subdomain[t] != kFluidSubdomain) continue;
+    const double ratio = signed_volume(moved, t) / signed_volume(before, t);
+    if (!(ratio <= options.max_volume_ratio && ratio * options.max_volume_ratio >= 1.0)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                          const RemeshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -102,10 +126,37 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   if (after_motion.inverted + after_motion.degenerate > 0)
     throw MeshError("remesh: the solid motion inverts " + std::to_string(after_motion.inverted) + " and flattens " +
                     std::to_string(after_motion.degenerate) + " tets; take a smaller step");
+  const double motion_seconds = seconds_since(start);
   RemeshResult result;
-  for (int pass = 1; pass <= std::max(1, options.max_passes); ++pass) {
-    result = remesh_fluid(moved, options, options.iterations + pass - 1);
+  double build = 0, cgal = 0, copy = 0, check = 0;
+  if (options.remesh_only_when_needed) {
+    const auto t = std::chrono::steady_clock::now();
+    const QualityReport q = quality_report(moved, kFluidSubdomain);
+    check += seconds_since(t);
+    if (moved_mesh_is_good(mesh, moved, q, options)) {
+      result.mesh = std::move(moved);
+      result.old_index.resize(result.mesh.vertices.size());
+      for (std::size_t v = 0; v < result.old_index.size(); ++v) result.old_index[v] = static_cast<int>(v);
+      result.report.remeshed = false;
+      result.report.passes = 0;
+      result.report.min_dihedral_deg = q.min_dihedral_deg;
+      result.report.max_dihedral_deg = q.max_dihedral_deg;
+      result.report.quality_ok = true;
+    }
+  }
+  // Fallback chain when the quality check fails: each further pass has one more CGAL iteration and,
+  // with a band, twice the band of the pass before; from the third pass on, the whole fluid.
+  const int passes = std::max(1, options.max_passes);
+  for (int pass = 1; result.report.remeshed && pass <= passes; ++pass) {
+    RemeshOptions opt = options;
+    opt.band = pass >= 3 ? 0.0 : options.band * (1 << (pass - 1));
+    result = remesh_fluid(moved, opt, options.iterations + pass - 1);
+    build += result.report.build_seconds;
+    cgal += result.report.cgal_seconds;
+    copy += result.report.copy_seconds;
+    const auto t = std::chrono::steady_clock::now();
     const QualityReport q = quality_report(result.mesh, kFluidSubdomain);
+    check += seconds_since(t);
     result.report.passes = pass;
     result.report.min_dihedral_deg = q.min_dihedral_deg;
     result.report.max_dihedral_deg = q.max_dihedral_deg;
@@ -115,7 +166,12 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   result.report.num_tets = result.mesh.num_tets();
   result.report.num_fluid_tets = 0;
   for (int label : result.mesh.subdomain) result.report.num_fluid_tets += (label == kFluidSubdomain);
-  result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.report.motion_seconds = motion_seconds;
+  result.report.build_seconds = build;
+  result.report.cgal_seconds = cgal;
+  result.report.copy_seconds = copy;
+  result.report.check_seconds = check;
+  result.report.seconds = seconds_since(start);
   return result;
 }
 
@@ -123,7 +179,12 @@ std::string RemeshReport::summary() const {
   std::ostringstream s;
   s.precision(4);
   s << num_tets << " tets (" << num_fluid_tets << " fluid), fluid dihedral [" << min_dihedral_deg << ", "
-    << max_dihedral_deg << "] deg, " << passes << " pass(es), " << (quality_ok ? "ok" : "BELOW THRESHOLD") << ", "
+    << max_dihedral_deg << "] deg, ";
+  if (remeshed)
+    s << passes << " pass(es) on " << remeshed_fluid_tets << " fluid tets" << (local ? " (band)" : "") << ", ";
+  else
+    s << "moved only (no remesh needed), ";
+  s << (quality_ok ? "ok" : "BELOW THRESHOLD") << ", "
     << seconds << " s";
   return s.str();
 }

@@ -8,7 +8,10 @@
 /// remeshed with CGAL tetrahedral_isotropic_remeshing while the solid tets are hidden as
 /// subdomain 0 and restored after, so the interface triangles and the solid tets are kept
 /// identically (shared/references/dependencies.md, section 2); (4) the fluid's minimum dihedral
-/// angle is checked, and the remesh is repeated with more iterations if it is below the threshold.
+/// angle is checked, and the remesh is repeated with more iterations (and a larger band, then the
+/// whole fluid) if it is below the threshold. With a band only the band, a ring of tets around it
+/// and the solids are handed to CGAL, so the cost follows the band, not the box. Optionally
+/// (remesh_only_when_needed) step (3) is skipped while the moved mesh is still good.
 #include <string>
 #include <vector>
 
@@ -24,10 +27,18 @@ struct RemeshOptions {
   /// 0.1 deg slivers at the protected interface.
   double target_edge_length = 0.1;
   int iterations = 2;               ///< CGAL remeshing iterations of the first pass
-  int max_passes = 2;               ///< passes (each with one more iteration) before giving up
+  /// Passes before giving up: each further pass has one more iteration and, with a band, twice
+  /// the band; the third and later passes remesh the whole fluid.
+  int max_passes = 2;
   double min_dihedral_deg = 5.0;    ///< accept the fluid mesh when its min dihedral angle is above
   double band = 0.0;                ///< > 0: remesh only fluid tets within this distance [m] of a
                                     ///< solid vertex (others hidden like the solid); 0: all fluid
+  /// Move, remesh when needed: when true and the moved mesh is still good (no flat or inverted
+  /// tet, fluid min dihedral >= min_dihedral_deg, and no fluid tet's volume changed by more than a
+  /// factor max_volume_ratio), the moved mesh is returned as is (RemeshReport::remeshed false,
+  /// old_index the identity). False: remesh every step.
+  bool remesh_only_when_needed = false;
+  double max_volume_ratio = 2.0;    ///< see remesh_only_when_needed
 };
 
 struct RemeshReport {
@@ -38,6 +49,12 @@ struct RemeshReport {
   int passes = 0;                 ///< remeshing passes run (1 unless the quality check failed)
   bool quality_ok = false;        ///< min_dihedral_deg >= options.min_dihedral_deg
   double seconds = 0.0;           ///< wall time of the whole step
+  bool remeshed = true;           ///< false: the moved mesh was good enough (remesh_only_when_needed)
+  bool local = false;             ///< CGAL got only the band (+ a ring and the solids), not the mesh
+  int remeshed_fluid_tets = 0;    ///< fluid tets handed to CGAL for remeshing (last pass)
+  /// Wall time [s] of the phases: mesh motion + its inversion check, building CGAL's triangulation
+  /// from the arrays, CGAL's remeshing, copying back (all passes summed), quality checks.
+  double motion_seconds = 0.0, build_seconds = 0.0, cgal_seconds = 0.0, copy_seconds = 0.0, check_seconds = 0.0;
   std::string summary() const;
 };
 
