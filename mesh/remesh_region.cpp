@@ -9,6 +9,21 @@
 #include "mesh/interface.hpp"  // kTetFaceVertices
 
 namespace tetfsi::mesh {
+namespace {
+std::vector<std::array<int, 3>> hull_triangles(const TetMesh& mesh, const std::vector<char>& region);
+}  // namespace
+
+std::vector<int> vertex_kinds(const TetMesh& mesh) {
+  std::vector<int> kind(mesh.num_vertices(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (mesh.subdomain[t] != kFluidSubdomain)
+      for (int v : mesh.tets[t]) kind[v] = 1;
+  const std::vector<char> all(mesh.tets.size(), 1);
+  for (const auto& f : hull_triangles(mesh, all))
+    for (int v : f)
+      if (kind[v] == 0) kind[v] = 2;
+  return kind;
+}
 
 std::vector<char> band_tets(const TetMesh& mesh, double band) {
   const int n = mesh.num_vertices();

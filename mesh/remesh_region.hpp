@@ -14,6 +14,10 @@
 
 namespace tetfsi::mesh {
 
+/// Per vertex: 0 free fluid vertex, 1 vertex of a solid tet, 2 other vertex on the hull of the mesh
+/// (the box boundary: a face of a single tet).
+std::vector<int> vertex_kinds(const TetMesh& mesh);
+
 /// Per tet: 1 if it is a fluid tet within `band` [m] of a solid vertex (all fluid tets if band <= 0).
 std::vector<char> band_tets(const TetMesh& mesh, double band);
 

@@ -11,6 +11,8 @@
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/interface.hpp"
 #include "mesh/quality.hpp"
+#include "mesh/remesh_region.hpp"
+#include "mesh/sliver_perturbation.hpp"
 
 namespace tetfsi::mesh {
 
@@ -20,31 +22,7 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
   if (static_cast<int>(solid_positions.size()) != n)
     throw MeshError("remesh: expected " + std::to_string(n) + " new positions, got " +
                     std::to_string(solid_positions.size()));
-  // 0: free fluid vertex, 1: solid vertex (prescribed), 2: box boundary vertex (fixed).
-  std::vector<int> kind(n, 0);
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    if (mesh.subdomain[t] != kFluidSubdomain)
-      for (int v : mesh.tets[t]) kind[v] = 1;
-  // Box-boundary faces are the faces of a single tet: sort all face keys, take those seen once.
-  {
-    std::vector<std::array<int, 3>> faces;
-    faces.reserve(4 * mesh.tets.size());
-    for (const auto& tet : mesh.tets)
-      for (const auto& f : kTetFaceVertices) {
-        std::array<int, 3> key{tet[f[0]], tet[f[1]], tet[f[2]]};
-        std::sort(key.begin(), key.end());
-        faces.push_back(key);
-      }
-    std::sort(faces.begin(), faces.end());
-    for (std::size_t i = 0; i < faces.size();) {
-      std::size_t j = i;
-      while (j < faces.size() && faces[j] == faces[i]) ++j;
-      if (j - i == 1)
-        for (int v : faces[i])
-          if (kind[v] == 0) kind[v] = 2;
-      i = j;
-    }
-  }
+  const std::vector<int> kind = vertex_kinds(mesh);
   std::vector<int> unknown(n, -1);
   int m = 0;
   for (int v = 0; v < n; ++v)
@@ -128,7 +106,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
                     std::to_string(after_motion.degenerate) + " tets; take a smaller step");
   const double motion_seconds = seconds_since(start);
   RemeshResult result;
-  double build = 0, cgal = 0, copy = 0, check = 0;
+  double build = 0, cgal = 0, copy = 0, sliver = 0, check = 0;
   if (options.remesh_only_when_needed) {
     const auto t = std::chrono::steady_clock::now();
     const QualityReport q = quality_report(moved, kFluidSubdomain);
@@ -154,6 +132,13 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
     build += result.report.build_seconds;
     cgal += result.report.cgal_seconds;
     copy += result.report.copy_seconds;
+    if (options.sliver_pass_below_deg > 0.0) {
+      const auto t = std::chrono::steady_clock::now();
+      const SliverPassReport s = perturb_slivers(result.mesh, options.sliver_pass_below_deg);
+      result.report.slivers_before = s.slivers_before;
+      result.report.slivers_after = s.slivers_after;
+      sliver += seconds_since(t);
+    }
     const auto t = std::chrono::steady_clock::now();
     const QualityReport q = quality_report(result.mesh, kFluidSubdomain);
     check += seconds_since(t);
@@ -170,6 +155,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   result.report.build_seconds = build;
   result.report.cgal_seconds = cgal;
   result.report.copy_seconds = copy;
+  result.report.sliver_seconds = sliver;
   result.report.check_seconds = check;
   result.report.seconds = seconds_since(start);
   return result;
@@ -181,7 +167,8 @@ std::string RemeshReport::summary() const {
   s << num_tets << " tets (" << num_fluid_tets << " fluid), fluid dihedral [" << min_dihedral_deg << ", "
     << max_dihedral_deg << "] deg, ";
   if (remeshed)
-    s << passes << " pass(es) on " << remeshed_fluid_tets << " fluid tets" << (local ? " (band)" : "") << ", ";
+    s << passes << " pass(es) on " << remeshed_fluid_tets << " fluid tets" << (local ? " (band)" : "")
+      << ", sliver pass " << slivers_before << " -> " << slivers_after << ", ";
   else
     s << "moved only (no remesh needed), ";
   s << (quality_ok ? "ok" : "BELOW THRESHOLD") << ", "

@@ -39,6 +39,9 @@ struct RemeshOptions {
   /// old_index the identity). False: remesh every step.
   bool remesh_only_when_needed = false;
   double max_volume_ratio = 2.0;    ///< see remesh_only_when_needed
+  /// After each CGAL pass, free fluid vertices of tets with a dihedral angle below this [deg] are
+  /// moved to open them (sliver_perturbation.hpp); 0: no sliver pass.
+  double sliver_pass_below_deg = 10.0;
 };
 
 struct RemeshReport {
@@ -52,9 +55,11 @@ struct RemeshReport {
   bool remeshed = true;           ///< false: the moved mesh was good enough (remesh_only_when_needed)
   bool local = false;             ///< CGAL got only the band (+ a ring and the solids), not the mesh
   int remeshed_fluid_tets = 0;    ///< fluid tets handed to CGAL for remeshing (last pass)
+  int slivers_before = 0, slivers_after = 0;  ///< fluid tets below sliver_pass_below_deg around the pass (last pass)
   /// Wall time [s] of the phases: mesh motion + its inversion check, building CGAL's triangulation
-  /// from the arrays, CGAL's remeshing, copying back (all passes summed), quality checks.
-  double motion_seconds = 0.0, build_seconds = 0.0, cgal_seconds = 0.0, copy_seconds = 0.0, check_seconds = 0.0;
+  /// from the arrays, CGAL's remeshing, copying back, the sliver pass (all passes summed), checks.
+  double motion_seconds = 0.0, build_seconds = 0.0, cgal_seconds = 0.0, copy_seconds = 0.0, sliver_seconds = 0.0,
+         check_seconds = 0.0;
   std::string summary() const;
 };
 
