@@ -25,7 +25,7 @@ std::vector<int> vertex_kinds(const TetMesh& mesh) {
   return kind;
 }
 
-std::vector<char> band_tets(const TetMesh& mesh, double band) {
+std::vector<char> band_tets(const TetMesh& mesh, double band, const std::vector<char>& seeds) {
   const int n = mesh.num_vertices();
   std::vector<char> selected(mesh.tets.size(), 0);
   for (int t = 0; t < mesh.num_tets(); ++t) selected[t] = mesh.subdomain[t] == kFluidSubdomain;
@@ -34,9 +34,9 @@ std::vector<char> band_tets(const TetMesh& mesh, double band) {
   for (int t = 0; t < mesh.num_tets(); ++t)
     if (mesh.subdomain[t] != kFluidSubdomain)
       for (int v : mesh.tets[t]) is_solid[v] = 1;
-  std::vector<Eigen::Vector3d> solid_points;
+  std::vector<Eigen::Vector3d> solid_points;  // the seed points
   for (int v = 0; v < n; ++v)
-    if (is_solid[v]) solid_points.push_back(mesh.vertices[v]);
+    if (seeds.empty() ? is_solid[v] : seeds[v]) solid_points.push_back(mesh.vertices[v]);
   // Distance by brute force over solid vertices, only for vertices in the solids' bounding box
   // grown by the band (the others are farther than the band anyway).
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;

@@ -18,8 +18,9 @@ namespace tetfsi::mesh {
 /// (the box boundary: a face of a single tet).
 std::vector<int> vertex_kinds(const TetMesh& mesh);
 
-/// Per tet: 1 if it is a fluid tet within `band` [m] of a solid vertex (all fluid tets if band <= 0).
-std::vector<char> band_tets(const TetMesh& mesh, double band);
+/// Per tet: 1 if it is a fluid tet with a vertex within `band` [m] of a seed vertex (all fluid tets
+/// if band <= 0). Seeds: the vertices flagged in `seeds`, or every solid vertex if it is empty.
+std::vector<char> band_tets(const TetMesh& mesh, double band, const std::vector<char>& seeds = {});
 
 /// Per tet: 1 if CGAL gets it (see the file comment). Returns an empty vector if no manifold region
 /// was found within `max_rounds` growth rounds (then the caller hands CGAL the whole mesh).

@@ -80,17 +80,24 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// True when the moved mesh can be kept (RemeshOptions::remesh_only_when_needed): fluid min
-/// dihedral at or above the threshold and every fluid tet's volume within a factor of its old one.
-bool moved_mesh_is_good(const TetMesh& before, const TetMesh& moved, const QualityReport& fluid,
-                        const RemeshOptions& options) {
-  if (fluid.inverted + fluid.degenerate > 0 || fluid.min_dihedral_deg < options.min_dihedral_deg) return false;
+/// Fluid tets of the moved mesh that fail RemeshOptions::remesh_only_when_needed's check: fluid
+/// min dihedral below the threshold, flat or inverted, or volume changed by more than a factor.
+std::vector<int> spoiled_fluid_tets(const TetMesh& before, const TetMesh& moved, const RemeshOptions& options) {
+  std::vector<int> out;
   for (int t = 0; t < moved.num_tets(); ++t) {
     if (moved.subdomain[t] != kFluidSubdomain) continue;
+    const auto& v = moved.tets[t];
+    const auto& x = moved.vertices;
     const double ratio = signed_volume(moved, t) / signed_volume(before, t);
-    if (!(ratio <= options.max_volume_ratio && ratio * options.max_volume_ratio >= 1.0)) return false;
+    bool bad = flat_or_inverted(x[v[0]], x[v[1]], x[v[2]], x[v[3]]) ||
+               !(ratio <= options.max_volume_ratio && ratio * options.max_volume_ratio >= 1.0);
+    if (!bad) {
+      const auto a = dihedral_angles_deg(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+      bad = *std::min_element(a.begin(), a.end()) < options.min_dihedral_deg;
+    }
+    if (bad) out.push_back(t);
   }
-  return true;
+  return out;
 }
 
 }  // namespace
@@ -119,11 +126,18 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   const double motion_seconds = seconds_since(start);
   RemeshResult result;
   double build = 0, cgal = 0, copy = 0, sliver = 0, check = 0;
+  std::vector<char> seeds;
   if (options.remesh_only_when_needed) {
     const auto t = std::chrono::steady_clock::now();
-    const QualityReport q = quality_report(moved, kFluidSubdomain);
+    const std::vector<int> spoiled = spoiled_fluid_tets(mesh, moved, options);
+    if (options.adaptive_band && !spoiled.empty()) {
+      seeds.assign(moved.vertices.size(), 0);
+      for (int s : spoiled)
+        for (int v : moved.tets[s]) seeds[v] = 1;
+    }
+    const QualityReport q = spoiled.empty() ? quality_report(moved, kFluidSubdomain) : QualityReport{};
     check += seconds_since(t);
-    if (moved_mesh_is_good(mesh, moved, q, options)) {
+    if (spoiled.empty()) {
       result.mesh = std::move(moved);
       result.old_index.resize(result.mesh.vertices.size());
       for (std::size_t v = 0; v < result.old_index.size(); ++v) result.old_index[v] = static_cast<int>(v);
@@ -140,7 +154,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   for (int pass = 1; result.report.remeshed && pass <= passes; ++pass) {
     RemeshOptions opt = options;
     opt.band = pass >= 3 ? 0.0 : options.band * (1 << (pass - 1));
-    result = remesh_fluid(moved, opt, options.iterations + pass - 1);
+    result = remesh_fluid(moved, opt, options.iterations + pass - 1, seeds);
     build += result.report.build_seconds;
     cgal += result.report.cgal_seconds;
     copy += result.report.copy_seconds;

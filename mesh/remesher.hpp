@@ -39,6 +39,11 @@ struct RemeshOptions {
   /// old_index the identity). False: remesh every step.
   bool remesh_only_when_needed = false;
   double max_volume_ratio = 2.0;    ///< see remesh_only_when_needed
+  /// With remesh_only_when_needed and band > 0: the band is measured from the vertices of the
+  /// fluid tets that failed the check (below min_dihedral_deg, or volume changed by more than
+  /// max_volume_ratio) instead of from every solid vertex, so only where the motion spoiled the
+  /// mesh is remeshed.
+  bool adaptive_band = false;
   /// After each CGAL pass, free fluid vertices of tets with a dihedral angle below this [deg] are
   /// moved to open them (sliver_perturbation.hpp); 0: no sliver pass.
   double sliver_pass_below_deg = 10.0;
@@ -80,7 +85,10 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
 
 /// Remeshes the fluid tets (label kFluidSubdomain) of `mesh` (CGAL; solid tets and the interface
 /// kept). @pre every tet positively oriented, the mesh fills a convex box
-RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations);
+/// `seeds` (per vertex, optional): the band is measured from these vertices instead of the solid
+/// vertices (RemeshOptions::adaptive_band).
+RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
+                          const std::vector<char>& seeds = {});
 
 /// One full step: move (extend_solid_motion), check that no tet inverted, remesh the fluid with
 /// the quality check and extra passes.

@@ -35,14 +35,15 @@ Key sorted(std::array<int, 4> k) {
 
 }  // namespace
 
-RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations) {
+RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
+                          const std::vector<char>& seeds) {
   if (!(options.target_edge_length > 0.0)) throw MeshError("remesh: target_edge_length must be > 0");
   const auto t_start = std::chrono::steady_clock::now();
   const int n = mesh.num_vertices();
 
   // Which fluid tets are remeshed (band_tets) and which tets CGAL gets (band_region; the whole
   // mesh without a band, or if the region does not make a valid triangulation).
-  const std::vector<char> selected = band_tets(mesh, options.band);
+  const std::vector<char> selected = band_tets(mesh, options.band, seeds);
   std::vector<char> in_region;
   if (options.band > 0.0) in_region = band_region(mesh, selected);
   bool local = !in_region.empty();

@@ -102,8 +102,10 @@ class FluidRunner : public Simulation {
     remesh_.band = f.at("remesh_band").get<double>();
     // Move, remesh when needed: while the carried-along mesh stays good (fluid min dihedral above
     // the threshold, no tet's volume changed by more than 2x in the step) it is kept as is; the
-    // "remeshed" column of stats.csv says which steps were remeshed.
+    // "remeshed" column of stats.csv says which steps were remeshed. Then only the fluid within
+    // remesh_band of the spoiled tets is remeshed (adaptive band).
     remesh_.remesh_only_when_needed = true;
+    remesh_.adaptive_band = true;
     if (moving_)
       log.info("kinematic solids: the fluid moves with them and is remeshed when needed (target edge {:.4g} m, band {} m)",
                remesh_.target_edge_length, remesh_.band);
