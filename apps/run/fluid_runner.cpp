@@ -320,7 +320,7 @@ class FluidRunner : public Simulation {
 }  // namespace
 
 RunnerEntry fluid_runner() {
-  return {"fluid", "smoke or liquid around static or kinematic solids (remeshed every step when they move)",
+  return {"fluid", "smoke or liquid around static or kinematic solids (moved with them every step, remeshed when the mesh degrades)",
           [](const scene::Scene& s) {
             if (s.json.contains("mpm")) return false;  // MPM + membranes: the mpm runner
             const auto type = s["fluid"].at("type");
