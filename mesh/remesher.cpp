@@ -57,9 +57,11 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
     // Conjugate gradients (Jacobi preconditioner): the graph Laplacian with the solid and box
     // vertices eliminated is symmetric positive definite. On a 104k-tet complex the whole motion
     // step took 0.43 s with CG against 1.14 s with a sparse Cholesky (SimplicialLDLT). The
-    // tolerance is relative to |rhs|; the inversion check after the motion guards the result.
+    // tolerance is relative to |rhs|; the inversion check after the motion guards the result. Any
+    // smooth field that inverts nothing will do (the fluid is advected onto the moved mesh
+    // whatever its vertices are), so 1e-6 rather than 1e-10: 0.16 -> 0.12 s of motion at 104k.
     Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-    solver.setTolerance(1e-10);
+    solver.setTolerance(1e-6);
     solver.setMaxIterations(10 * m);
     solver.compute(L);
     Eigen::MatrixXd x(m, 3);
