@@ -162,6 +162,20 @@ TEST(Remesher, SliverPassOpensASliver) {
     if (v != centre) EXPECT_EQ(m.vertices[v], original.vertices[v]);
 }
 
+// Deterministic: the same band remesh twice gives the same mesh, vertex for vertex.
+TEST(Remesher, SameInputSameMesh) {
+  const TetMesh mesh = sphere_in_box();
+  RemeshOptions options;
+  options.target_edge_length = 0.12;
+  options.band = 0.15;
+  const auto target = translated_solid(mesh, {0.02, 0.01, 0.0});
+  const RemeshResult a = remesh_step(mesh, target, options), b = remesh_step(mesh, target, options);
+  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices);
+  EXPECT_EQ(a.mesh.tets, b.mesh.tets);
+  EXPECT_EQ(a.mesh.subdomain, b.mesh.subdomain);
+  EXPECT_EQ(a.old_index, b.old_index);
+}
+
 TEST(Remesher, TooLargeAStepIsAnError) {
   const TetMesh mesh = sphere_in_box();
   RemeshOptions options;
