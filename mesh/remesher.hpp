@@ -60,6 +60,7 @@ struct RemeshReport {
   bool remeshed = true;           ///< false: the moved mesh was good enough (remesh_only_when_needed)
   bool local = false;             ///< CGAL got only the band (+ a ring and the solids), not the mesh
   int remeshed_fluid_tets = 0;    ///< fluid tets handed to CGAL for remeshing (last pass)
+  int region_tets = 0;            ///< tets in CGAL's triangulation (band, ring, solids; last pass)
   int slivers_before = 0, slivers_after = 0;  ///< fluid tets below sliver_pass_below_deg around the pass (last pass)
   /// Wall time [s] of the phases: mesh motion + its inversion check, building CGAL's triangulation
   /// from the arrays, CGAL's remeshing, copying back, the sliver pass (all passes summed), checks.

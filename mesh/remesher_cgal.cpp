@@ -95,6 +95,7 @@ RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int
   if (handles.empty())
     throw MeshError("remesh: the tet mesh is not a valid triangulation (not conforming, or not convex)");
   result.report.local = local;
+  result.report.region_tets = static_cast<int>(std::count(in_region.begin(), in_region.end(), 1));
   std::unordered_map<Vh, int> old_index;
   for (std::size_t v = 0; v < to_global.size(); ++v) old_index.emplace(handles[v + 1], to_global[v]);
   const auto t_built = std::chrono::steady_clock::now();
@@ -156,7 +157,8 @@ RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int
   result.report.build_seconds = std::chrono::duration<double>(t_built - t_start).count();
   result.report.cgal_seconds = std::chrono::duration<double>(t_remeshed - t_built).count();
   result.report.copy_seconds = std::chrono::duration<double>(t_done - t_remeshed).count();
-  for (int t = 0; t < mesh.num_tets(); ++t) result.report.remeshed_fluid_tets += mesh.subdomain[t] == kFluidSubdomain && selected[t];
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    result.report.remeshed_fluid_tets += mesh.subdomain[t] == kFluidSubdomain && selected[t];
   return result;
 }
 

@@ -7,8 +7,9 @@
 /// A solid whose motion is a zero translation or zero rotation is static: the mesh is kept for the
 /// whole run. Otherwise, every step: the solid vertices move to x(t) = motion(rest position, t),
 /// mesh::remesh_step carries the fluid vertices along and, when the moved mesh has degraded,
-/// remeshes the fluid (band /fluid/remesh_band) with the solids frozen, and the FluidSolver steps onto the new mesh with
-/// u.n = v_solid.n on the interface (v = the motion's velocity at each solid vertex).
+/// remeshes the fluid within /fluid/remesh_band of the degraded tets with the solids frozen, and the
+/// FluidSolver steps onto the new mesh with u.n = v_solid.n on the interface (v = the motion's
+/// velocity at each solid vertex).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -107,7 +108,7 @@ class FluidRunner : public Simulation {
     remesh_.remesh_only_when_needed = true;
     remesh_.adaptive_band = true;
     if (moving_)
-      log.info("kinematic solids: the fluid moves with them and is remeshed when needed (target edge {:.4g} m, band {} m)",
+      log.info("kinematic solids: the fluid moves with them, remeshed when needed (target edge {:.4g} m, band {} m)",
                remesh_.target_edge_length, remesh_.band);
 
     solver_ = std::make_unique<fluid::FluidSolver>(params);
@@ -320,7 +321,9 @@ class FluidRunner : public Simulation {
 }  // namespace
 
 RunnerEntry fluid_runner() {
-  return {"fluid", "smoke or liquid around static or kinematic solids (moved with them every step, remeshed when the mesh degrades)",
+  return {"fluid",
+          "smoke or liquid around static or kinematic solids (moved with them every step, remeshed when the mesh "
+          "degrades)",
           [](const scene::Scene& s) {
             if (s.json.contains("mpm")) return false;  // MPM + membranes: the mpm runner
             const auto type = s["fluid"].at("type");

@@ -1,5 +1,6 @@
 /// @file bench_mesh.cpp
-/// Benchmark of the CGAL Mesh_3 complex (issue 2) and of the per-step remesh (issue 5): the bunny (../shared/data/bunny.obj) in a fluid
+/// Benchmark of the CGAL Mesh_3 complex (issue 2) and of the per-step remesh (issue 5): the bunny
+/// (../shared/data/bunny.obj) in a fluid
 /// box at about 25k and 100k tets, and a sphere in a box. Error: volume of the meshed solid against
 /// the volume enclosed by the input surface (and, for the sphere, against 4/3 pi r^3). Each case
 /// runs in its own process (fork) so that the peak memory column is that case's own.
@@ -148,10 +149,12 @@ void remesh_cases(const std::string& filter) {
       const RemeshReport& p = r.report;
       char err[400], res[120];
       std::snprintf(err, sizeof err,
-                    "fluid min dihedral %.1f deg, max %.1f; %s %d fluid tets%s in %d pass(es); phases [s]: motion %.2f, "
+                    "fluid min dihedral %.1f deg, max %.1f; %s %d fluid tets%s (%d tets in CGAL) in %d pass(es); "
+                    "phases [s]: motion %.2f, "
                     "build %.2f, cgal %.2f, copy %.2f, sliver pass %.2f, check %.2f; solid tets %d -> %d; %s",
                     p.min_dihedral_deg, p.max_dihedral_deg, p.remeshed ? "remeshed" : "NOT remeshed (moved only),",
-                    p.remeshed ? p.remeshed_fluid_tets : 0, p.local ? " (band alone to CGAL)" : "", p.passes, p.motion_seconds, p.build_seconds,
+                    p.remeshed ? p.remeshed_fluid_tets : 0, p.local ? " (band alone to CGAL)" : "",
+                    p.remeshed ? p.region_tets : 0, p.passes, p.motion_seconds, p.build_seconds,
                     p.cgal_seconds, p.copy_seconds, p.sliver_seconds, p.check_seconds, solid_before, solid_after,
                     check_interface(r.mesh).conforming() ? "interface conforming" : "INTERFACE NOT CONFORMING");
       std::snprintf(res, sizeof res, "%d -> %d tets, h = %.4g m", m.num_tets(), r.mesh.num_tets(), c.h);
