@@ -84,8 +84,11 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 /// Fluid tets of the moved mesh that fail RemeshOptions::remesh_only_when_needed's check: fluid
 /// min dihedral below the threshold, flat or inverted, or volume changed by more than a factor.
-std::vector<int> spoiled_fluid_tets(const TetMesh& before, const TetMesh& moved, const RemeshOptions& options) {
+/// `angles` gets the min and max dihedral angle [deg] over the good fluid tets.
+std::vector<int> spoiled_fluid_tets(const TetMesh& before, const TetMesh& moved, const RemeshOptions& options,
+                                    std::array<double, 2>& angles) {
   std::vector<int> out;
+  angles = {180.0, 0.0};
   for (int t = 0; t < moved.num_tets(); ++t) {
     if (moved.subdomain[t] != kFluidSubdomain) continue;
     const auto& v = moved.tets[t];
@@ -95,7 +98,9 @@ std::vector<int> spoiled_fluid_tets(const TetMesh& before, const TetMesh& moved,
                !(ratio <= options.max_volume_ratio && ratio * options.max_volume_ratio >= 1.0);
     if (!bad) {
       const auto a = dihedral_angles_deg(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
-      bad = *std::min_element(a.begin(), a.end()) < options.min_dihedral_deg;
+      const auto [lo, hi] = std::minmax_element(a.begin(), a.end());
+      bad = *lo < options.min_dihedral_deg;
+      angles = {std::min(angles[0], *lo), std::max(angles[1], *hi)};
     }
     if (bad) out.push_back(t);
   }
@@ -131,13 +136,13 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   std::vector<char> seeds;
   if (options.remesh_only_when_needed) {
     const auto t = std::chrono::steady_clock::now();
-    const std::vector<int> spoiled = spoiled_fluid_tets(mesh, moved, options);
+    std::array<double, 2> angles{};
+    const std::vector<int> spoiled = spoiled_fluid_tets(mesh, moved, options, angles);
     if (options.adaptive_band && !spoiled.empty()) {
       seeds.assign(moved.vertices.size(), 0);
       for (int s : spoiled)
         for (int v : moved.tets[s]) seeds[v] = 1;
     }
-    const QualityReport q = spoiled.empty() ? quality_report(moved, kFluidSubdomain) : QualityReport{};
     check += seconds_since(t);
     if (spoiled.empty()) {
       result.mesh = std::move(moved);
@@ -145,8 +150,8 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
       for (std::size_t v = 0; v < result.old_index.size(); ++v) result.old_index[v] = static_cast<int>(v);
       result.report.remeshed = false;
       result.report.passes = 0;
-      result.report.min_dihedral_deg = q.min_dihedral_deg;
-      result.report.max_dihedral_deg = q.max_dihedral_deg;
+      result.report.min_dihedral_deg = angles[0];
+      result.report.max_dihedral_deg = angles[1];
       result.report.quality_ok = true;
     }
   }
