@@ -235,4 +235,19 @@ CoupledStepReport CoupledStepper::step(double h) {
   return report;
 }
 
+double CoupledStepper::fluid_volume() const {
+  std::vector<Eigen::Vector3d> x = mesh_.vertices;
+  for (const Solid& s : solids_) {
+    const Eigen::VectorXd q = s.integrator->positions();
+    for (int a = 0; a < s.model->num_nodes(); ++a) x[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
+  }
+  double volume = 0;
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    if (!mesh_.subdomain.empty() && mesh_.subdomain[t] != mesh::kFluidSubdomain) continue;
+    const auto& v = mesh_.tets[t];
+    volume += mesh::signed_volume(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+  }
+  return volume;
+}
+
 }  // namespace tetfsi::coupling

@@ -77,6 +77,10 @@ class CoupledStepper {
   fluid::BoundaryConditions& fluid_boundary() { return boundary_; }
   const mesh::TetMesh& mesh() const { return mesh_; }
   double time() const { return time_; }
+  /// Volume of the fluid [m³] with the solid vertices at their current positions Xⁿ + dⁿ: the sum
+  /// of the fluid tets' signed volumes. Only the fluid's boundary vertices matter, so for a fluid
+  /// that is a closed cavity of a solid (mesh::mesh_filled_shell) this is the cavity's volume.
+  double fluid_volume() const;
 
   /// One coupled step of length settings.time_step.
   /// @throws CoupledSolveError, fluid::SolverError, solid::SolidError or std::runtime_error on
