@@ -21,7 +21,7 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
   const auto name = solid.at("name").get<std::string>();
   if (type == "sphere_shell" && cavity == nullptr)
     throw InputError(fmt::format("solid '{}': a sphere_shell (a solid with a fluid cavity) is meshed only by the "
-                                 "coupled runner: add a /coupling block to the scene", name));
+                                 "coupled runner (a fluid, every solid a deforming tet solid)", name));
   if (cavity != nullptr) *cavity = cavity_of(solid);
   mesh::Placement placement;
   placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));

@@ -55,8 +55,7 @@ void check_mpm(const Json& s, std::vector<Issue>& issues) {
 }
 
 // A `sphere_shell` has a fluid cavity: only the coupled runner meshes it (a fluid, the shell a
-// free tet solid; without a /coupling block in the input the other runners refuse it at run time,
-// run/solid_geometry.cpp, since the resolved scene always has the block's defaults). `fluid.fill: cavities` needs exactly one shell and no domain.
+// free tet solid; the other runners refuse it at run time, run/solid_geometry.cpp). `fluid.fill: cavities` needs exactly one shell and no domain.
 void check_shells(const Json& s, std::vector<Issue>& issues) {
   int shells = 0;
   for (std::size_t i = 0; i < s["solids"].size(); ++i) {
