@@ -9,7 +9,8 @@
 ///     (mesh_update.hpp); the solid tets keep their connectivity, so solid state carries over.
 ///  3. Advect and add body forces on the fluid: v* (fluid::FluidSolver::predict).
 ///  4. Interface: H over the triangles fluid and solid share, J = Hᵀ (interface_maps.hpp).
-///  5. Solve eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp).
+///  5. Solve eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp), by default with the
+///     constraint on the step's mean state (CoupledSettings::mean_constraint).
 ///  6. Update: fluid velocity by eq. (8), solid displacement by eq. (5).
 ///
 /// The time-splitting baseline (CouplingScheme::kTimeSplitting) replaces 5 by two solves: the
