@@ -103,6 +103,7 @@ class CoupledRunner : public Simulation {
     cs.newmark = c.at("newmark") == "trapezoidal" ? solid::NewmarkScheme::kTrapezoidal
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
+    cs.mean_constraint = c.at("constraint") == "step_mean";
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
     cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
