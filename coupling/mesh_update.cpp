@@ -63,36 +63,34 @@ MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen:
     std::iota(result.old_index.begin(), result.old_index.end(), 0);
     result.report.min_dihedral_deg = moved_fluid_min;
   };
+  const double threshold = std::min(options.remesh_below_deg, 0.5 * start_min_dihedral_deg);
   bool remesh = options.policy == MeshUpdatePolicy::kRemeshEveryStep;
-  if (options.policy == MeshUpdatePolicy::kRemeshWhenNeeded)
-    remesh = moved_fluid_min < std::min(options.remesh_below_deg, 0.5 * start_min_dihedral_deg);
+  if (options.policy == MeshUpdatePolicy::kRemeshWhenNeeded) remesh = moved_fluid_min < threshold;
   if (!remesh) {
     keep_moved();
   } else {
-    // Remesh the moved fluid (the motion is already done, so remesh_step's own extension is the
-    // identity). A result that is not better than the moved mesh (flat, inverted, or a smaller
-    // minimum dihedral angle: CGAL's isotropic remeshing can leave slivers where it meets the
-    // frozen interface) is retried once with more iterations, then rejected: the moved mesh,
-    // which is valid, is kept and the report says so.
+    // Remesh the moved fluid (the motion is already done, so remesh_step's own motion is the
+    // identity) only around the tets below the threshold (adaptive band), with the remesher's
+    // fallback chain (more iterations, wider band, whole fluid) and sliver pass. A result that is
+    // not better than the moved mesh (CGAL's isotropic remeshing can leave slivers where it meets
+    // the frozen interface) is rejected: the moved mesh, which is valid, is kept and the report
+    // says so.
     mesh::RemeshOptions opt = options.remesh;
-    for (int attempt = 0;; ++attempt) {
-      mesh::RemeshResult r = mesh::remesh_step(result.mesh, result.mesh.vertices, opt);
-      const mesh::QualityReport q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
-      if (q.inverted + q.degenerate == 0 && q.min_dihedral_deg > moved_fluid_min) {
-        result.mesh = std::move(r.mesh);
-        result.old_index = std::move(r.old_index);
-        result.report.remeshed = true;
-        result.report.passes = r.report.passes;
-        result.report.min_dihedral_deg = q.min_dihedral_deg;
-        break;
-      }
-      if (attempt == 1) {
-        // CGAL did not improve on the moved mesh: keep the moved mesh (it is valid) and say so.
-        keep_moved();
-        result.report.remesh_rejected = true;
-        break;
-      }
-      opt.iterations += 2;
+    opt.motion = options.motion;
+    opt.remesh_only_when_needed = options.policy == MeshUpdatePolicy::kRemeshWhenNeeded;
+    opt.adaptive_band = opt.remesh_only_when_needed && opt.band > 0;
+    opt.min_dihedral_deg = threshold;
+    mesh::RemeshResult r = mesh::remesh_step(result.mesh, result.mesh.vertices, opt);
+    const mesh::QualityReport q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
+    if (r.report.remeshed && q.inverted + q.degenerate == 0 && q.min_dihedral_deg > moved_fluid_min) {
+      result.mesh = std::move(r.mesh);
+      result.old_index = std::move(r.old_index);
+      result.report.remeshed = true;
+      result.report.passes = r.report.passes;
+      result.report.min_dihedral_deg = q.min_dihedral_deg;
+    } else {
+      keep_moved();
+      result.report.remesh_rejected = r.report.remeshed;
     }
   }
   result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,36 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
-#include "mesh/interface.hpp"       // kTetFaceVertices
+#include "mesh/remesh_region.hpp"   // vertex_kinds
 
 namespace tetfsi::mesh {
 namespace {
-
-/// Vertex kinds: 0 free fluid vertex, 1 solid vertex (prescribed), 2 mesh-boundary vertex (fixed).
-std::vector<char> classify_vertices(const TetMesh& mesh) {
-  std::vector<char> kind(mesh.num_vertices(), 0);
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    if (mesh.subdomain[t] != kFluidSubdomain)
-      for (int v : mesh.tets[t]) kind[v] = 1;
-  // A face of exactly one tet lies on the mesh boundary. Faces are keyed by their sorted vertices.
-  std::unordered_map<std::uint64_t, int> count;
-  count.reserve(4 * mesh.tets.size());
-  const auto key = [](std::array<int, 3> f) {
-    std::sort(f.begin(), f.end());
-    return (std::uint64_t(f[0]) * 2097152u + std::uint64_t(f[1])) * 2097152u + std::uint64_t(f[2]);
-  };
-  for (const auto& tet : mesh.tets)
-    for (const auto& f : kTetFaceVertices) ++count[key({tet[f[0]], tet[f[1]], tet[f[2]]})];
-  for (const auto& tet : mesh.tets)
-    for (const auto& f : kTetFaceVertices)
-      if (count[key({tet[f[0]], tet[f[1]], tet[f[2]]})] == 1)
-        for (int k = 0; k < 3; ++k)
-          if (kind[tet[f[k]]] == 0) kind[tet[f[k]]] = 2;
-  return kind;
-}
 
 /// Gradients of the four P1 basis functions of a tet (rows), and its volume.
 Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Eigen::Vector3d, 4>& x, double& volume) {
@@ -55,15 +31,19 @@ std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::ve
   if (static_cast<int>(solid_positions.size()) != n)
     throw MeshError("mesh motion: expected " + std::to_string(n) + " positions, got " +
                     std::to_string(solid_positions.size()));
-  const std::vector<char> kind = classify_vertices(mesh);
+  const std::vector<int> kind = vertex_kinds(mesh);  // 0 free, 1 solid (prescribed), 2 boundary (fixed)
   std::vector<int> unknown(n, -1);
   int m = 0;
   for (int v = 0; v < n; ++v)
     if (kind[v] == 0) unknown[v] = m++;
   std::vector<Eigen::Vector3d> moved = mesh.vertices;
+  bool still = true;
   for (int v = 0; v < n; ++v)
-    if (kind[v] == 1) moved[v] = solid_positions[v];
-  if (m == 0) return moved;
+    if (kind[v] == 1) {
+      moved[v] = solid_positions[v];
+      still = still && moved[v] == mesh.vertices[v];
+    }
+  if (m == 0 || still) return moved;
 
   double v_max = 0;
   for (int t = 0; t < mesh.num_tets(); ++t)

@@ -1,8 +1,6 @@
 /// @file remesher.cpp
-/// Mesh motion and the step driver of remesher.hpp (the CGAL call is in remesher_cgal.cpp).
+/// The step driver of remesher.hpp (mesh motion in mesh_motion.cpp (the CGAL call is in remesher_cgal.cpp).
 #include "mesh/remesher.hpp"
-
-#include <Eigen/Sparse>
 
 #include <algorithm>
 #include <chrono>
@@ -10,71 +8,12 @@
 
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/interface.hpp"
+#include "mesh/mesh_motion.hpp"
 #include "mesh/quality.hpp"
 #include "mesh/remesh_region.hpp"
 #include "mesh/sliver_perturbation.hpp"
 
 namespace tetfsi::mesh {
-
-std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
-                                                 const std::vector<Eigen::Vector3d>& solid_positions) {
-  const int n = mesh.num_vertices();
-  if (static_cast<int>(solid_positions.size()) != n)
-    throw MeshError("remesh: expected " + std::to_string(n) + " new positions, got " +
-                    std::to_string(solid_positions.size()));
-  const std::vector<int> kind = vertex_kinds(mesh);
-  std::vector<int> unknown(n, -1);
-  int m = 0;
-  for (int v = 0; v < n; ++v)
-    if (kind[v] == 0) unknown[v] = m++;
-  std::vector<Eigen::Vector3d> d(n, Eigen::Vector3d::Zero());
-  for (int v = 0; v < n; ++v)
-    if (kind[v] == 1) d[v] = solid_positions[v] - mesh.vertices[v];
-
-  // Graph Laplacian over the fluid edges: deg(v) d_v - sum_w d_w = 0 for free v.
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(6 * mesh.tets.size());
-  for (const auto& tet : mesh.tets)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) edges.emplace_back(std::min(tet[i], tet[j]), std::max(tet[i], tet[j]));
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
-  for (const auto& [a, b] : edges)
-    for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
-      if (unknown[p] < 0) continue;
-      triplets.emplace_back(unknown[p], unknown[p], 1.0);
-      if (unknown[q] >= 0)
-        triplets.emplace_back(unknown[p], unknown[q], -1.0);
-      else
-        rhs.row(unknown[p]) += d[q].transpose();
-    }
-  std::vector<Eigen::Vector3d> moved = mesh.vertices;
-  if (m > 0) {
-    Eigen::SparseMatrix<double> L(m, m);
-    L.setFromTriplets(triplets.begin(), triplets.end());
-    // Conjugate gradients (Jacobi preconditioner): the graph Laplacian with the solid and box
-    // vertices eliminated is symmetric positive definite. On a 104k-tet complex the whole motion
-    // step took 0.43 s with CG against 1.14 s with a sparse Cholesky (SimplicialLDLT). The
-    // tolerance is relative to |rhs|; the inversion check after the motion guards the result. Any
-    // smooth field that inverts nothing will do (the fluid is advected onto the moved mesh
-    // whatever its vertices are), so 1e-6 rather than 1e-10: 0.16 -> 0.12 s of motion at 104k.
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-    solver.setTolerance(1e-6);
-    solver.setMaxIterations(10 * m);
-    solver.compute(L);
-    Eigen::MatrixXd x(m, 3);
-    for (int k = 0; k < 3; ++k) {
-      x.col(k) = solver.solve(rhs.col(k));
-      if (solver.info() != Eigen::Success) throw MeshError("remesh: mesh-motion solve did not converge");
-    }
-    for (int v = 0; v < n; ++v)
-      if (unknown[v] >= 0) d[v] = x.row(unknown[v]).transpose();
-  }
-  for (int v = 0; v < n; ++v) moved[v] += d[v];
-  return moved;
-}
 
 namespace {
 
@@ -113,7 +52,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
                          const RemeshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   TetMesh moved = mesh;
-  moved.vertices = extend_solid_motion(mesh, solid_positions);
+  moved.vertices = move_with_solids(mesh, solid_positions, options.motion);
   // Tets the motion made flat or inverted (a tet already flat in the input, e.g. a sliver Mesh_3
   // left inside a thin solid, is not the motion's fault and is left alone).
   int spoiled = 0, spoiled_fluid = 0;

@@ -3,7 +3,7 @@
 /// Per-step remeshing of the fluid around moving solids (issue 5, part 1).
 ///
 /// One step: (1) the solid vertices move to their new positions; (2) the fluid vertices follow by
-/// a harmonic extension of the solid displacement (graph-Laplacian average, box-boundary vertices
+/// a stiffened Laplacian of the solid displacement (mesh_motion.hpp; box-boundary vertices
 /// fixed), so that nearby fluid tets are carried along instead of inverted; (3) the fluid alone is
 /// remeshed with CGAL tetrahedral_isotropic_remeshing while the solid tets are hidden as
 /// subdomain 0 and restored after, so the interface triangles and the solid tets are kept
@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/mesh_motion.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace tetfsi::mesh {
@@ -47,6 +48,8 @@ struct RemeshOptions {
   /// After each CGAL pass, free fluid vertices of tets with a dihedral angle below this [deg] are
   /// moved to open them (sliver_perturbation.hpp); 0: no sliver pass.
   double sliver_pass_below_deg = 10.0;
+  /// How the fluid vertices follow the solids before remeshing (stiffened Laplacian).
+  MeshMotionOptions motion;
 };
 
 struct RemeshReport {
@@ -77,13 +80,6 @@ struct RemeshResult {
   RemeshReport report;
 };
 
-/// Moves the fluid vertices with the solids: displacement of solid vertices = new - old, of
-/// box-boundary vertices 0, of every other fluid vertex the average of its neighbours' (discrete
-/// harmonic extension, solved with Eigen's conjugate gradients). Returns the moved vertex positions.
-/// @param solid_positions  new position of every vertex (read only for vertices of solid tets)
-std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
-                                                 const std::vector<Eigen::Vector3d>& solid_positions);
-
 /// Remeshes the fluid tets (label kFluidSubdomain) of `mesh` (CGAL; solid tets and the interface
 /// kept). @pre every tet positively oriented, the mesh fills a convex box
 /// `seeds` (per vertex, optional): the band is measured from these vertices instead of the solid
@@ -91,7 +87,7 @@ std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
 RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
                           const std::vector<char>& seeds = {});
 
-/// One full step: move (extend_solid_motion), check that no tet inverted, remesh the fluid with
+/// One full step: move (move_with_solids, mesh_motion.hpp), check that no tet inverted, remesh the fluid with
 /// the quality check and extra passes.
 /// @throws MeshError if the motion inverts tets (step too large for the mesh)
 RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,

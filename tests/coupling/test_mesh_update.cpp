@@ -50,7 +50,7 @@ double fluid_min_dihedral(const mesh::TetMesh& m) { return mesh::quality_report(
 
 TEST(MeshMotion, RigidTranslationIsReproducedWhenNothingHoldsTheFluid) {
   // Label every tet touching the box boundary as solid too: then every constrained vertex moves
-  // by the same vector, and the exact solution is that uniform shift (CG tolerance 1e-10).
+  // by the same vector, and the exact solution is that uniform shift.
   mesh::TetMesh m = sphere_in_box();
   for (int t = 0; t < m.num_tets(); ++t)
     for (int v : m.tets[t])
@@ -59,7 +59,7 @@ TEST(MeshMotion, RigidTranslationIsReproducedWhenNothingHoldsTheFluid) {
   const auto moved = mesh::move_with_solids(m, shifted(m, shift));
   double err = 0;
   for (int v = 0; v < m.num_vertices(); ++v) err = std::max(err, (moved[v] - m.vertices[v] - shift).norm());
-  EXPECT_LT(err, 1e-6 * shift.norm()) << "max deviation from the uniform shift [m]";
+  EXPECT_LT(err, 1e-5 * shift.norm()) << "max deviation from the uniform shift [m] (CG tolerance 1e-8)";
 }
 
 TEST(MeshMotion, StiffenedLaplacianKeepsTheFluidBetterShapedThanThePlainOne) {
