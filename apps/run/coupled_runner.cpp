@@ -20,6 +20,7 @@
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_springs.hpp"
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
@@ -98,6 +99,7 @@ class CoupledRunner : public Simulation {
       auto& integrator = stepper_->solid(i);
       for (const auto& box : solids[i].at("fixed_regions"))
         integrator.fix_nodes(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))));
+      add_scene_springs(integrator, solids[i], i, names_[i], log);
       integrator.set_uniform_velocity(vec3(solids[i].at("initial_velocity")));
       if (js.contains("obstacles")) {
         const auto& o = js["obstacles"];
