@@ -82,6 +82,7 @@ class CoupledRunner : public Simulation {
     cs.time_step = dt_;
     cs.scheme = c.at("scheme") == "time_splitting" ? coupling::CouplingScheme::kTimeSplitting
                                                     : coupling::CouplingScheme::kSimultaneous;
+    scheme_ = c.at("scheme").get<std::string>();
     cs.solver = coupling::parse_coupled_solver_kind(c.at("solver").get<std::string>());
     cs.solver_options.tolerance = c.at("tolerance").get<double>();
     cs.solver_options.max_iterations = c.at("max_iterations").get<int>();
@@ -128,7 +129,16 @@ class CoupledRunner : public Simulation {
     sources.clear();
     for (const auto& e : emitters_)
       if (e.active(stepper_->time())) sources.push_back(e.source);
-    const coupling::CoupledStepReport r = stepper_->step(dt);
+    coupling::CoupledStepReport r;
+    try {
+      r = stepper_->step(dt);
+    } catch (const std::exception& e) {
+      // A failed coupled step is a failed run (exit code 1), not an internal error: the state
+      // diverged (e.g. the added-mass instability of time splitting) or, without remeshing, a
+      // solid moved more than a fluid cell and inverted a fluid tet. Nothing of it is written.
+      throw RunError(fmt::format("coupled step at t = {:.6g} s failed ({} coupling): {}", stepper_->time(),
+                                 scheme_, e.what()));
+    }
     last_ = r;
     StepReport out;
     out.dt = dt;
@@ -219,6 +229,7 @@ class CoupledRunner : public Simulation {
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;
   double dt_ = 1.0 / 60.0;
+  std::string scheme_;
 };
 
 }  // namespace
