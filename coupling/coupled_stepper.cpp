@@ -7,6 +7,7 @@
 #include "coupling/interface_maps.hpp"
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/amg_preconditioner.hpp"
+#include "mesh/quality.hpp"
 
 namespace tetfsi::coupling {
 namespace {
@@ -73,14 +74,44 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     options.preconditioner_name = "boomeramg";
   }
   solver_ = make_coupled_solver(settings_.solver, std::move(options));
-  previous_pressure_ = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
+  previous_vertex_pressure_.assign(mesh_.num_vertices(), 0.0);
+  min_dihedral_deg_ = mesh::quality_report(mesh_, mesh::kFluidSubdomain).min_dihedral_deg;
+  if (!(settings_.mesh_update.remesh.target_edge_length > 0))
+    settings_.mesh_update.remesh.target_edge_length = fluid_edge_length_near_solids(mesh_);
 }
 
-void CoupledStepper::move_solid_vertices() {
+MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
+  std::vector<Eigen::Vector3d> target = mesh_.vertices;
   for (const Solid& s : solids_) {
     const Eigen::VectorXd x = s.integrator->positions();
-    for (int a = 0; a < s.model->num_nodes(); ++a) mesh_.vertices[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
+    for (int a = 0; a < s.model->num_nodes(); ++a) target[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
   }
+  MeshUpdateResult r = update_mesh(mesh_, target, settings_.mesh_update, min_dihedral_deg_);
+  min_dihedral_deg_ = r.report.min_dihedral_deg;
+  if (r.report.remeshed) {
+    // Solid vertices are never removed by the remesher: renumber the solid-node maps and carry
+    // the previous pressure of kept vertices (the interface ones are all kept).
+    std::vector<int> new_index(mesh_.num_vertices(), -1);
+    std::vector<double> pressure(r.mesh.num_vertices(), 0.0);
+    for (int v = 0; v < r.mesh.num_vertices(); ++v)
+      if (r.old_index[v] >= 0) {
+        new_index[r.old_index[v]] = v;
+        pressure[v] = previous_vertex_pressure_[r.old_index[v]];
+      }
+    for (Solid& s : solids_) {
+      for (int& v : s.submesh.to_parent_vertex) {
+        v = new_index[v];
+        if (v < 0) throw std::logic_error("coupled step: the remesher dropped a solid vertex");
+      }
+      s.submesh.from_parent_vertex.assign(r.mesh.num_vertices(), -1);
+      for (int a = 0; a < static_cast<int>(s.submesh.to_parent_vertex.size()); ++a)
+        s.submesh.from_parent_vertex[s.submesh.to_parent_vertex[a]] = a;
+      s.submesh.to_parent_tet.clear();  // tet numbering of the remeshed complex differs; unused here
+    }
+    previous_vertex_pressure_ = std::move(pressure);
+  }
+  mesh_ = std::move(r.mesh);
+  return r.report;
 }
 
 CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& report) {
@@ -181,7 +212,7 @@ CoupledStepReport CoupledStepper::step(double h) {
   if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
   for (Solid& s : solids_) s.integrator->set_time_step(h);
   CoupledStepReport report;
-  move_solid_vertices();
+  report.mesh_update = update_mesh_to_solids();
   report.fluid = fluid_.predict(mesh_, boundary_, h);
   Blocks blocks = assemble(h, report);
   CoupledSystem& sys = blocks.system;
@@ -194,7 +225,8 @@ CoupledStepReport CoupledStepper::step(double h) {
     // Time splitting: solid with the previous pressure, then fluid with the new solid velocity.
     Eigen::VectorXd p_old = Eigen::VectorXd::Zero(m);
     for (int i = 0; i < static_cast<int>(blocks.unknown.size()); ++i)
-      if (blocks.unknown[i] >= 0 && i < previous_pressure_.size()) p_old[blocks.unknown[i]] = previous_pressure_[i];
+      if (blocks.unknown[i] >= 0)
+        p_old[blocks.unknown[i]] = previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]];
     CoupledSystem solid_only{sys.A, Eigen::SparseMatrix<double>(0, n), Eigen::SparseMatrix<double>(0, 0),
                              sys.b + sys.H.transpose() * p_old, Eigen::VectorXd(0)};
     Eigen::VectorXd unused;
@@ -215,7 +247,8 @@ CoupledStepReport CoupledStepper::step(double h) {
   Eigen::VectorXd pressure = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
   for (int i = 0; i < pressure.size(); ++i)
     if (blocks.unknown[i] >= 0) pressure[i] = p[blocks.unknown[i]];
-  previous_pressure_ = pressure;
+  for (int i = 0; i < pressure.size(); ++i)
+    previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]] = pressure[i];
   report.fluid = fluid_.apply_pressure(std::move(pressure), h, report.fluid);
   report.fluid.solve_seconds = report.solve.setup_seconds + report.solve.solve_seconds;
   report.fluid.iterations = report.solve.iterations;
