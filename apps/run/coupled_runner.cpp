@@ -163,13 +163,13 @@ class CoupledRunner : public Simulation {
     try {
       r = stepper_->step(dt);
     } catch (const mesh::MeshError& e) {
-      throw RunError(fmt::format("coupled step at t = {} s: {}", stepper_->time(), e.what()));
+      throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_, e.what()));
     } catch (const std::exception& e) {
       // Any other failed coupled step is a failed run (exit code 1), not an internal error: the
       // state diverged (e.g. the added-mass instability of time splitting, a fluid tet inverted by
       // a runaway solid). Nothing of it is written.
-      throw RunError(fmt::format("coupled step at t = {:.6g} s failed ({} coupling): {}", stepper_->time(),
-                                 scheme_, e.what()));
+      throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_,
+                                 e.what()));
     }
     if (r.mesh_update.remesh_rejected && rejected_remeshes_++ == 0)
       log_->warn("t = {} s: remeshing did not improve the moved fluid mesh (min dihedral {:.3g} deg), so the moved "

@@ -10,7 +10,7 @@
 // code 1, nothing of the failed step written). The one-degree-of-freedom version of the staggered
 // step (solid eq. 18 with θ = 1 and the spring k = 1000 N/m implicit, pressure one step late)
 // with m_a = 0.47 kg (0.63 ρ_f V) predicts growth factors 1.69 per step at h = 1/30 s and 2.38 at
-// 1/120 s; measured here 1.69 and 2.48. The simultaneous system has the added mass on its
+// 1/120 s; measured here 1.78 and 2.44 while |x| < 5 mm. The simultaneous system has the added mass on its
 // left-hand side and stays bounded.
 //
 // The paper's third verdict (splitting stable at 1/120 s) is NOT reproduced, and cannot be in this
@@ -46,11 +46,12 @@ struct BarRun {
   bool finite = true;           ///< every probe value finite
 };
 
-BarRun run_bar(const TempDir& dir, const std::string& scheme, double h, double density) {
+BarRun run_bar(const TempDir& dir, const std::string& scheme, double h, double density, double end_time = 1.0) {
   std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data/scenes/bar_compare_ci.json");
   nlohmann::json scene = nlohmann::json::parse(in);
   scene["coupling"]["scheme"] = scheme;
   scene["simulation"]["dt"] = h;
+  scene["simulation"]["end_time"] = end_time;
   scene["solids"][0]["material"]["density"] = density;
   scene["export"] = {{"vtu", false}, {"surfaces", "none"}};
   const std::string tag = scheme + "_" + std::to_string(static_cast<int>(std::lround(1 / h))) + "_" +
@@ -73,23 +74,29 @@ BarRun run_bar(const TempDir& dir, const std::string& scheme, double h, double d
 }
 
 /// Diverged the way the staggered added-mass recursion predicts: exit code 1 with the coupled
-/// runner's message, finite probes up to the failure, and over the last 6 recorded steps a
-/// displacement that alternates in sign and grows by > 1.2× per step (geometric mean).
+/// runner's message, finite probes up to the failure, and while the displacement is small
+/// (1e-4 m < |x| < 5e-3 m, below a third of a cell: the linear regime, before the mesh update
+/// and the nonlinear terms matter) it alternates in sign and grows by > 1.3× per step
+/// (geometric mean over at least 4 steps).
 void expect_added_mass_divergence(const BarRun& r, const std::string& what) {
   SCOPED_TRACE(what);
   EXPECT_EQ(r.status, 1) << r.log;
-  EXPECT_NE(r.log.find("failed (time_splitting coupling)"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("s (time_splitting coupling): "), std::string::npos) << r.log;
   EXPECT_TRUE(r.finite);
-  ASSERT_GE(r.x.size(), 8u);
-  const std::size_t n = r.x.size();
   double log_growth = 0;
-  for (std::size_t i = n - 6; i < n; ++i) {
+  int pairs = 0;
+  for (std::size_t i = 1; i < r.x.size(); ++i) {
+    const double a = std::abs(r.x[i - 1]), b = std::abs(r.x[i]);
+    if (a < 1e-4 || a > 5e-3 || b < 1e-4 || b > 5e-3) continue;
     EXPECT_LT(r.x[i] * r.x[i - 1], 0) << "step " << i << ": no sign change";
-    log_growth += std::log(std::abs(r.x[i] / r.x[i - 1]));
+    log_growth += std::log(b / a);
+    ++pairs;
   }
-  const double growth = std::exp(log_growth / 6);
-  std::printf("%s: diverged at t = %.4f s, growth per step %.2f\n", what.c_str(), r.time.back(), growth);
-  EXPECT_GT(growth, 1.2);
+  ASSERT_GE(pairs, 4);
+  const double growth = std::exp(log_growth / pairs);
+  std::printf("%s: diverged at t = %.4f s, growth per step %.2f over %d steps\n", what.c_str(), r.time.back(), growth,
+              pairs);
+  EXPECT_GT(growth, 1.3);
 }
 
 }  // namespace
@@ -119,7 +126,7 @@ TEST(BarCompare, VerdictsHoldForNeighbouringDensities) {
   // h = 1/30 s (the splitting threshold of this scene is near ρ_s ≈ 500 kg/m³ at small steps).
   TempDir dir("bar_compare_neighbours");
   for (double density : {200.0, 300.0}) {
-    const BarRun simultaneous = run_bar(dir, "simultaneous", 1.0 / 30, density);
+    const BarRun simultaneous = run_bar(dir, "simultaneous", 1.0 / 30, density, 0.5);
     EXPECT_EQ(simultaneous.status, 0) << simultaneous.log;
     EXPECT_LT(simultaneous.max_displacement, 0.1 * 0.0167) << "density " << density;
     expect_added_mass_divergence(run_bar(dir, "time_splitting", 1.0 / 30, density),
