@@ -81,7 +81,8 @@ Attempt run_once(const nlohmann::json& base, const fs::path& dir, const std::str
     run::run_scene(options);
   } catch (const std::exception& e) {
     const std::string what = e.what();
-    a.verdict = "diverged (" + what.substr(0, what.find(':')) + ")";
+    // "coupled step at t = ... s (scheme coupling): cause"; a scene error would show as well.
+    a.verdict = "failed: " + what.substr(0, 160);
     return a;
   }
   for (const char* phase : {"t_advect", "t_solid_assemble", "t_interface", "t_solve"})
