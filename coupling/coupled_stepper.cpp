@@ -162,11 +162,27 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   for (int i = 0; i < fm.num_nodes(); ++i) dofs.pressure_index[fm.node_to_mesh_vertex[i]] = blocks.unknown[i];
   for (const Solid& s : solids_)
     for (int a = 0; a < s.model->num_nodes(); ++a) dofs.solid_node[s.submesh.to_parent_vertex[a]] = s.dof_offset / 3 + a;
+  // With the mean constraint H is taken on the predicted mid-step interface xⁿ + (h/2) uⁿ
+  // (CoupledSettings::mean_constraint); the interface vertices are all solid vertices.
+  const bool mean = settings_.mean_constraint && settings_.scheme == CouplingScheme::kSimultaneous;
+  std::vector<Eigen::Vector3d> mid;
+  if (mean) {
+    mid = mesh_.vertices;
+    for (const Solid& s : solids_) {
+      const Eigen::VectorXd q = s.integrator->positions() + 0.5 * h * s.integrator->velocity();
+      for (int a = 0; a < s.model->num_nodes(); ++a) mid[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
+    }
+  }
   for (const fluid::BoundaryFace& f : fm.boundary_faces) {
     if (f.other_subdomain < mesh::solid_subdomain(0)) continue;
     InterfaceTriangle t;
     for (int k = 0; k < 3; ++k) t.vertices[k] = fm.node_to_mesh_vertex[f.nodes[k]];
     t.area_normal = f.area * f.normal;  // out of the fluid, into the solid
+    if (mean) {
+      const Eigen::Vector3d& a = mid[t.vertices[0]];
+      const Eigen::Vector3d an = 0.5 * (mid[t.vertices[1]] - a).cross(mid[t.vertices[2]] - a);
+      t.area_normal = an.dot(f.normal) >= 0 ? an : Eigen::Vector3d(-an);
+    }
     triangles.push_back(t);
   }
   report.interface_triangles = static_cast<int>(triangles.size());
@@ -193,6 +209,16 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   for (int i = 0; i < fm.num_nodes(); ++i)
     if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] = div_star[i];
   sys.r -= fixed_flux;
+  if (mean) {
+    // Gᵀ V v^{n+1} − H u^{n+1} = −(Gᵀ V vⁿ − H uⁿ), vⁿ the advected velocity before body forces:
+    // the defect of the start-of-step state on this mesh moves to the right-hand side.
+    const Eigen::VectorXd div_n = fluid::gradient_transpose_volume(fm, fluid_.advected_velocity()) - bc.flux;
+    Eigen::VectorXd u_n(n);
+    for (const Solid& s : solids_) u_n.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->velocity();
+    sys.r -= H_all * u_n;
+    for (int i = 0; i < fm.num_nodes(); ++i)
+      if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] += div_n[i];
+  }
 
   // A closed fluid region whose boundary cannot move (walls and fixed solids only) has the
   // constant pressure null space: pin one node as the fluid projection does.
@@ -266,6 +292,21 @@ CoupledStepReport CoupledStepper::step(double h) {
   report.step = ++step_;
   report.time = time_;
   return report;
+}
+
+double CoupledStepper::fluid_volume() const {
+  std::vector<Eigen::Vector3d> x = mesh_.vertices;
+  for (const Solid& s : solids_) {
+    const Eigen::VectorXd q = s.integrator->positions();
+    for (int a = 0; a < s.model->num_nodes(); ++a) x[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
+  }
+  double volume = 0;
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    if (!mesh_.subdomain.empty() && mesh_.subdomain[t] != mesh::kFluidSubdomain) continue;
+    const auto& v = mesh_.tets[t];
+    volume += mesh::signed_volume(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+  }
+  return volume;
 }
 
 }  // namespace tetfsi::coupling

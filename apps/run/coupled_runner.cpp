@@ -6,9 +6,12 @@
 /// `coupling` block chooses scheme, solver and mesh update.
 ///
 /// The shared mesh is one CGAL complex of the domain box with every solid inside; each solid's FEM
-/// mesh is its subdomain. Each step the fluid vertices follow the solids and the fluid is remeshed
-/// around them when needed (coupling/mesh_update.hpp); a motion too large for one step (a tet
-/// inverts even with the fluid following) stops the run with a clear error, exit code 1.
+/// mesh is its subdomain. A `sphere_shell` solid's cavity is fluid too (mesh::build_complex with
+/// cavities); with `fluid.fill: cavities` the mesh is the shell and its liquid alone, no box
+/// (mesh::mesh_filled_shell): the fluid is a closed region bounded only by the shell. Each step the
+/// fluid vertices follow the solids and the fluid is remeshed around them when needed
+/// (coupling/mesh_update.hpp); a motion too large for one step (a tet inverts even with the fluid
+/// following) stops the run with a clear error, exit code 1.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -56,18 +59,23 @@ class CoupledRunner : public Simulation {
     const auto& m = js.at("mesh");
     const mesh::MeshSizing sizing = mesh_sizing(m);
 
-    std::vector<mesh::SurfaceMesh> surfaces;
+    std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
       std::vector<std::string> warnings;
-      surfaces.push_back(surface_of(s, warnings));
+      cavities.emplace_back();  // stays empty unless a sphere_shell
+      surfaces.push_back(surface_of(s, warnings, &cavities.back()));
       for (const auto& w : warnings) log.warn("{}", w);
       materials.push_back(material_of(s.at("material")));
     }
     mesh::TetMesh complex;
+    const bool cavity_only = js.at("fluid").value("fill", "domain") == "cavities";
     try {
-      complex = mesh::build_complex(vec3(js["domain"]["lo"]), vec3(js["domain"]["hi"]), surfaces, sizing);
+      // fill "cavities": the shell and its liquid alone, no box (schema: exactly one shell).
+      complex = cavity_only ? mesh::mesh_filled_shell(surfaces[0], cavities[0], sizing)
+                            : mesh::build_complex(vec3(js["domain"]["lo"]), vec3(js["domain"]["hi"]), surfaces,
+                                                  sizing, cavities);
     } catch (const mesh::MeshError& e) {
       throw InputError(std::string("meshing failed: ") + e.what());
     }
@@ -97,6 +105,7 @@ class CoupledRunner : public Simulation {
     cs.newmark = c.at("newmark") == "trapezoidal" ? solid::NewmarkScheme::kTrapezoidal
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
+    cs.mean_constraint = c.at("constraint") == "step_mean";
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
     cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
@@ -121,7 +130,7 @@ class CoupledRunner : public Simulation {
       }
     }
     const double ambient = js.at("fluid").value("ambient_temperature", 293.15);
-    stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
+    if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
     emitters_ = timed_sources(js, log);
     log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {}, {}, mesh update {}",
              stepper_->num_solids(), stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
@@ -231,6 +240,7 @@ class CoupledRunner : public Simulation {
   std::vector<double> probe(const scene::Json& p) const override {
     const std::string kind = p.at("kind").get<std::string>();
     if (kind == "total_energy") return {last_.total_energy()};
+    if (kind == "fluid_volume") return {stepper_->fluid_volume()};
     const int i = solid_index(p.at("solid").get<std::string>());
     if (i < 0) return {};
     const auto& model = stepper_->solid_model(i);

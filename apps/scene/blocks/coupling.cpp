@@ -25,6 +25,12 @@ Field coupling() {
                          "gamma = 1, slightly dissipative) or the energy-conserving trapezoidal rule "
                          "(beta = 1/4, gamma = 1/2).")
           .def("chentanez"),
+      Field::enumeration("constraint", {"step_mean", "end_of_step"},
+                         "Incompressibility constraint of the simultaneous solve: `step_mean` on the "
+                         "step's mean fluid and solid velocities with the interface at mid-step (keeps "
+                         "closed cavities' volume to O(h^3) per step), `end_of_step` as printed in eq. (7) "
+                         "(O(h^2) per step; coupling/README.md).")
+          .def("step_mean"),
       Field::enumeration("mesh_update", {"remesh_when_needed", "remesh_every_step", "move"},
                          "How the fluid mesh follows the solids each step: the fluid vertices always "
                          "follow (harmonic extension of the solid motion); `remesh_when_needed` remeshes "

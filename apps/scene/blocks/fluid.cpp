@@ -67,7 +67,13 @@ Field fluid() {
             .at_least(0).def(0),
         advection(), apply_gravity(false), remesh_band(), solver()})
     .variant("liquid", {density(1000), viscosity(1e-3), advection(), apply_gravity(true), remesh_band(),
-                        solver()});
+                        solver(),
+                        Field::enumeration("fill", {"domain", "cavities"},
+                                           "`domain`: the liquid fills the domain box around the solids "
+                                           "and the cavities of `sphere_shell` solids; `cavities`: only the "
+                                           "cavity of the scene's one `sphere_shell` (a liquid-filled toy "
+                                           "with nothing outside; no domain box).")
+                            .def("domain")});
 }
 
 }  // namespace tetfsi::scene::blocks

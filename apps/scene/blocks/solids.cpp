@@ -7,9 +7,11 @@ namespace {
 
 Field geometry() {
   return Field::object("geometry", "The solid's rest shape, before `placement`.", {
-      Field::enumeration("type", {"mesh", "box", "sphere", "sheet"},
+      Field::enumeration("type", {"mesh", "box", "sphere", "sheet", "sphere_shell"},
                          "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `box`, "
-                         "`sphere`, `sheet`: primitives centred at the origin.").req(),
+                         "`sphere`, `sheet`: primitives centred at the origin; `sphere_shell`: a hollow "
+                         "sphere whose wall is the solid and whose cavity (radius - thickness) is filled "
+                         "with the scene's fluid (coupled scenes only; see `fluid.fill`).").req(),
   }).tagged_by("type")
     .variant("mesh", {
         Field::file("file", "Surface file, relative to the scene file's folder.").req(),
@@ -22,7 +24,20 @@ Field geometry() {
             .at_least(0).at_most(7).def(3)})
     .variant("sheet", {
         Field::vector("size", 2, "m", "Extent along x and z.").req().greater(0),
-        Field::number("thickness", "m", "Extent along y.").req().greater(0)});
+        Field::number("thickness", "m", "Extent along y.").req().greater(0)})
+    .variant("sphere_shell", {
+        Field::number("radius", "m", "Outer radius.").req().greater(0),
+        Field::number("thickness", "m", "Wall thickness (< radius); the cavity radius is radius - thickness.")
+            .req().greater(0),
+        Field::integer("subdivisions", "Icosphere subdivisions of both surfaces (20 * 4^n triangles).")
+            .at_least(0).at_most(7).def(3)})
+    .check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+      if (o.at("type") == "sphere_shell" && o.contains("radius") && o.contains("thickness") &&
+          !(o["thickness"].get<double>() < o["radius"].get<double>()))
+        issues.push_back({pointer_append(ptr, "thickness"),
+                          fmt::format("expected a wall thickness < radius ({} m), got {} m (no cavity left)",
+                                      o["radius"].get<double>(), o["thickness"].get<double>())});
+    });
 }
 
 Field material() {
