@@ -40,8 +40,9 @@ Field apply_gravity(bool def) {
 
 Field remesh_band() {
   return Field::number("remesh_band", "m",
-                       "With moving (kinematic) solids the fluid is remeshed every step; > 0: only fluid "
-                       "tets within this distance of a solid vertex; 0: the whole fluid.")
+                       "With moving (kinematic) solids the fluid moves with them every step and is remeshed "
+                       "when the moved mesh degrades (stats column remeshed); > 0: only fluid tets within "
+                       "this distance of the degraded tets; 0: the whole fluid.")
       .at_least(0).def(0);
 }
 
