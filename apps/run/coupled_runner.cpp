@@ -22,6 +22,7 @@
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_springs.hpp"
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
@@ -97,6 +98,7 @@ class CoupledRunner : public Simulation {
     cs.time_step = dt_;
     cs.scheme = c.at("scheme") == "time_splitting" ? coupling::CouplingScheme::kTimeSplitting
                                                     : coupling::CouplingScheme::kSimultaneous;
+    scheme_ = c.at("scheme").get<std::string>();
     cs.solver = coupling::parse_coupled_solver_kind(c.at("solver").get<std::string>());
     cs.solver_options.tolerance = c.at("tolerance").get<double>();
     cs.solver_options.max_iterations = c.at("max_iterations").get<int>();
@@ -118,6 +120,7 @@ class CoupledRunner : public Simulation {
       auto& integrator = stepper_->solid(i);
       for (const auto& box : solids[i].at("fixed_regions"))
         integrator.fix_nodes(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))));
+      add_scene_springs(integrator, solids[i], i, names_[i], log);
       integrator.set_uniform_velocity(vec3(solids[i].at("initial_velocity")));
       if (js.contains("obstacles")) {
         const auto& o = js["obstacles"];
@@ -169,7 +172,13 @@ class CoupledRunner : public Simulation {
     try {
       r = stepper_->step(dt);
     } catch (const mesh::MeshError& e) {
-      throw RunError(fmt::format("coupled step at t = {} s: {}", stepper_->time(), e.what()));
+      throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_, e.what()));
+    } catch (const std::exception& e) {
+      // Any other failed coupled step is a failed run (exit code 1), not an internal error: the
+      // state diverged (e.g. the added-mass instability of time splitting, a fluid tet inverted by
+      // a runaway solid). Nothing of it is written.
+      throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_,
+                                 e.what()));
     }
     if (r.mesh_update.remesh_rejected && rejected_remeshes_++ == 0)
       log_->warn("t = {} s: remeshing did not improve the moved fluid mesh (min dihedral {:.3g} deg), so the moved "
@@ -272,6 +281,7 @@ class CoupledRunner : public Simulation {
   double dt_ = 1.0 / 60.0, fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_near_ = 0;
   spdlog::logger* log_ = nullptr;
   int rejected_remeshes_ = 0;
+  std::string scheme_;
 };
 
 }  // namespace

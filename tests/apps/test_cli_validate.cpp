@@ -105,6 +105,15 @@ TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
        "missing required key: expected an object"},
       {"empty_scene", [](json& s) { s = {{"simulation", {{"end_time", 1}}}}; }, "/solids", "nothing to simulate"},
       {"not_an_array", [](json& s) { s["solids"] = {{"name", "x"}}; }, "/solids", "an array"},
+      {"spring_zero_stiffness",
+       [](json& s) { s["solids"][0]["springs"] = json::parse(R"([{"point": [0, 0, 0], "stiffness": 0}])"); },
+       "/solids/0/springs/0/stiffness", "expected a number > 0 [N/m], got 0"},
+      {"spring_region_and_point",
+       [](json& s) {
+         s["solids"][0]["springs"] = json::parse(
+             R"([{"region": {"lo": [-1, -1, -1], "hi": [1, 1, 1]}, "point": [0, 0, 0], "stiffness": 10}])");
+       },
+       "/solids/0/springs/0", "expected either `region` or `point`, got both"},
   };
   ASSERT_GE(cases.size(), 15u);
   expect_named_errors(base_scene(), cases);
@@ -131,6 +140,25 @@ TEST(CliValidate, BadShellScenesAreNamed) {
        "expected exactly one solid, a sphere_shell"},
   };
   expect_named_errors(toy, cases);
+}
+
+TEST(CliValidate, SpringRegionWithoutNodesNamesSolidAndSpring) {
+  // Valid as JSON, but the region misses the ball: found when the solid is meshed (solid runner),
+  // reported as an input error (exit 2) naming the solid, the spring and its key.
+  tetfsi::test::TempDir dir("validate");
+  json s = base_scene();
+  s.erase("fluid");
+  s.erase("domain");
+  s["simulation"]["end_time"] = 0.02;
+  s["solids"][0]["springs"] = json::parse(
+      R"([{"name": "holder", "region": {"lo": [0.5, 0.5, 0.5], "hi": [0.6, 0.6, 0.6]}, "stiffness": 100}])");
+  int status = -1;
+  const std::string out =
+      run_tetfsi("run " + write(dir.path(), "empty_spring", s.dump()) + " --out " + (dir.path() / "o").string(), &status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("/solids/0/springs/0/region: spring 'holder' of solid 'ball': the box holds no node"),
+            std::string::npos)
+      << out;
 }
 
 TEST(CliValidate, SyntaxErrorGivesLineAndColumn) {
