@@ -7,6 +7,7 @@
 #include "coupling/interface_maps.hpp"
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/amg_preconditioner.hpp"
+#include "mesh/quality.hpp"
 
 namespace tetfsi::coupling {
 namespace {
@@ -73,14 +74,44 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     options.preconditioner_name = "boomeramg";
   }
   solver_ = make_coupled_solver(settings_.solver, std::move(options));
-  previous_pressure_ = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
+  previous_vertex_pressure_.assign(mesh_.num_vertices(), 0.0);
+  min_dihedral_deg_ = mesh::quality_report(mesh_, mesh::kFluidSubdomain).min_dihedral_deg;
+  if (!(settings_.mesh_update.remesh.target_edge_length > 0))
+    settings_.mesh_update.remesh.target_edge_length = fluid_edge_length_near_solids(mesh_);
 }
 
-void CoupledStepper::move_solid_vertices() {
+MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
+  std::vector<Eigen::Vector3d> target = mesh_.vertices;
   for (const Solid& s : solids_) {
     const Eigen::VectorXd x = s.integrator->positions();
-    for (int a = 0; a < s.model->num_nodes(); ++a) mesh_.vertices[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
+    for (int a = 0; a < s.model->num_nodes(); ++a) target[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
   }
+  MeshUpdateResult r = update_mesh(mesh_, target, settings_.mesh_update, min_dihedral_deg_);
+  min_dihedral_deg_ = r.report.min_dihedral_deg;
+  if (r.report.remeshed) {
+    // Solid vertices are never removed by the remesher: renumber the solid-node maps and carry
+    // the previous pressure of kept vertices (the interface ones are all kept).
+    std::vector<int> new_index(mesh_.num_vertices(), -1);
+    std::vector<double> pressure(r.mesh.num_vertices(), 0.0);
+    for (int v = 0; v < r.mesh.num_vertices(); ++v)
+      if (r.old_index[v] >= 0) {
+        new_index[r.old_index[v]] = v;
+        pressure[v] = previous_vertex_pressure_[r.old_index[v]];
+      }
+    for (Solid& s : solids_) {
+      for (int& v : s.submesh.to_parent_vertex) {
+        v = new_index[v];
+        if (v < 0) throw std::logic_error("coupled step: the remesher dropped a solid vertex");
+      }
+      s.submesh.from_parent_vertex.assign(r.mesh.num_vertices(), -1);
+      for (int a = 0; a < static_cast<int>(s.submesh.to_parent_vertex.size()); ++a)
+        s.submesh.from_parent_vertex[s.submesh.to_parent_vertex[a]] = a;
+      s.submesh.to_parent_tet.clear();  // tet numbering of the remeshed complex differs; unused here
+    }
+    previous_vertex_pressure_ = std::move(pressure);
+  }
+  mesh_ = std::move(r.mesh);
+  return r.report;
 }
 
 CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& report) {
@@ -131,11 +162,27 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   for (int i = 0; i < fm.num_nodes(); ++i) dofs.pressure_index[fm.node_to_mesh_vertex[i]] = blocks.unknown[i];
   for (const Solid& s : solids_)
     for (int a = 0; a < s.model->num_nodes(); ++a) dofs.solid_node[s.submesh.to_parent_vertex[a]] = s.dof_offset / 3 + a;
+  // With the mean constraint H is taken on the predicted mid-step interface xⁿ + (h/2) uⁿ
+  // (CoupledSettings::mean_constraint); the interface vertices are all solid vertices.
+  const bool mean = settings_.mean_constraint && settings_.scheme == CouplingScheme::kSimultaneous;
+  std::vector<Eigen::Vector3d> mid;
+  if (mean) {
+    mid = mesh_.vertices;
+    for (const Solid& s : solids_) {
+      const Eigen::VectorXd q = s.integrator->positions() + 0.5 * h * s.integrator->velocity();
+      for (int a = 0; a < s.model->num_nodes(); ++a) mid[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
+    }
+  }
   for (const fluid::BoundaryFace& f : fm.boundary_faces) {
     if (f.other_subdomain < mesh::solid_subdomain(0)) continue;
     InterfaceTriangle t;
     for (int k = 0; k < 3; ++k) t.vertices[k] = fm.node_to_mesh_vertex[f.nodes[k]];
     t.area_normal = f.area * f.normal;  // out of the fluid, into the solid
+    if (mean) {
+      const Eigen::Vector3d& a = mid[t.vertices[0]];
+      const Eigen::Vector3d an = 0.5 * (mid[t.vertices[1]] - a).cross(mid[t.vertices[2]] - a);
+      t.area_normal = an.dot(f.normal) >= 0 ? an : Eigen::Vector3d(-an);
+    }
     triangles.push_back(t);
   }
   report.interface_triangles = static_cast<int>(triangles.size());
@@ -162,6 +209,16 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   for (int i = 0; i < fm.num_nodes(); ++i)
     if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] = div_star[i];
   sys.r -= fixed_flux;
+  if (mean) {
+    // Gᵀ V v^{n+1} − H u^{n+1} = −(Gᵀ V vⁿ − H uⁿ), vⁿ the advected velocity before body forces:
+    // the defect of the start-of-step state on this mesh moves to the right-hand side.
+    const Eigen::VectorXd div_n = fluid::gradient_transpose_volume(fm, fluid_.advected_velocity()) - bc.flux;
+    Eigen::VectorXd u_n(n);
+    for (const Solid& s : solids_) u_n.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->velocity();
+    sys.r -= H_all * u_n;
+    for (int i = 0; i < fm.num_nodes(); ++i)
+      if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] += div_n[i];
+  }
 
   // A closed fluid region whose boundary cannot move (walls and fixed solids only) has the
   // constant pressure null space: pin one node as the fluid projection does.
@@ -181,7 +238,7 @@ CoupledStepReport CoupledStepper::step(double h) {
   if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
   for (Solid& s : solids_) s.integrator->set_time_step(h);
   CoupledStepReport report;
-  move_solid_vertices();
+  report.mesh_update = update_mesh_to_solids();
   report.fluid = fluid_.predict(mesh_, boundary_, h);
   Blocks blocks = assemble(h, report);
   CoupledSystem& sys = blocks.system;
@@ -194,7 +251,8 @@ CoupledStepReport CoupledStepper::step(double h) {
     // Time splitting: solid with the previous pressure, then fluid with the new solid velocity.
     Eigen::VectorXd p_old = Eigen::VectorXd::Zero(m);
     for (int i = 0; i < static_cast<int>(blocks.unknown.size()); ++i)
-      if (blocks.unknown[i] >= 0 && i < previous_pressure_.size()) p_old[blocks.unknown[i]] = previous_pressure_[i];
+      if (blocks.unknown[i] >= 0)
+        p_old[blocks.unknown[i]] = previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]];
     CoupledSystem solid_only{sys.A, Eigen::SparseMatrix<double>(0, n), Eigen::SparseMatrix<double>(0, 0),
                              sys.b + sys.H.transpose() * p_old, Eigen::VectorXd(0)};
     Eigen::VectorXd unused;
@@ -215,7 +273,8 @@ CoupledStepReport CoupledStepper::step(double h) {
   Eigen::VectorXd pressure = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
   for (int i = 0; i < pressure.size(); ++i)
     if (blocks.unknown[i] >= 0) pressure[i] = p[blocks.unknown[i]];
-  previous_pressure_ = pressure;
+  for (int i = 0; i < pressure.size(); ++i)
+    previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]] = pressure[i];
   report.fluid = fluid_.apply_pressure(std::move(pressure), h, report.fluid);
   report.fluid.solve_seconds = report.solve.setup_seconds + report.solve.solve_seconds;
   report.fluid.iterations = report.solve.iterations;
@@ -233,6 +292,21 @@ CoupledStepReport CoupledStepper::step(double h) {
   report.step = ++step_;
   report.time = time_;
   return report;
+}
+
+double CoupledStepper::fluid_volume() const {
+  std::vector<Eigen::Vector3d> x = mesh_.vertices;
+  for (const Solid& s : solids_) {
+    const Eigen::VectorXd q = s.integrator->positions();
+    for (int a = 0; a < s.model->num_nodes(); ++a) x[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
+  }
+  double volume = 0;
+  for (int t = 0; t < mesh_.num_tets(); ++t) {
+    if (!mesh_.subdomain.empty() && mesh_.subdomain[t] != mesh::kFluidSubdomain) continue;
+    const auto& v = mesh_.tets[t];
+    volume += mesh::signed_volume(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+  }
+  return volume;
 }
 
 }  // namespace tetfsi::coupling

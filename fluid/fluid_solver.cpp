@@ -62,6 +62,7 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   AdvectionReport adv;
   fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection);
   mesh_ = std::move(new_mesh);
+  advected_velocity_ = fields_.velocity;
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;
 

@@ -70,6 +70,9 @@ class FluidSolver {
   const FluidMesh& mesh() const { return mesh_; }
   const FluidFields& fields() const { return fields_; }
   FluidFields& fields() { return fields_; }
+  /// The velocity carried onto the current mesh by the last predict(), before its body forces and
+  /// sources [m/s] (the coupled step's start-of-step fluid state, coupling/coupled_stepper.cpp).
+  const TetVectors& advected_velocity() const { return advected_velocity_; }
   const Eigen::VectorXd& pressure() const { return pressure_; }
   const ClassifiedBoundary& boundary() const { return boundary_; }
 
@@ -84,6 +87,7 @@ class FluidSolver {
   FluidParams params_;
   FluidMesh mesh_;
   FluidFields fields_;
+  TetVectors advected_velocity_;
   Eigen::VectorXd pressure_;
   ClassifiedBoundary boundary_;
   bool initialized_ = false;

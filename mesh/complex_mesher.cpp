@@ -219,17 +219,38 @@ double solid_feature_angle(const SurfaceMesh& s, const MeshSizing& sizing) {
   return is_piecewise_flat(s, 1.0, kFeatureAngleDeg) ? kFeatureAngleDeg : 0.0;
 }
 
+/// The cavity surface of a solid, validated (flipped outward if needed) and checked to lie
+/// strictly inside the solid's (already validated) outer surface.
+SurfaceMesh checked_cavity(const SurfaceMesh& cavity, const SurfaceMesh& outer, const std::string& solid) {
+  SurfaceMesh c = cavity;
+  validate_surface(c, solid + " cavity");
+  if (!surface_inside(c, outer))
+    throw MeshError(solid + " cavity: not strictly inside the solid's outer surface (the surfaces meet or the "
+                    "cavity lies outside)");
+  return c;
+}
+
 }  // namespace
 
 TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing) {
+  return build_complex(lo, hi, solids, sizing, {});
+}
+
+TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
+                      const std::vector<SurfaceMesh>& cavities) {
   if (!((hi - lo).array() > 0.0).all())
     throw MeshError("mesh box: hi must exceed lo on every axis");
+  if (!cavities.empty() && cavities.size() != solids.size())
+    throw MeshError("mesh: " + std::to_string(cavities.size()) + " cavity surfaces for " +
+                    std::to_string(solids.size()) + " solids (give one per solid, empty for none)");
   std::vector<SurfaceMesh> surfaces{make_box(hi - lo)};
   for (auto& v : surfaces[0].vertices) v += 0.5 * (lo + hi);
   std::vector<std::string> names{"fluid box"};
   std::vector<std::pair<int, int>> pairs{{kFluidSubdomain, 0}};
   std::vector<double> feature_angles{kFeatureAngleDeg};
+  std::vector<SurfaceMesh> outer;  // the solids' outer surfaces, for the overlap checks
   Triangles solid_triangles;
   for (std::size_t i = 0; i < solids.size(); ++i) {
     SurfaceMesh s = solids[i];
@@ -244,14 +265,22 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
       }
     }
     for (std::size_t j = 0; j < i; ++j) {
-      if (surfaces_intersect(surfaces[j + 1], s))
+      if (surfaces_intersect(outer[j], s))
         throw MeshError(name + " and " + solid_name(j) + " overlap (surfaces intersect or one contains the other)");
     }
+    outer.push_back(s);
     surfaces.push_back(s);
     names.push_back(name);
     pairs.emplace_back(solid_subdomain(static_cast<int>(i)), kFluidSubdomain);
     feature_angles.push_back(solid_feature_angle(s, sizing));
     append_triangles(s, solid_triangles);
+    if (!cavities.empty() && !cavities[i].triangles.empty()) {
+      surfaces.push_back(checked_cavity(cavities[i], s, name));
+      names.push_back(name + " cavity");
+      pairs.emplace_back(kFluidSubdomain, solid_subdomain(static_cast<int>(i)));
+      feature_angles.push_back(solid_feature_angle(surfaces.back(), sizing));
+      append_triangles(surfaces.back(), solid_triangles);
+    }
   }
   TetMesh mesh = run_mesh_3(surfaces, names, pairs, feature_angles, solid_triangles, sizing);
 
@@ -266,6 +295,27 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
     if (count[solid_subdomain(static_cast<int>(i))] == 0)
       throw MeshError(solid_name(i) + ": meshing produced no tets (solid smaller than the edge length?)");
   }
+  return mesh;
+}
+
+TetMesh mesh_filled_shell(const SurfaceMesh& outer, const SurfaceMesh& cavity, const MeshSizing& sizing) {
+  SurfaceMesh s = outer;
+  validate_surface(s, "shell");
+  const SurfaceMesh c = checked_cavity(cavity, s, "shell");
+  Triangles solid_triangles;
+  append_triangles(s, solid_triangles);
+  append_triangles(c, solid_triangles);
+  const int shell = solid_subdomain(0);
+  TetMesh mesh = run_mesh_3({s, c}, {"shell", "shell cavity"}, {{shell, 0}, {kFluidSubdomain, shell}},
+                            {solid_feature_angle(s, sizing), solid_feature_angle(c, sizing)}, solid_triangles, sizing);
+  int fluid = 0, solid = 0;
+  for (int label : mesh.subdomain) {
+    if (label != kFluidSubdomain && label != shell)
+      throw MeshError("shell: meshing produced an unexpected subdomain label " + std::to_string(label));
+    (label == shell ? solid : fluid) += 1;
+  }
+  if (solid == 0) throw MeshError("shell: meshing produced no solid tets (wall thinner than the edge length?)");
+  if (fluid == 0) throw MeshError("shell cavity: meshing produced no fluid tets (cavity smaller than the edge length?)");
   return mesh;
 }
 

@@ -46,6 +46,26 @@ struct MeshSizing {
 TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing);
 
+/// As above, with cavities: `cavities[i]` (a closed, outward-oriented surface strictly inside
+/// solids[i], or an empty surface for none) is cut out of solid i and filled with fluid, so the
+/// solid is a shell and its cavity is fluid (label kFluidSubdomain, the same label as the fluid
+/// outside: one fluid, two disconnected regions). The cavity surface is an interface like the
+/// outer one: every cavity triangle is shared by one fluid and one solid tet. Grading runs from
+/// both surfaces. `cavities` is empty or has one entry per solid.
+/// Patches: outer (solid i, fluid), cavity (fluid, solid i) as (inside, outside).
+/// @throws MeshError as above, or if a cavity is open, self-intersecting or not strictly inside
+TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
+                      const std::vector<SurfaceMesh>& cavities);
+
+/// A liquid-filled shell with nothing outside (the filled toy): the region between the closed
+/// outward surfaces `outer` and `cavity` (strictly inside outer) is solid_subdomain(0), the inside
+/// of `cavity` is fluid (kFluidSubdomain). No box: the outer surface is the mesh's boundary, the
+/// fluid's only boundary is the cavity interface (a closed region, Chentanez 2006 §3.4). Sizing as
+/// in build_complex, with grading from both surfaces.
+/// @throws MeshError on bad surfaces, a cavity not strictly inside, or a lost subdomain
+TetMesh mesh_filled_shell(const SurfaceMesh& outer, const SurfaceMesh& cavity, const MeshSizing& sizing);
+
 /// Meshes the inside of one closed, outward-oriented surface alone (solid-only scenes build no
 /// fluid mesh). All tets get `subdomain`. Uses sizing.edge_length everywhere (no grading); the
 /// facet distance defaults as in build_complex.

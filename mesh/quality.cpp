@@ -52,6 +52,13 @@ double radius_edge_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, con
   return lmin > 0.0 ? radius / lmin : std::numeric_limits<double>::infinity();
 }
 
+double relative_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                       const Eigen::Vector3d& d) {
+  const double lmax = std::sqrt(std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (d - a).squaredNorm(),
+                                          (c - b).squaredNorm(), (d - b).squaredNorm(), (d - c).squaredNorm()}));
+  return lmax > 0.0 ? 6.0 * signed_volume(a, b, c, d) / (lmax * lmax * lmax) : 0.0;
+}
+
 namespace {
 
 QualityReport report(const TetMesh& mesh, bool filter, int label) {
@@ -67,10 +74,8 @@ QualityReport report(const TetMesh& mesh, bool filter, int label) {
     const auto& v = mesh.tets[t];
     const auto &a = mesh.vertices[v[0]], &b = mesh.vertices[v[1]], &c = mesh.vertices[v[2]],
                &d = mesh.vertices[v[3]];
-    const double vol = signed_volume(a, b, c, d);
-    const double lmax = std::sqrt(std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (d - a).squaredNorm(),
-                                            (c - b).squaredNorm(), (d - b).squaredNorm(), (d - c).squaredNorm()}));
-    if (std::abs(vol) <= 1e-12 * lmax * lmax * lmax) {
+    const double vol = relative_volume(a, b, c, d);
+    if (std::abs(vol) <= 6e-12) {
       ++q.degenerate;
       continue;
     }

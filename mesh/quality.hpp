@@ -21,6 +21,17 @@ std::array<double, 6> dihedral_angles_deg(const Eigen::Vector3d& a, const Eigen:
 double radius_edge_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                          const Eigen::Vector3d& d);
 
+/// Relative volume 6 V / l_max^3 of tet (a, b, c, d) (l_max its longest edge): 1/sqrt(2) for the
+/// regular tet, <= 0 when inverted. |value| <= 6e-12 counts as degenerate (QualityReport).
+double relative_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                       const Eigen::Vector3d& d);
+
+/// True if the tet is inverted or degenerate in the sense of QualityReport.
+inline bool flat_or_inverted(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                             const Eigen::Vector3d& d) {
+  return relative_volume(a, b, c, d) <= 6e-12;
+}
+
 struct QualityReport {
   std::map<int, int> tets_per_subdomain;  ///< label -> number of tets (label 1 if mesh has no labels)
   int num_vertices = 0;

@@ -1,111 +1,119 @@
 /// @file remesher.cpp
-/// Mesh motion and the step driver of remesher.hpp (the CGAL call is in remesher_cgal.cpp).
+/// The step driver of remesher.hpp (mesh motion in mesh_motion.cpp (the CGAL call is in remesher_cgal.cpp).
 #include "mesh/remesher.hpp"
-
-#include <Eigen/Sparse>
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <set>
 #include <sstream>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/interface.hpp"
+#include "mesh/mesh_motion.hpp"
 #include "mesh/quality.hpp"
+#include "mesh/remesh_region.hpp"
+#include "mesh/sliver_perturbation.hpp"
 
 namespace tetfsi::mesh {
 
-std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
-                                                 const std::vector<Eigen::Vector3d>& solid_positions) {
-  const int n = mesh.num_vertices();
-  if (static_cast<int>(solid_positions.size()) != n)
-    throw MeshError("remesh: expected " + std::to_string(n) + " new positions, got " +
-                    std::to_string(solid_positions.size()));
-  // 0: free fluid vertex, 1: solid vertex (prescribed), 2: box boundary vertex (fixed).
-  std::vector<int> kind(n, 0);
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    if (mesh.subdomain[t] != kFluidSubdomain)
-      for (int v : mesh.tets[t]) kind[v] = 1;
-  // Box-boundary faces are the faces of a single tet; find them through the interface module's
-  // face adjacency convention (a face key seen once).
-  {
-    std::map<std::array<int, 3>, int> seen;
-    for (int t = 0; t < mesh.num_tets(); ++t)
-      for (const auto& f : kTetFaceVertices) {
-        std::array<int, 3> key{mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]};
-        std::sort(key.begin(), key.end());
-        ++seen[key];
-      }
-    for (const auto& [key, count] : seen)
-      if (count == 1)
-        for (int v : key)
-          if (kind[v] == 0) kind[v] = 2;
-  }
-  std::vector<int> unknown(n, -1);
-  int m = 0;
-  for (int v = 0; v < n; ++v)
-    if (kind[v] == 0) unknown[v] = m++;
-  std::vector<Eigen::Vector3d> d(n, Eigen::Vector3d::Zero());
-  for (int v = 0; v < n; ++v)
-    if (kind[v] == 1) d[v] = solid_positions[v] - mesh.vertices[v];
+namespace {
 
-  // Graph Laplacian over the fluid edges: deg(v) d_v - sum_w d_w = 0 for free v.
-  std::set<std::pair<int, int>> edges;
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const int a = mesh.tets[t][i], b = mesh.tets[t][j];
-        edges.emplace(std::min(a, b), std::max(a, b));
-      }
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
-  for (const auto& [a, b] : edges)
-    for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, a}}) {
-      if (unknown[p] < 0) continue;
-      triplets.emplace_back(unknown[p], unknown[p], 1.0);
-      if (unknown[q] >= 0)
-        triplets.emplace_back(unknown[p], unknown[q], -1.0);
-      else
-        rhs.row(unknown[p]) += d[q].transpose();
-    }
-  std::vector<Eigen::Vector3d> moved = mesh.vertices;
-  if (m > 0) {
-    Eigen::SparseMatrix<double> L(m, m);
-    L.setFromTriplets(triplets.begin(), triplets.end());
-    // Conjugate gradients (Jacobi preconditioner): the graph Laplacian with the solid and box
-    // vertices eliminated is symmetric positive definite. On a 104k-tet complex the whole motion
-    // step took 0.43 s with CG against 1.14 s with a sparse Cholesky (SimplicialLDLT). The
-    // tolerance is relative to |rhs|; the inversion check after the motion guards the result.
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-    solver.setTolerance(1e-10);
-    solver.setMaxIterations(10 * m);
-    solver.compute(L);
-    Eigen::MatrixXd x(m, 3);
-    for (int k = 0; k < 3; ++k) {
-      x.col(k) = solver.solve(rhs.col(k));
-      if (solver.info() != Eigen::Success) throw MeshError("remesh: mesh-motion solve did not converge");
-    }
-    for (int v = 0; v < n; ++v)
-      if (unknown[v] >= 0) d[v] = x.row(unknown[v]).transpose();
-  }
-  for (int v = 0; v < n; ++v) moved[v] += d[v];
-  return moved;
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+
+/// Fluid tets of the moved mesh that fail RemeshOptions::remesh_only_when_needed's check: fluid
+/// min dihedral below the threshold, flat or inverted, or volume changed by more than a factor.
+/// `angles` gets the min and max dihedral angle [deg] over the good fluid tets.
+std::vector<int> spoiled_fluid_tets(const TetMesh& before, const TetMesh& moved, const RemeshOptions& options,
+                                    std::array<double, 2>& angles) {
+  std::vector<int> out;
+  angles = {180.0, 0.0};
+  for (int t = 0; t < moved.num_tets(); ++t) {
+    if (moved.subdomain[t] != kFluidSubdomain) continue;
+    const auto& v = moved.tets[t];
+    const auto& x = moved.vertices;
+    const double ratio = signed_volume(moved, t) / signed_volume(before, t);
+    bool bad = flat_or_inverted(x[v[0]], x[v[1]], x[v[2]], x[v[3]]) ||
+               !(ratio <= options.max_volume_ratio && ratio * options.max_volume_ratio >= 1.0);
+    if (!bad) {
+      const auto a = dihedral_angles_deg(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+      const auto [lo, hi] = std::minmax_element(a.begin(), a.end());
+      bad = *lo < options.min_dihedral_deg;
+      angles = {std::min(angles[0], *lo), std::max(angles[1], *hi)};
+    }
+    if (bad) out.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace
 
 RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                          const RemeshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   TetMesh moved = mesh;
-  moved.vertices = extend_solid_motion(mesh, solid_positions);
-  const QualityReport after_motion = quality_report(moved);
-  if (after_motion.inverted + after_motion.degenerate > 0)
-    throw MeshError("remesh: the solid motion inverts " + std::to_string(after_motion.inverted) + " and flattens " +
-                    std::to_string(after_motion.degenerate) + " tets; take a smaller step");
+  moved.vertices = move_with_solids(mesh, solid_positions, options.motion);
+  // Tets the motion made flat or inverted (a tet already flat in the input, e.g. a sliver Mesh_3
+  // left inside a thin solid, is not the motion's fault and is left alone).
+  int spoiled = 0, spoiled_fluid = 0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    const auto& v = mesh.tets[t];
+    const auto bad = [&](const TetMesh& m) {
+      return flat_or_inverted(m.vertices[v[0]], m.vertices[v[1]], m.vertices[v[2]], m.vertices[v[3]]);
+    };
+    if (bad(moved) && !bad(mesh)) {
+      ++spoiled;
+      spoiled_fluid += mesh.subdomain[t] == kFluidSubdomain;
+    }
+  }
+  if (spoiled > 0)
+    throw MeshError("remesh: the solid motion inverts or flattens " + std::to_string(spoiled) + " tets (" +
+                    std::to_string(spoiled_fluid) + " fluid); take a smaller step");
+  const double motion_seconds = seconds_since(start);
   RemeshResult result;
-  for (int pass = 1; pass <= std::max(1, options.max_passes); ++pass) {
-    result = remesh_fluid(moved, options, options.iterations + pass - 1);
+  double build = 0, cgal = 0, copy = 0, sliver = 0, check = 0;
+  std::vector<char> seeds;
+  if (options.remesh_only_when_needed) {
+    const auto t = std::chrono::steady_clock::now();
+    std::array<double, 2> angles{};
+    const std::vector<int> spoiled = spoiled_fluid_tets(mesh, moved, options, angles);
+    if (options.adaptive_band && !spoiled.empty()) {
+      seeds.assign(moved.vertices.size(), 0);
+      for (int s : spoiled)
+        for (int v : moved.tets[s]) seeds[v] = 1;
+    }
+    check += seconds_since(t);
+    if (spoiled.empty()) {
+      result.mesh = std::move(moved);
+      result.old_index.resize(result.mesh.vertices.size());
+      for (std::size_t v = 0; v < result.old_index.size(); ++v) result.old_index[v] = static_cast<int>(v);
+      result.report.remeshed = false;
+      result.report.passes = 0;
+      result.report.min_dihedral_deg = angles[0];
+      result.report.max_dihedral_deg = angles[1];
+      result.report.quality_ok = true;
+    }
+  }
+  // Fallback chain when the quality check fails: each further pass has one more CGAL iteration and,
+  // with a band, twice the band of the pass before; from the third pass on, the whole fluid.
+  const int passes = std::max(1, options.max_passes);
+  for (int pass = 1; result.report.remeshed && pass <= passes; ++pass) {
+    RemeshOptions opt = options;
+    opt.band = pass >= 3 ? 0.0 : options.band * (1 << (pass - 1));
+    result = remesh_fluid(moved, opt, options.iterations + pass - 1, seeds);
+    build += result.report.build_seconds;
+    cgal += result.report.cgal_seconds;
+    copy += result.report.copy_seconds;
+    if (options.sliver_pass_below_deg > 0.0) {
+      const auto t = std::chrono::steady_clock::now();
+      const SliverPassReport s = perturb_slivers(result.mesh, options.sliver_pass_below_deg);
+      result.report.slivers_before = s.slivers_before;
+      result.report.slivers_after = s.slivers_after;
+      sliver += seconds_since(t);
+    }
+    const auto t = std::chrono::steady_clock::now();
     const QualityReport q = quality_report(result.mesh, kFluidSubdomain);
+    check += seconds_since(t);
     result.report.passes = pass;
     result.report.min_dihedral_deg = q.min_dihedral_deg;
     result.report.max_dihedral_deg = q.max_dihedral_deg;
@@ -115,7 +123,13 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   result.report.num_tets = result.mesh.num_tets();
   result.report.num_fluid_tets = 0;
   for (int label : result.mesh.subdomain) result.report.num_fluid_tets += (label == kFluidSubdomain);
-  result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.report.motion_seconds = motion_seconds;
+  result.report.build_seconds = build;
+  result.report.cgal_seconds = cgal;
+  result.report.copy_seconds = copy;
+  result.report.sliver_seconds = sliver;
+  result.report.check_seconds = check;
+  result.report.seconds = seconds_since(start);
   return result;
 }
 
@@ -123,7 +137,13 @@ std::string RemeshReport::summary() const {
   std::ostringstream s;
   s.precision(4);
   s << num_tets << " tets (" << num_fluid_tets << " fluid), fluid dihedral [" << min_dihedral_deg << ", "
-    << max_dihedral_deg << "] deg, " << passes << " pass(es), " << (quality_ok ? "ok" : "BELOW THRESHOLD") << ", "
+    << max_dihedral_deg << "] deg, ";
+  if (remeshed)
+    s << passes << " pass(es) on " << remeshed_fluid_tets << " fluid tets" << (local ? " (band)" : "")
+      << ", sliver pass " << slivers_before << " -> " << slivers_after << ", ";
+  else
+    s << "moved only (no remesh needed), ";
+  s << (quality_ok ? "ok" : "BELOW THRESHOLD") << ", "
     << seconds << " s";
   return s.str();
 }

@@ -3,15 +3,19 @@
 /// Per-step remeshing of the fluid around moving solids (issue 5, part 1).
 ///
 /// One step: (1) the solid vertices move to their new positions; (2) the fluid vertices follow by
-/// a harmonic extension of the solid displacement (graph-Laplacian average, box-boundary vertices
+/// a stiffened Laplacian of the solid displacement (mesh_motion.hpp; box-boundary vertices
 /// fixed), so that nearby fluid tets are carried along instead of inverted; (3) the fluid alone is
 /// remeshed with CGAL tetrahedral_isotropic_remeshing while the solid tets are hidden as
 /// subdomain 0 and restored after, so the interface triangles and the solid tets are kept
 /// identically (shared/references/dependencies.md, section 2); (4) the fluid's minimum dihedral
-/// angle is checked, and the remesh is repeated with more iterations if it is below the threshold.
+/// angle is checked, and the remesh is repeated with more iterations (and a larger band, then the
+/// whole fluid) if it is below the threshold. With a band only the band, a ring of tets around it
+/// and the solids are handed to CGAL, so the cost follows the band, not the box. Optionally
+/// (remesh_only_when_needed) step (3) is skipped while the moved mesh is still good.
 #include <string>
 #include <vector>
 
+#include "mesh/mesh_motion.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace tetfsi::mesh {
@@ -24,10 +28,28 @@ struct RemeshOptions {
   /// 0.1 deg slivers at the protected interface.
   double target_edge_length = 0.1;
   int iterations = 2;               ///< CGAL remeshing iterations of the first pass
-  int max_passes = 2;               ///< passes (each with one more iteration) before giving up
+  /// Passes before giving up: each further pass has one more iteration and, with a band, twice
+  /// the band; the third and later passes remesh the whole fluid.
+  int max_passes = 2;
   double min_dihedral_deg = 5.0;    ///< accept the fluid mesh when its min dihedral angle is above
   double band = 0.0;                ///< > 0: remesh only fluid tets within this distance [m] of a
                                     ///< solid vertex (others hidden like the solid); 0: all fluid
+  /// Move, remesh when needed: when true and the moved mesh is still good (no flat or inverted
+  /// tet, fluid min dihedral >= min_dihedral_deg, and no fluid tet's volume changed by more than a
+  /// factor max_volume_ratio), the moved mesh is returned as is (RemeshReport::remeshed false,
+  /// old_index the identity). False: remesh every step.
+  bool remesh_only_when_needed = false;
+  double max_volume_ratio = 2.0;    ///< see remesh_only_when_needed
+  /// With remesh_only_when_needed and band > 0: the band is measured from the vertices of the
+  /// fluid tets that failed the check (below min_dihedral_deg, or volume changed by more than
+  /// max_volume_ratio) instead of from every solid vertex, so only where the motion spoiled the
+  /// mesh is remeshed.
+  bool adaptive_band = false;
+  /// After each CGAL pass, free fluid vertices of tets with a dihedral angle below this [deg] are
+  /// moved to open them (sliver_perturbation.hpp); 0: no sliver pass.
+  double sliver_pass_below_deg = 10.0;
+  /// How the fluid vertices follow the solids before remeshing (stiffened Laplacian).
+  MeshMotionOptions motion;
 };
 
 struct RemeshReport {
@@ -38,6 +60,15 @@ struct RemeshReport {
   int passes = 0;                 ///< remeshing passes run (1 unless the quality check failed)
   bool quality_ok = false;        ///< min_dihedral_deg >= options.min_dihedral_deg
   double seconds = 0.0;           ///< wall time of the whole step
+  bool remeshed = true;           ///< false: the moved mesh was good enough (remesh_only_when_needed)
+  bool local = false;             ///< CGAL got only the band (+ a ring and the solids), not the mesh
+  int remeshed_fluid_tets = 0;    ///< fluid tets handed to CGAL for remeshing (last pass)
+  int region_tets = 0;            ///< tets in CGAL's triangulation (band, ring, solids; last pass)
+  int slivers_before = 0, slivers_after = 0;  ///< fluid tets below sliver_pass_below_deg around the pass (last pass)
+  /// Wall time [s] of the phases: mesh motion + its inversion check, building CGAL's triangulation
+  /// from the arrays, CGAL's remeshing, copying back, the sliver pass (all passes summed), checks.
+  double motion_seconds = 0.0, build_seconds = 0.0, cgal_seconds = 0.0, copy_seconds = 0.0, sliver_seconds = 0.0,
+         check_seconds = 0.0;
   std::string summary() const;
 };
 
@@ -49,18 +80,14 @@ struct RemeshResult {
   RemeshReport report;
 };
 
-/// Moves the fluid vertices with the solids: displacement of solid vertices = new - old, of
-/// box-boundary vertices 0, of every other fluid vertex the average of its neighbours' (discrete
-/// harmonic extension, solved with Eigen's conjugate gradients). Returns the moved vertex positions.
-/// @param solid_positions  new position of every vertex (read only for vertices of solid tets)
-std::vector<Eigen::Vector3d> extend_solid_motion(const TetMesh& mesh,
-                                                 const std::vector<Eigen::Vector3d>& solid_positions);
-
 /// Remeshes the fluid tets (label kFluidSubdomain) of `mesh` (CGAL; solid tets and the interface
 /// kept). @pre every tet positively oriented, the mesh fills a convex box
-RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations);
+/// `seeds` (per vertex, optional): the band is measured from these vertices instead of the solid
+/// vertices (RemeshOptions::adaptive_band).
+RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
+                          const std::vector<char>& seeds = {});
 
-/// One full step: move (extend_solid_motion), check that no tet inverted, remesh the fluid with
+/// One full step: move (move_with_solids, mesh_motion.hpp), check that no tet inverted, remesh the fluid with
 /// the quality check and extra passes.
 /// @throws MeshError if the motion inverts tets (step too large for the mesh)
 RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,

@@ -5,17 +5,22 @@
 /// between different subdomains, but still edits unselected cells that are in the complex. So the
 /// solid tets (and, with a band, the fluid tets outside it) are relabelled 0 ("outside") during
 /// the call and given back their labels afterwards, found again by their four vertices
-/// (shared/references/dependencies.md, section 2).
+/// (shared/references/dependencies.md, section 2). With a band, only the region of
+/// remesh_region.hpp (band, a ring of hidden tets, the solids) is built into the triangulation; the
+/// other fluid tets are copied over unchanged.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_3/tet_soup_to_c3t3.h>
 #include <CGAL/Tetrahedral_remeshing/Remeshing_triangulation_3.h>
 #include <CGAL/tetrahedral_remeshing.h>
 
 #include <algorithm>
+#include <chrono>
 #include <map>
+#include <unordered_map>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/remesher.hpp"
+#include "mesh/remesh_region.hpp"
 
 namespace tetfsi::mesh {
 namespace {
@@ -32,76 +37,84 @@ Key sorted(std::array<int, 4> k) {
 
 }  // namespace
 
-RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations) {
+RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
+                          const std::vector<char>& seeds) {
   if (!(options.target_edge_length > 0.0)) throw MeshError("remesh: target_edge_length must be > 0");
+  const auto t_start = std::chrono::steady_clock::now();
   const int n = mesh.num_vertices();
 
-  // Which fluid tets are remeshed: all, or those with a vertex within `band` of a solid vertex.
-  std::vector<char> selected(mesh.tets.size(), 1);
-  if (options.band > 0.0) {
-    std::vector<Eigen::Vector3d> solid_points;
-    std::vector<char> is_solid(n, 0);
-    for (int t = 0; t < mesh.num_tets(); ++t)
-      if (mesh.subdomain[t] != kFluidSubdomain)
-        for (int v : mesh.tets[t]) is_solid[v] = 1;
-    for (int v = 0; v < n; ++v)
-      if (is_solid[v]) solid_points.push_back(mesh.vertices[v]);
-    // Distance by brute force over solid vertices, only for vertices in the solids' bounding box
-    // grown by the band (the others are farther than the band anyway).
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-    for (const auto& p : solid_points) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    lo.array() -= options.band;
-    hi.array() += options.band;
-    std::vector<char> near(n, 0);
-    const double b2 = options.band * options.band;
-    for (int v = 0; v < n; ++v) {
-      const auto& x = mesh.vertices[v];
-      if (!((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())) continue;
-      for (const auto& p : solid_points)
-        if ((x - p).squaredNorm() <= b2) {
-          near[v] = 1;
-          break;
-        }
-    }
-    for (int t = 0; t < mesh.num_tets(); ++t) {
-      const auto& tet = mesh.tets[t];
-      selected[t] = near[tet[0]] || near[tet[1]] || near[tet[2]] || near[tet[3]];
-    }
-  }
-
-  // Hide the solid and the unselected fluid as subdomain 0; remember them by vertex 4-tuples.
-  std::vector<Tr::Point> points;
-  points.reserve(n);
-  for (const auto& x : mesh.vertices) points.emplace_back(x.x(), x.y(), x.z());
-  std::vector<std::array<int, 5>> cells;
-  cells.reserve(mesh.tets.size());
-  std::map<Key, int> hidden;  // sorted vertices -> label to restore
-  for (int t = 0; t < mesh.num_tets(); ++t) {
-    const auto& v = mesh.tets[t];
-    int label = mesh.subdomain[t];
-    if (label != kFluidSubdomain || !selected[t]) {
-      hidden.emplace(sorted(v), label);
-      label = 0;
-    }
-    cells.push_back({v[0], v[1], v[2], v[3], label});
-  }
+  // Which fluid tets are remeshed (band_tets) and which tets CGAL gets (band_region; the whole
+  // mesh without a band, or if the region does not make a valid triangulation).
+  const std::vector<char> selected = band_tets(mesh, options.band, seeds);
+  std::vector<char> in_region;
+  if (options.band > 0.0) in_region = band_region(mesh, selected);
+  bool local = !in_region.empty();
+  if (!local) in_region.assign(mesh.tets.size(), 1);
+  RemeshResult result;
   Tr tr;
-  std::vector<Vh> handles;
-  if (!CGAL::build_triangulation<Tr, false>(tr, points, cells, {}, handles))
+  std::vector<int> to_global;  // CGAL input vertex -> mesh vertex
+  std::map<Key, int> hidden;   // sorted mesh vertices -> label to restore
+  const auto build = [&] {
+    std::vector<int> to_local(n, -1);
+    to_global.clear();
+    hidden.clear();
+    std::vector<Tr::Point> points;
+    std::vector<std::array<int, 5>> cells;
+    for (int t = 0; t < mesh.num_tets(); ++t) {
+      if (!in_region[t]) continue;
+      const auto& v = mesh.tets[t];
+      std::array<int, 5> cell{};
+      for (int k = 0; k < 4; ++k) {
+        if (to_local[v[k]] < 0) {
+          to_local[v[k]] = static_cast<int>(to_global.size());
+          to_global.push_back(v[k]);
+          const auto& x = mesh.vertices[v[k]];
+          points.emplace_back(x.x(), x.y(), x.z());
+        }
+        cell[k] = to_local[v[k]];
+      }
+      int label = mesh.subdomain[t];
+      if (!selected[t]) {
+        hidden.emplace(sorted(v), label);
+        label = 0;
+      }
+      cell[4] = label;
+      cells.push_back(cell);
+    }
+    std::vector<Vh> handles;
+    tr.tds().clear();
+    if (!CGAL::build_triangulation<Tr, false>(tr, points, cells, {}, handles, false)) return std::vector<Vh>{};
+    return handles;
+  };
+  std::vector<Vh> handles = build();
+  if (handles.empty() && local) {
+    std::fill(in_region.begin(), in_region.end(), 1);
+    local = false;
+    handles = build();
+  }
+  if (handles.empty())
     throw MeshError("remesh: the tet mesh is not a valid triangulation (not conforming, or not convex)");
-  std::map<Vh, int> old_index;
-  for (int v = 0; v < n; ++v) old_index.emplace(handles[v + 1], v);
+  result.report.local = local;
+  result.report.region_tets = static_cast<int>(std::count(in_region.begin(), in_region.end(), 1));
+  std::unordered_map<Vh, int> old_index;
+  for (std::size_t v = 0; v < to_global.size(); ++v) old_index.emplace(handles[v + 1], to_global[v]);
+  const auto t_built = std::chrono::steady_clock::now();
 
   CGAL::tetrahedral_isotropic_remeshing(
       tr, options.target_edge_length,
       CGAL::parameters::remesh_boundaries(false).number_of_iterations(static_cast<std::size_t>(iterations)));
+  const auto t_remeshed = std::chrono::steady_clock::now();
 
-  // Back to plain arrays: vertices in the order of first use by a cell; hidden tets restored.
-  RemeshResult result;
-  std::map<Vh, int> index;
+  // Back to plain arrays: vertices in the order of first use by a cell (CGAL's cells first, then
+  // the tets left out of CGAL); hidden tets restored.
+  std::unordered_map<Vh, int> index;
+  std::vector<int> new_of_old(n, -1);
+  const auto add_vertex = [&](const Eigen::Vector3d& x, int old) {
+    result.mesh.vertices.push_back(x);
+    result.old_index.push_back(old);
+    if (old >= 0) new_of_old[old] = result.mesh.num_vertices() - 1;
+    return result.mesh.num_vertices() - 1;
+  };
   std::size_t restored = 0;
   for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c) {
     std::array<int, 4> tet{};
@@ -111,11 +124,9 @@ RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int
       const Vh vh = c->vertex(k);
       auto it = index.find(vh);
       if (it == index.end()) {
-        it = index.emplace(vh, result.mesh.num_vertices()).first;
         const auto& p = tr.point(vh);
-        result.mesh.vertices.emplace_back(p.x(), p.y(), p.z());
         const auto o = old_index.find(vh);
-        result.old_index.push_back(o == old_index.end() ? -1 : o->second);
+        it = index.emplace(vh, add_vertex({p.x(), p.y(), p.z()}, o == old_index.end() ? -1 : o->second)).first;
       }
       tet[k] = it->second;
       old[k] = result.old_index[it->second];
@@ -135,6 +146,19 @@ RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int
   }
   if (restored != hidden.size())
     throw MeshError("remesh: " + std::to_string(hidden.size() - restored) + " hidden tets were lost by CGAL");
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (in_region[t]) continue;
+    std::array<int, 4> tet = mesh.tets[t];
+    for (int& v : tet) v = new_of_old[v] >= 0 ? new_of_old[v] : add_vertex(mesh.vertices[v], v);
+    result.mesh.tets.push_back(tet);
+    result.mesh.subdomain.push_back(mesh.subdomain[t]);
+  }
+  const auto t_done = std::chrono::steady_clock::now();
+  result.report.build_seconds = std::chrono::duration<double>(t_built - t_start).count();
+  result.report.cgal_seconds = std::chrono::duration<double>(t_remeshed - t_built).count();
+  result.report.copy_seconds = std::chrono::duration<double>(t_done - t_remeshed).count();
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    result.report.remeshed_fluid_tets += mesh.subdomain[t] == kFluidSubdomain && selected[t];
   return result;
 }
 

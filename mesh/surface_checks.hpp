@@ -45,6 +45,12 @@ SelfIntersections find_self_intersections(const SurfaceMesh& s);
 /// @pre both pass check_topology
 bool surfaces_intersect(const SurfaceMesh& a, const SurfaceMesh& b);
 
+/// True if the closed surface `inner` lies strictly inside the closed surface `outer`: no
+/// triangles of the two meet (CGAL Polygon_mesh_processing::do_intersect) and a vertex of inner is
+/// on outer's bounded side (CGAL::Side_of_triangle_mesh). Used for the cavity of a shell.
+/// @pre both pass check_topology, inner has vertices
+bool surface_inside(const SurfaceMesh& inner, const SurfaceMesh& outer);
+
 /// Full check of a solid surface: check_topology, then orientation (if the enclosed volume is
 /// negative the whole surface is flipped in place and a warning is returned), then
 /// self-intersections. @return warnings (empty if none)

@@ -5,6 +5,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
@@ -61,6 +62,16 @@ bool surfaces_intersect(const SurfaceMesh& a, const SurfaceMesh& b) {
   return CGAL::Polygon_mesh_processing::do_intersect(
       ma, mb, CGAL::parameters::do_overlap_test_of_bounded_sides(true),
       CGAL::parameters::do_overlap_test_of_bounded_sides(true));
+}
+
+bool surface_inside(const SurfaceMesh& inner, const SurfaceMesh& outer) {
+  const CgalMesh mi = to_cgal(inner);
+  const CgalMesh mo = to_cgal(outer);
+  if (CGAL::Polygon_mesh_processing::do_intersect(mi, mo)) return false;  // triangles meet
+  // No triangle meets: inner lies wholly on one side of outer, so one vertex decides.
+  const CGAL::Side_of_triangle_mesh<CgalMesh, K> side(mo);
+  const Eigen::Vector3d& p = inner.vertices.front();
+  return side(K::Point_3(p.x(), p.y(), p.z())) == CGAL::ON_BOUNDED_SIDE;
 }
 
 }  // namespace tetfsi::mesh

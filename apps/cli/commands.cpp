@@ -52,7 +52,7 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   app.set_version_flag("--version", std::string("tetfsi ") + TETFSI_VERSION);
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 2 invalid scene or input, 1 the run failed.\n"
-             "Example: tetfsi run data/scenes/flagship.json --out out");
+             "Example: tetfsi run data/scenes/smoke_sheets.json --out out");
 
   run::RunOptions opt;
   double end_time = 0;

@@ -1,15 +1,17 @@
 /// @file coupled_runner.cpp
 /// Fluid (smoke or liquid) and deformable tet solids advanced together: one linear system for the
 /// fluid pressure and the solid velocities per step (Chentanez et al. 2006, eq. 7), or the
-/// time-splitting baseline (coupling/coupled_stepper.hpp). Runs scenes that give a `coupling`
-/// block, whose fluid is not `none` and whose solids are all deformable tet solids (motion `none`,
-/// model `tet_fem`). The explicit block is required while the coupled step cannot remesh (large
-/// motions would invert fluid tets), so that other fluid-and-solid scenes are not run by it.
+/// time-splitting baseline (coupling/coupled_stepper.hpp). Runs scenes whose fluid is not `none`
+/// and whose solids are all deformable tet solids (motion `none`, model `tet_fem`); the optional
+/// `coupling` block chooses scheme, solver and mesh update.
 ///
 /// The shared mesh is one CGAL complex of the domain box with every solid inside; each solid's FEM
-/// mesh is its subdomain. The coupled step does not remesh yet: solid vertices move, the fluid's
-/// other vertices stay, so scenes must keep solid motion well below a cell size per run (a fluid
-/// tet that inverts stops the run with a clear error, exit code 1).
+/// mesh is its subdomain. A `sphere_shell` solid's cavity is fluid too (mesh::build_complex with
+/// cavities); with `fluid.fill: cavities` the mesh is the shell and its liquid alone, no box
+/// (mesh::mesh_filled_shell): the fluid is a closed region bounded only by the shell. Each step the
+/// fluid vertices follow the solids and the fluid is remeshed around them when needed
+/// (coupling/mesh_update.hpp); a motion too large for one step (a tet inverts even with the fluid
+/// following) stops the run with a clear error, exit code 1.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -20,6 +22,7 @@
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_springs.hpp"
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
@@ -56,37 +59,56 @@ class CoupledRunner : public Simulation {
     const auto& m = js.at("mesh");
     const mesh::MeshSizing sizing = mesh_sizing(m);
 
-    std::vector<mesh::SurfaceMesh> surfaces;
+    std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
       std::vector<std::string> warnings;
-      surfaces.push_back(surface_of(s, warnings));
+      cavities.emplace_back();  // stays empty unless a sphere_shell
+      surfaces.push_back(surface_of(s, warnings, &cavities.back()));
       for (const auto& w : warnings) log.warn("{}", w);
       materials.push_back(material_of(s.at("material")));
     }
     mesh::TetMesh complex;
+    const bool cavity_only = js.at("fluid").value("fill", "domain") == "cavities";
     try {
-      complex = mesh::build_complex(vec3(js["domain"]["lo"]), vec3(js["domain"]["hi"]), surfaces, sizing);
+      // fill "cavities": the shell and its liquid alone, no box (schema: exactly one shell).
+      complex = cavity_only ? mesh::mesh_filled_shell(surfaces[0], cavities[0], sizing)
+                            : mesh::build_complex(vec3(js["domain"]["lo"]), vec3(js["domain"]["hi"]), surfaces,
+                                                  sizing, cavities);
     } catch (const mesh::MeshError& e) {
       throw InputError(std::string("meshing failed: ") + e.what());
     }
-    log.info("mesh quality: {}", mesh::quality_report(complex).summary());
+    const mesh::QualityReport quality = mesh::quality_report(complex);
+    log.info("mesh quality: {}", quality.summary());
+    if (quality.degenerate + quality.inverted > 0)
+      throw InputError(fmt::format("the mesh has {} flat and {} inverted tets; with thin solids (sheets) kept sharp "
+                                   "this happens: set mesh.feature_angle_deg to 0 (round the edges) or make "
+                                   "mesh.edge_length_near_solids smaller than the thickness",
+                                   quality.degenerate, quality.inverted));
 
     const auto& c = js.at("coupling");
     coupling::CoupledSettings cs;
-    dt_ = js.at("simulation").contains("dt") ? js["simulation"]["dt"].get<double>() : 1.0 / 60.0;
-    if (!js.at("simulation").contains("dt"))
-      log.warn("simulation.dt not given: the coupled runner uses a fixed step of 1/60 s (no CFL control yet)");
+    const auto& sim = js.at("simulation");
+    fixed_dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
+    cfl_ = sim.at("cfl").get<double>();
+    frame_dt_ = 1.0 / sim.at("frame_rate").get<double>();
+    h_near_ = coupling::fluid_edge_length_near_solids(complex);
+    dt_ = fixed_dt_ > 0 ? fixed_dt_ : frame_dt_;
     cs.time_step = dt_;
     cs.scheme = c.at("scheme") == "time_splitting" ? coupling::CouplingScheme::kTimeSplitting
                                                     : coupling::CouplingScheme::kSimultaneous;
+    scheme_ = c.at("scheme").get<std::string>();
     cs.solver = coupling::parse_coupled_solver_kind(c.at("solver").get<std::string>());
     cs.solver_options.tolerance = c.at("tolerance").get<double>();
     cs.solver_options.max_iterations = c.at("max_iterations").get<int>();
     cs.newmark = c.at("newmark") == "trapezoidal" ? solid::NewmarkScheme::kTrapezoidal
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
+    cs.mean_constraint = c.at("constraint") == "step_mean";
+    cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
+    cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
+    cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
     try {
       stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs);
     } catch (const std::exception& e) {
@@ -98,6 +120,7 @@ class CoupledRunner : public Simulation {
       auto& integrator = stepper_->solid(i);
       for (const auto& box : solids[i].at("fixed_regions"))
         integrator.fix_nodes(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))));
+      add_scene_springs(integrator, solids[i], i, names_[i], log);
       integrator.set_uniform_velocity(vec3(solids[i].at("initial_velocity")));
       if (js.contains("obstacles")) {
         const auto& o = js["obstacles"];
@@ -107,32 +130,70 @@ class CoupledRunner : public Simulation {
       }
     }
     const double ambient = js.at("fluid").value("ambient_temperature", 293.15);
-    stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
+    if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
     emitters_ = timed_sources(js, log);
-    log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {}, dt = {} s", stepper_->num_solids(),
-             stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
-             c.at("solver").get<std::string>(), dt_);
+    log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {}, {}, mesh update {}",
+             stepper_->num_solids(), stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
+             c.at("solver").get<std::string>(),
+             fixed_dt_ > 0 ? fmt::format("dt = {} s", fixed_dt_)
+                           : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", cfl_, h_near_, frame_dt_),
+             c.at("mesh_update").get<std::string>());
+    log_ = &log;
   }
 
-  std::vector<std::string> phases() const override { return {"advect", "solid_assemble", "interface", "solve"}; }
+  std::vector<std::string> phases() const override {
+    return {"remesh", "advect", "solid_assemble", "interface", "solve"};
+  }
   std::vector<std::string> columns() const override {
-    return {"fluid_tets",    "pressure_unknowns", "solid_dofs",   "solver_iterations", "solver_residual",
+    return {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
+            "solver_iterations", "solver_residual",
             "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
   }
-  double max_dt() const override { return dt_; }
+  /// The scene's `dt`, or the CFL step cfl h / u_max with h the fluid edge length next to the
+  /// solids and u_max the largest fluid or solid speed (so neither the fluid's back-trace nor the
+  /// solid's surface moves more than cfl cells per step), capped at one frame.
+  double max_dt() const override {
+    if (fixed_dt_ > 0) return fixed_dt_;
+    double umax = 0;
+    for (const auto& u : stepper_->fluid().fields().velocity) umax = std::max(umax, u.norm());
+    for (int i = 0; i < stepper_->num_solids(); ++i) {
+      const Eigen::VectorXd& v = stepper_->solid(i).velocity();
+      for (int a = 0; a < v.size() / 3; ++a) umax = std::max(umax, v.segment<3>(3 * a).norm());
+    }
+    return umax > 0 ? std::min(frame_dt_, cfl_ * h_near_ / umax) : frame_dt_;
+  }
 
   StepReport step(double dt) override {
     auto& sources = stepper_->fluid_boundary().sources;
     sources.clear();
     for (const auto& e : emitters_)
       if (e.active(stepper_->time())) sources.push_back(e.source);
-    const coupling::CoupledStepReport r = stepper_->step(dt);
+    coupling::CoupledStepReport r;
+    try {
+      r = stepper_->step(dt);
+    } catch (const mesh::MeshError& e) {
+      throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_, e.what()));
+    } catch (const std::exception& e) {
+      // Any other failed coupled step is a failed run (exit code 1), not an internal error: the
+      // state diverged (e.g. the added-mass instability of time splitting, a fluid tet inverted by
+      // a runaway solid). Nothing of it is written.
+      throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_,
+                                 e.what()));
+    }
+    if (r.mesh_update.remesh_rejected && rejected_remeshes_++ == 0)
+      log_->warn("t = {} s: remeshing did not improve the moved fluid mesh (min dihedral {:.3g} deg), so the moved "
+                 "mesh was kept (later cases: `remeshed` = 0 in stats.csv with a low min_dihedral)",
+                 r.time, r.mesh_update.min_dihedral_deg);
+    if (r.mesh_update.remeshed)
+      log_->debug("t = {} s: fluid remeshed, {} tets, min dihedral {:.3g} deg, {:.3g} s", r.time, r.fluid.num_tets,
+                  r.mesh_update.min_dihedral_deg, r.mesh_update.seconds);
     last_ = r;
     StepReport out;
     out.dt = dt;
-    out.phase_seconds = {r.fluid.advect_seconds + r.fluid.forces_seconds, r.solid_assemble_seconds,
-                         r.interface_seconds, r.solve.setup_seconds + r.solve.solve_seconds};
-    out.values = {double(r.fluid.num_tets), double(r.pressure_unknowns), double(r.solid_dofs),
+    out.phase_seconds = {r.mesh_update.seconds, r.fluid.advect_seconds + r.fluid.forces_seconds,
+                         r.solid_assemble_seconds, r.interface_seconds, r.solve.setup_seconds + r.solve.solve_seconds};
+    out.values = {double(r.fluid.num_tets), double(r.mesh_update.remeshed), r.mesh_update.min_dihedral_deg,
+                  double(r.pressure_unknowns), double(r.solid_dofs),
                   double(r.solve.iterations), r.solve.residual.max(), r.fluid_kinetic, r.solid_kinetic,
                   r.solid_strain, r.solid_gravity_potential, r.total_energy()};
     return out;
@@ -179,6 +240,7 @@ class CoupledRunner : public Simulation {
   std::vector<double> probe(const scene::Json& p) const override {
     const std::string kind = p.at("kind").get<std::string>();
     if (kind == "total_energy") return {last_.total_energy()};
+    if (kind == "fluid_volume") return {stepper_->fluid_volume()};
     const int i = solid_index(p.at("solid").get<std::string>());
     if (i < 0) return {};
     const auto& model = stepper_->solid_model(i);
@@ -216,7 +278,10 @@ class CoupledRunner : public Simulation {
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;
-  double dt_ = 1.0 / 60.0;
+  double dt_ = 1.0 / 60.0, fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_near_ = 0;
+  spdlog::logger* log_ = nullptr;
+  int rejected_remeshes_ = 0;
+  std::string scheme_;
 };
 
 }  // namespace
@@ -225,7 +290,6 @@ RunnerEntry coupled_runner() {
   return {"coupled", "fluid and deformable tet solids in one linear system per step (Chentanez et al. 2006, eq. 7)",
           [](const scene::Scene& scene) {
             const auto& s = scene.json;
-            if (!scene.input.contains("coupling")) return false;
             if (s.at("fluid").at("type") == "none" || s.at("solids").empty()) return false;
             for (const auto& solid : s.at("solids"))
               if (!is_deformable_tet(solid)) return false;

@@ -6,9 +6,10 @@
 /// Set-up: one CGAL complex of the box and every solid (mesh::build_complex, sizes from /mesh).
 /// A solid whose motion is a zero translation or zero rotation is static: the mesh is kept for the
 /// whole run. Otherwise, every step: the solid vertices move to x(t) = motion(rest position, t),
-/// mesh::remesh_step carries the fluid vertices along and remeshes the fluid (band
-/// /fluid/remesh_band) with the solids frozen, and the FluidSolver steps onto the new mesh with
-/// u.n = v_solid.n on the interface (v = the motion's velocity at each solid vertex).
+/// mesh::remesh_step carries the fluid vertices along and, when the moved mesh has degraded,
+/// remeshes the fluid within /fluid/remesh_band of the degraded tets with the solids frozen, and the
+/// FluidSolver steps onto the new mesh with u.n = v_solid.n on the interface (v = the motion's
+/// velocity at each solid vertex).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -100,8 +101,14 @@ class FluidRunner : public Simulation {
              f.at("type").get<std::string>(), complex_.num_tets(), q.num_tets, clock.seconds(), q.summary());
     remesh_.target_edge_length = mesh::mean_edge_length(complex_, mesh::kFluidSubdomain);
     remesh_.band = f.at("remesh_band").get<double>();
+    // Move, remesh when needed: while the carried-along mesh stays good (fluid min dihedral above
+    // the threshold, no tet's volume changed by more than 2x in the step) it is kept as is; the
+    // "remeshed" column of stats.csv says which steps were remeshed. Then only the fluid within
+    // remesh_band of the spoiled tets is remeshed (adaptive band).
+    remesh_.remesh_only_when_needed = true;
+    remesh_.adaptive_band = true;
     if (moving_)
-      log.info("kinematic solids: the fluid is remeshed every step (target edge {:.4g} m, band {} m)",
+      log.info("kinematic solids: the fluid moves with them, remeshed when needed (target edge {:.4g} m, band {} m)",
                remesh_.target_edge_length, remesh_.band);
 
     solver_ = std::make_unique<fluid::FluidSolver>(params);
@@ -122,7 +129,7 @@ class FluidRunner : public Simulation {
   std::vector<std::string> phases() const override { return {"remesh", "advect", "forces", "assemble", "solve"}; }
   std::vector<std::string> columns() const override {
     return {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence", "kinetic_energy",
-            "min_dihedral", "clamped_traces"};
+            "min_dihedral", "clamped_traces", "remeshed"};
   }
 
   double max_dt() const override {
@@ -172,6 +179,7 @@ class FluidRunner : public Simulation {
       rest_ = std::move(rest);
       complex_ = std::move(r.mesh);
       min_dihedral_ = r.report.min_dihedral_deg;
+      remeshed_ = r.report.remeshed;
       update_solid_velocity(time_, dt);
     }
     const double t_remesh = clock.seconds();
@@ -193,7 +201,8 @@ class FluidRunner : public Simulation {
     rep.dt = dt;
     rep.phase_seconds = {t_remesh, s.advect_seconds, s.forces_seconds, s.assemble_seconds, s.solve_seconds};
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
-                  s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces)};
+                  s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces),
+                  double(remeshed_)};
     return rep;
   }
 
@@ -304,6 +313,7 @@ class FluidRunner : public Simulation {
   mesh::RemeshOptions remesh_;
   fluid::StepReport last_;
   bool moving_ = false;
+  bool remeshed_ = false;  ///< last step remeshed the fluid (false: static, or moved only)
   double fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_ = 0, time_ = 0, ambient_ = 293.15;
   double max_solid_speed_ = 0, min_dihedral_ = 0;
 };
@@ -311,7 +321,9 @@ class FluidRunner : public Simulation {
 }  // namespace
 
 RunnerEntry fluid_runner() {
-  return {"fluid", "smoke or liquid around static or kinematic solids (remeshed every step when they move)",
+  return {"fluid",
+          "smoke or liquid around static or kinematic solids (moved with them every step, remeshed when the mesh "
+          "degrades)",
           [](const scene::Scene& s) {
             if (s.json.contains("mpm")) return false;  // MPM + membranes: the mpm runner
             const auto type = s["fluid"].at("type");

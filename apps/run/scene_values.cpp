@@ -15,6 +15,7 @@ mesh::MeshSizing mesh_sizing(const scene::Json& m) {
   sizing.edge_length_near_solids = m.at("edge_length_near_solids").get<double>();
   sizing.grading_distance = m.at("grading_distance").get<double>();
   sizing.facet_distance = m.at("facet_distance").get<double>();
+  sizing.solid_feature_angle_deg = m.at("feature_angle_deg").get<double>();
   return sizing;
 }
 

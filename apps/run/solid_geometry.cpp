@@ -15,10 +15,14 @@ namespace {
 
 }  // namespace
 
-mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings) {
+mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings, mesh::SurfaceMesh* cavity) {
   const auto& g = solid.at("geometry");
   const auto type = g.at("type").get<std::string>();
   const auto name = solid.at("name").get<std::string>();
+  if (type == "sphere_shell" && cavity == nullptr)
+    throw InputError(fmt::format("solid '{}': a sphere_shell (a solid with a fluid cavity) is meshed only by the "
+                                 "coupled runner (a fluid, every solid a deforming tet solid)", name));
+  if (cavity != nullptr) *cavity = cavity_of(solid);
   mesh::Placement placement;
   placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));
   placement.translation = vec3(solid.at("placement").at("translation"));
@@ -31,7 +35,8 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
       s = mesh::import_surface(g.at("file").get<std::string>(), placement);
     } else {
       if (type == "box") s = mesh::make_box(vec3(g.at("size")));
-      else if (type == "sphere") s = mesh::make_sphere(g.at("radius").get<double>(), g.at("subdivisions").get<int>());
+      else if (type == "sphere" || type == "sphere_shell")
+        s = mesh::make_sphere(g.at("radius").get<double>(), g.at("subdivisions").get<int>());
       else  // sheet: size along x and z, thickness along y (a horizontal slab when y is up)
         s = mesh::make_box({g.at("size")[0].get<double>(), g.at("thickness").get<double>(), g.at("size")[1].get<double>()});
       mesh::apply_placement(s, placement);
@@ -52,6 +57,22 @@ mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std
     return s;
   } catch (const mesh::MeshError& e) {
     throw InputError(e.what());
+  }
+}
+
+mesh::SurfaceMesh cavity_of(const scene::Json& solid) {
+  const auto& g = solid.at("geometry");
+  if (g.at("type") != "sphere_shell") return {};
+  mesh::Placement placement;
+  placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));
+  placement.translation = vec3(solid.at("placement").at("translation"));
+  try {
+    mesh::SurfaceMesh c = mesh::make_sphere(g.at("radius").get<double>() - g.at("thickness").get<double>(),
+                                            g.at("subdivisions").get<int>());
+    mesh::apply_placement(c, placement);
+    return c;
+  } catch (const mesh::MeshError& e) {
+    throw InputError(fmt::format("solid '{}' cavity: {}", solid.at("name").get<std::string>(), e.what()));
   }
 }
 

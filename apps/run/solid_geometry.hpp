@@ -14,7 +14,15 @@ namespace tetfsi::run {
 /// Surfaces whose normals point inwards are flipped, with a message added to `warnings`.
 /// @throws InputError naming the solid (and file) if the surface is unreadable, open,
 ///         non-manifold or self-intersecting
-mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings);
+/// `cavity` (coupled runner only): receives cavity_of(solid); without it a `sphere_shell` is
+/// refused (InputError), so that no runner meshes a shell as a full ball by mistake.
+mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings,
+                             mesh::SurfaceMesh* cavity = nullptr);
+
+/// The placed cavity surface of a `sphere_shell` solid (a sphere of radius - thickness, outward),
+/// or an empty surface for every other geometry. surface_of gives the shell's outer surface.
+/// @throws InputError naming the solid
+mesh::SurfaceMesh cavity_of(const scene::Json& solid);
 
 /// Imports and checks one surface file for `tetfsi mesh`.
 /// @throws InputError as surface_of

@@ -15,6 +15,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_springs.hpp"
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
@@ -113,6 +114,7 @@ class SolidRunner : public Simulation {
         integ.fix_nodes(nodes);
         log.info("solid '{}': fixed region {} holds {} nodes", b.name, r, nodes.size());
       }
+      add_scene_springs(integ, s, static_cast<int>(i), b.name, log);
       integ.set_uniform_velocity(vec3(s.at("initial_velocity")));
       for (const auto& p : obs.at("planes"))
         integ.obstacles().add_plane({vec3(p.at("point")), vec3(p.at("normal"))});

@@ -54,6 +54,32 @@ void check_mpm(const Json& s, std::vector<Issue>& issues) {
   }
 }
 
+// A `sphere_shell` has a fluid cavity: only the coupled runner meshes it (a fluid, the shell a
+// free tet solid; the other runners refuse it at run time, run/solid_geometry.cpp). `fluid.fill: cavities` needs exactly one shell and no domain.
+void check_shells(const Json& s, std::vector<Issue>& issues) {
+  int shells = 0;
+  for (std::size_t i = 0; i < s["solids"].size(); ++i) {
+    const auto& solid = s["solids"][i];
+    if (solid["geometry"]["type"] != "sphere_shell") continue;
+    ++shells;
+    if (s["fluid"]["type"] == "none")
+      issues.push_back({fmt::format("/solids/{}/geometry/type", i),
+                        "a sphere_shell's cavity is fluid: the scene needs a liquid or smoke fluid (and a "
+                        "/coupling block)"});
+    else if (solid["model"]["type"] != "tet_fem" || solid["motion"]["type"] != "none")
+      issues.push_back({fmt::format("/solids/{}/geometry/type", i),
+                        "a sphere_shell must be a deforming tet solid (model tet_fem, motion none)"});
+  }
+  if (s["fluid"].value("fill", "domain") != "cavities") return;
+  if (shells != 1 || s["solids"].size() != 1)
+    issues.push_back({"/fluid/fill", fmt::format("\"cavities\" fills the cavity of one solid: expected exactly one "
+                                                 "solid, a sphere_shell (got {} solid(s), {} shell(s))",
+                                                 s["solids"].size(), shells)});
+  if (s.contains("domain"))
+    issues.push_back({"/domain", "the fluid fills only the shell's cavity (fluid.fill = \"cavities\"): remove "
+                                 "the domain box, nothing outside the shell is meshed"});
+}
+
 // Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.
 void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
   std::set<std::string> names;
@@ -72,9 +98,10 @@ void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) 
                         fmt::format("no solid named \"{}\" in /solids", p["solid"].get<std::string>())});
   }
   check_mpm(s, issues);
+  check_shells(s, issues);
   if (!s.contains("domain") && s["solids"].empty() && !s.contains("mpm"))
     issues.push_back({"/solids", "the scene has neither a domain nor any solid: nothing to simulate"});
-  if (s["fluid"]["type"] != "none" && !s.contains("domain"))
+  if (s["fluid"]["type"] != "none" && !s.contains("domain") && s["fluid"].value("fill", "domain") != "cavities")
     issues.push_back({"/domain", fmt::format("missing: a {} fluid needs a domain box {{\"lo\": [...], \"hi\": [...]}}",
                                              s["fluid"]["type"].get<std::string>())});
 }

@@ -42,6 +42,22 @@ std::string run_tetfsi(const std::string& args, int* status) {
   return tetfsi::test::run_command(std::string(TETFSI_BINARY) + " " + args + " 2>&1", status);
 }
 
+/// Each case edits `base` and must fail validation with exit code 2, naming its pointer and fragment.
+void expect_named_errors(const json& base, const std::vector<Case>& cases) {
+  tetfsi::test::TempDir dir("validate");
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    json s = base;
+    c.edit(s);
+    const std::string file = write(dir.path(), c.name, s.dump(2));
+    int status = -1;
+    const std::string out = run_tetfsi("validate " + file, &status);
+    EXPECT_EQ(status, 2) << out;
+    EXPECT_NE(out.find(c.name + ".json: " + c.pointer + ": "), std::string::npos) << out;
+    EXPECT_NE(out.find(c.fragment), std::string::npos) << out;
+  }
+}
+
 }  // namespace
 
 TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
@@ -89,20 +105,60 @@ TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
        "missing required key: expected an object"},
       {"empty_scene", [](json& s) { s = {{"simulation", {{"end_time", 1}}}}; }, "/solids", "nothing to simulate"},
       {"not_an_array", [](json& s) { s["solids"] = {{"name", "x"}}; }, "/solids", "an array"},
+      {"spring_zero_stiffness",
+       [](json& s) { s["solids"][0]["springs"] = json::parse(R"([{"point": [0, 0, 0], "stiffness": 0}])"); },
+       "/solids/0/springs/0/stiffness", "expected a number > 0 [N/m], got 0"},
+      {"spring_region_and_point",
+       [](json& s) {
+         s["solids"][0]["springs"] = json::parse(
+             R"([{"region": {"lo": [-1, -1, -1], "hi": [1, 1, 1]}, "point": [0, 0, 0], "stiffness": 10}])");
+       },
+       "/solids/0/springs/0", "expected either `region` or `point`, got both"},
   };
   ASSERT_GE(cases.size(), 15u);
+  expect_named_errors(base_scene(), cases);
+}
+
+TEST(CliValidate, BadShellScenesAreNamed) {
+  // A liquid-filled sphere_shell alone (fluid.fill = cavities), as data/scenes/filled_toy*.json.
+  const json toy = json::parse(R"({
+    "simulation": {"end_time": 0.1, "dt": 0.01},
+    "fluid": {"type": "liquid", "fill": "cavities"},
+    "solids": [{"name": "toy", "geometry": {"type": "sphere_shell", "radius": 0.3, "thickness": 0.05},
+                "material": {"density": 1000, "youngs_modulus": 1e5, "poissons_ratio": 0.3}}],
+    "coupling": {"scheme": "simultaneous"}
+  })");
+  const std::vector<Case> cases = {
+      {"wall_too_thick", [](json& s) { s["solids"][0]["geometry"]["thickness"] = 0.3; },
+       "/solids/0/geometry/thickness", "expected a wall thickness < radius"},
+      {"cavity_fill_with_domain", [](json& s) { s["domain"] = {{"lo", {-1, -1, -1}}, {"hi", {1, 1, 1}}}; },
+       "/domain", "remove the domain box"},
+      {"shell_without_fluid", [](json& s) { s["fluid"] = {{"type", "none"}}; }, "/solids/0/geometry/type",
+       "needs a liquid or smoke fluid"},
+      {"cavity_fill_without_shell",
+       [](json& s) { s["solids"][0]["geometry"] = {{"type", "sphere"}, {"radius", 0.3}}; }, "/fluid/fill",
+       "expected exactly one solid, a sphere_shell"},
+  };
+  expect_named_errors(toy, cases);
+}
+
+TEST(CliValidate, SpringRegionWithoutNodesNamesSolidAndSpring) {
+  // Valid as JSON, but the region misses the ball: found when the solid is meshed (solid runner),
+  // reported as an input error (exit 2) naming the solid, the spring and its key.
   tetfsi::test::TempDir dir("validate");
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.name);
-    json s = base_scene();
-    c.edit(s);
-    const std::string file = write(dir.path(), c.name, s.dump(2));
-    int status = -1;
-    const std::string out = run_tetfsi("validate " + file, &status);
-    EXPECT_EQ(status, 2) << out;
-    EXPECT_NE(out.find(c.name + ".json: " + c.pointer + ": "), std::string::npos) << out;
-    EXPECT_NE(out.find(c.fragment), std::string::npos) << out;
-  }
+  json s = base_scene();
+  s.erase("fluid");
+  s.erase("domain");
+  s["simulation"]["end_time"] = 0.02;
+  s["solids"][0]["springs"] = json::parse(
+      R"([{"name": "holder", "region": {"lo": [0.5, 0.5, 0.5], "hi": [0.6, 0.6, 0.6]}, "stiffness": 100}])");
+  int status = -1;
+  const std::string out =
+      run_tetfsi("run " + write(dir.path(), "empty_spring", s.dump()) + " --out " + (dir.path() / "o").string(), &status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("/solids/0/springs/0/region: spring 'holder' of solid 'ball': the box holds no node"),
+            std::string::npos)
+      << out;
 }
 
 TEST(CliValidate, SyntaxErrorGivesLineAndColumn) {

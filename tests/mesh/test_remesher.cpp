@@ -10,6 +10,8 @@
 #include "mesh/primitives.hpp"
 #include "mesh/quality.hpp"
 #include "mesh/remesher.hpp"
+#include "mesh/sliver_perturbation.hpp"
+#include "mesh/structured_box.hpp"
 
 using namespace tetfsi::mesh;
 
@@ -54,7 +56,9 @@ std::vector<Eigen::Vector3d> translated_solid(const TetMesh& m, const Eigen::Vec
   return p;
 }
 
-void run_steps(RemeshOptions options, int steps, const Eigen::Vector3d& dx) {
+/// Runs `steps` remesh steps moving the solid by dx each; returns the reports.
+std::vector<RemeshReport> run_steps(RemeshOptions options, int steps, const Eigen::Vector3d& dx) {
+  std::vector<RemeshReport> reports;
   TetMesh mesh = sphere_in_box();
   const double solid_volume = volume(mesh, true);
   for (int step = 0; step < steps; ++step) {
@@ -81,7 +85,9 @@ void run_steps(RemeshOptions options, int steps, const Eigen::Vector3d& dx) {
     const InterfaceCheck check = check_interface(r.mesh);
     EXPECT_TRUE(check.conforming()) << check.first_defect;
     mesh = r.mesh;
+    reports.push_back(r.report);
   }
+  return reports;
 }
 
 }  // namespace
@@ -99,7 +105,78 @@ TEST(Remesher, BandRemeshKeepsTheSameGuarantees) {
   RemeshOptions options;
   options.target_edge_length = 0.12;
   options.band = 0.15;
-  run_steps(options, 2, {0.0, 0.03, 0.01});
+  for (const RemeshReport& r : run_steps(options, 2, {0.0, 0.03, 0.01})) {
+    EXPECT_TRUE(r.local);  // CGAL got the band, a ring and the solid, not the whole mesh
+    EXPECT_TRUE(r.remeshed);
+  }
+}
+
+// Move, remesh when needed: a motion of 1% of the edge length leaves the mesh good (moved only,
+// old_index the identity); 0.08 m steps spoil tets near the sphere, and the adaptive band then
+// remeshes fewer fluid tets than the whole fluid.
+TEST(Remesher, RemeshOnlyWhenNeeded) {
+  RemeshOptions options;
+  options.target_edge_length = 0.12;
+  options.remesh_only_when_needed = true;
+  const std::vector<RemeshReport> small = run_steps(options, 2, {0.0012, 0.0, 0.0});
+  for (const RemeshReport& r : small) {
+    EXPECT_FALSE(r.remeshed);
+    EXPECT_EQ(r.passes, 0);
+  }
+  options.band = 0.15;
+  options.adaptive_band = true;
+  // The default stiffened motion keeps this mesh above 5 deg for these moves (no remesh needed);
+  // the plain Laplacian (χ = 0) spoils it, which exercises the remesh-when-needed path.
+  options.motion.stiffening_exponent = 0.0;
+  const std::vector<RemeshReport> large = run_steps(options, 3, {0.08, 0.0, 0.0});
+  int remeshed = 0;
+  for (const RemeshReport& r : large) {
+    if (!r.remeshed) continue;
+    ++remeshed;
+    EXPECT_LT(r.remeshed_fluid_tets, r.num_fluid_tets / 2);
+  }
+  EXPECT_GE(remeshed, 1);
+}
+
+// The sliver pass opens a sliver made by hand (an interior vertex of a 2x2x2 Kuhn box pushed
+// almost onto a face of a tet) and moves no box-boundary vertex.
+TEST(Remesher, SliverPassOpensASliver) {
+  TetMesh m = structured_box({0, 0, 0}, {1, 1, 1}, 2, 2, 2);
+  const TetMesh original = m;
+  int centre = -1;
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if ((m.vertices[v] - Eigen::Vector3d(0.5, 0.5, 0.5)).norm() < 1e-12) centre = v;
+  ASSERT_GE(centre, 0);
+  // Push the centre toward a corner along the diagonal until the worst tet is below 5 deg.
+  for (double s = 0.0; s < 0.5 && quality_report(m).min_dihedral_deg > 5.0; s += 0.01)
+    m.vertices[centre] = Eigen::Vector3d::Constant(0.5 + s) + Eigen::Vector3d(0.0, 0.003, -0.003);
+  const QualityReport before = quality_report(m);
+  ASSERT_LT(before.min_dihedral_deg, 5.0);
+  ASSERT_EQ(before.inverted + before.degenerate, 0);
+  const SliverPassReport r = perturb_slivers(m, 10.0);
+  const QualityReport after = quality_report(m);
+  std::printf("sliver pass: min dihedral %.2f -> %.2f deg, slivers %d -> %d\n", before.min_dihedral_deg,
+              after.min_dihedral_deg, r.slivers_before, r.slivers_after);
+  EXPECT_GT(r.slivers_before, 0);
+  EXPECT_EQ(r.slivers_after, 0);
+  EXPECT_GE(after.min_dihedral_deg, 10.0);
+  EXPECT_EQ(after.inverted + after.degenerate, 0);
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (v != centre) EXPECT_EQ(m.vertices[v], original.vertices[v]);
+}
+
+// Deterministic: the same band remesh twice gives the same mesh, vertex for vertex.
+TEST(Remesher, SameInputSameMesh) {
+  const TetMesh mesh = sphere_in_box();
+  RemeshOptions options;
+  options.target_edge_length = 0.12;
+  options.band = 0.15;
+  const auto target = translated_solid(mesh, {0.02, 0.01, 0.0});
+  const RemeshResult a = remesh_step(mesh, target, options), b = remesh_step(mesh, target, options);
+  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices);
+  EXPECT_EQ(a.mesh.tets, b.mesh.tets);
+  EXPECT_EQ(a.mesh.subdomain, b.mesh.subdomain);
+  EXPECT_EQ(a.old_index, b.old_index);
 }
 
 TEST(Remesher, TooLargeAStepIsAnError) {

@@ -1,10 +1,12 @@
 /// @file bench_mesh.cpp
-/// Benchmark of the CGAL Mesh_3 complex (issue 2): the bunny (../shared/data/bunny.obj) in a fluid
+/// Benchmark of the CGAL Mesh_3 complex (issue 2) and of the per-step remesh (issue 5): the bunny
+/// (../shared/data/bunny.obj) in a fluid
 /// box at about 25k and 100k tets, and a sphere in a box. Error: volume of the meshed solid against
 /// the volume enclosed by the input surface (and, for the sphere, against 4/3 pi r^3). Each case
 /// runs in its own process (fork) so that the peak memory column is that case's own.
 ///
-/// Usage: bench_mesh [bunny.obj]
+/// Usage: bench_mesh [bunny.obj | --remesh-only [name filter]]   (--remesh-only: the remesh-step cases
+/// alone, or those whose name contains the filter, e.g. "~100k")
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -72,19 +74,9 @@ void in_child(const std::function<void()>& f) {
   waitpid(pid, &status, 0);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const std::string bunny_path = argc > 1 ? argv[1] : TETFSI_SHARED_DIR "/data/bunny.obj";
-  SurfaceMesh bunny = import_surface(bunny_path);
-  validate_surface(bunny, bunny_path);
-  Eigen::Vector3d lo, hi;
-  bounding_box(bunny, lo, hi);
-  const double size = (hi - lo).maxCoeff();
-  const Eigen::Vector3d box_lo = lo.array() - 0.25 * size, box_hi = hi.array() + 0.25 * size;
-  const double v_bunny = enclosed_volume(bunny);
-
-  bench::print_header();
+/// Complex (Mesh_3) cases: the bunny at ~25k and ~100k tets, graded, and a sphere.
+void complex_cases(const SurfaceMesh& bunny, const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
+                   double size, double v_bunny) {
   // Uniform size h; the tet count scales as h^-3 (h chosen for ~25k and ~100k tets).
   for (const auto& [label, h] : {std::pair{"bunny in box, ~25k tets", 0.081 * size},
                                  std::pair{"bunny in box, ~100k tets", 0.0503 * size}}) {
@@ -111,14 +103,30 @@ int main(int argc, char** argv) {
                "4/3 pi r^3");
     });
   }
-  // Per-step fluid remeshing (remesher.hpp): sphere r = 0.3 in [-0.6, 0.6]^3 meshed uniformly,
-  // moved by 0.1 h, then the fluid remeshed to its mean edge length (whole fluid, or a band of 3 h). Error column:
-  // fluid min dihedral after the step, and whether the solid tets came back identical.
-  for (const double band_cells : {0.0, 3.0}) {
-    const double h = 0.042;
+}
+
+void remesh_cases(const std::string& filter) {
+  // Per-step fluid remeshing (remesher.hpp): sphere r = 0.3 in [-0.6, 0.6]^3 meshed uniformly with
+  // h for ~25k, 100k and 400k tets, moved by 0.1 h, then the fluid remeshed to its mean edge length
+  // (a band of 3 h at every size; the whole fluid at 100k; and "move, remesh when needed" at 100k).
+  // Error column: fluid min dihedral after the step, the phases, and whether the solid tets came
+  // back identical.
+  struct RemeshCase {
+    const char* name;
+    double h, band_cells;
+    bool only_when_needed;
+    int iterations = 2;
+  };
+  for (const RemeshCase& c : {RemeshCase{"remesh step, band 3h, ~25k", 0.0667, 3.0, false},
+                              RemeshCase{"remesh step, band 3h, ~100k", 0.042, 3.0, false},
+                              RemeshCase{"remesh step, band 3h, ~400k", 0.0265, 3.0, false},
+                              RemeshCase{"remesh step, band 3h, 1 iteration, ~100k", 0.042, 3.0, false, 1},
+                              RemeshCase{"remesh step, whole fluid, ~100k", 0.042, 0.0, false},
+                              RemeshCase{"move, remesh when needed, ~100k", 0.042, 3.0, true}}) {
+    if (std::string(c.name).find(filter) == std::string::npos) continue;
     in_child([&] {
       MeshSizing sizing;
-      sizing.edge_length = h;
+      sizing.edge_length = c.h;
       const TetMesh m = build_complex({-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}, {make_sphere(0.3, 5)}, sizing);
       std::vector<Eigen::Vector3d> target = m.vertices;
       std::vector<char> solid(m.vertices.size(), 0);
@@ -126,23 +134,96 @@ int main(int argc, char** argv) {
         if (m.subdomain[t] != kFluidSubdomain)
           for (int v : m.tets[t]) solid[v] = 1;
       for (std::size_t v = 0; v < target.size(); ++v)
-        if (solid[v]) target[v].x() += 0.1 * h;
+        if (solid[v]) target[v].x() += 0.1 * c.h;
       RemeshOptions options;
       options.target_edge_length = mean_edge_length(m, kFluidSubdomain);
-      options.band = band_cells * h;
+      options.band = c.band_cells * c.h;
+      options.remesh_only_when_needed = c.only_when_needed;
+      options.iterations = c.iterations;
       bench::Stopwatch clock;
       const RemeshResult r = remesh_step(m, target, options);
       const double seconds = clock.seconds();
       int solid_before = 0, solid_after = 0;
       for (int label : m.subdomain) solid_before += (label != kFluidSubdomain);
       for (int label : r.mesh.subdomain) solid_after += (label != kFluidSubdomain);
-      char err[200], res[120];
-      std::snprintf(err, sizeof err, "fluid min dihedral %.1f deg, max %.1f; %d passes; solid tets %d -> %d; %s",
-                    r.report.min_dihedral_deg, r.report.max_dihedral_deg, r.report.passes, solid_before, solid_after,
+      const RemeshReport& p = r.report;
+      char err[400], res[120];
+      std::snprintf(err, sizeof err,
+                    "fluid min dihedral %.1f deg, max %.1f; %s %d fluid tets%s (%d tets in CGAL) in %d pass(es); "
+                    "phases [s]: motion %.2f, "
+                    "build %.2f, cgal %.2f, copy %.2f, sliver pass %.2f, check %.2f; solid tets %d -> %d; %s",
+                    p.min_dihedral_deg, p.max_dihedral_deg, p.remeshed ? "remeshed" : "NOT remeshed (moved only),",
+                    p.remeshed ? p.remeshed_fluid_tets : 0, p.local ? " (band alone to CGAL)" : "",
+                    p.remeshed ? p.region_tets : 0, p.passes, p.motion_seconds, p.build_seconds,
+                    p.cgal_seconds, p.copy_seconds, p.sliver_seconds, p.check_seconds, solid_before, solid_after,
                     check_interface(r.mesh).conforming() ? "interface conforming" : "INTERFACE NOT CONFORMING");
-      std::snprintf(res, sizeof res, "%d -> %d tets", m.num_tets(), r.mesh.num_tets());
-      bench::print_row(band_cells > 0 ? "remesh step, band 3h" : "remesh step, whole fluid", res, err, seconds);
+      std::snprintf(res, sizeof res, "%d -> %d tets, h = %.4g m", m.num_tets(), r.mesh.num_tets(), c.h);
+      bench::print_row(c.name, res, err, seconds);
     });
   }
+  // "Move, remesh when needed" over 10 steps of 0.25 h each, band 2 h around the spoiled tets
+  // (adaptive_band): seconds per step (mean and worst) and how many steps were remeshed.
+  for (const auto& [name, h] : {std::pair{"10 steps, remesh when needed, adaptive band, ~100k", 0.042},
+                                std::pair{"10 steps, remesh when needed, adaptive band, ~400k", 0.0265}}) {
+    if (std::string(name).find(filter) == std::string::npos) continue;
+    in_child([&, name = name, h = h] {
+      MeshSizing sizing;
+      sizing.edge_length = h;
+      TetMesh m = build_complex({-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}, {make_sphere(0.3, 5)}, sizing);
+      const int tets_before = m.num_tets();
+      RemeshOptions options;
+      options.target_edge_length = mean_edge_length(m, kFluidSubdomain);
+      options.band = 2.0 * h;
+      options.remesh_only_when_needed = true;
+      options.adaptive_band = true;
+      double total = 0.0, worst = 0.0, worst_dihedral = 180.0, cgal = 0.0;
+      int remeshed = 0, remeshed_tets = 0;
+      bench::Stopwatch clock;
+      for (int step = 0; step < 10; ++step) {
+        std::vector<Eigen::Vector3d> target = m.vertices;
+        std::vector<char> solid(m.vertices.size(), 0);
+        for (int t = 0; t < m.num_tets(); ++t)
+          if (m.subdomain[t] != kFluidSubdomain)
+            for (int v : m.tets[t]) solid[v] = 1;
+        for (std::size_t v = 0; v < target.size(); ++v)
+          if (solid[v]) target[v].x() += 0.25 * h;
+        RemeshResult r = remesh_step(m, target, options);
+        total += r.report.seconds;
+        worst = std::max(worst, r.report.seconds);
+        cgal += r.report.cgal_seconds;
+        worst_dihedral = std::min(worst_dihedral, r.report.min_dihedral_deg);
+        remeshed += r.report.remeshed;
+        if (r.report.remeshed) remeshed_tets = std::max(remeshed_tets, r.report.remeshed_fluid_tets);
+        m = std::move(r.mesh);
+      }
+      const double seconds = clock.seconds();
+      char err[400], res[120];
+      std::snprintf(err, sizeof err,
+                    "fluid min dihedral >= %.1f deg; remeshed %d of 10 steps (at most %d fluid tets); per step [s]: "
+                    "mean %.2f, worst %.2f (cgal %.2f in all); %s",
+                    worst_dihedral, remeshed, remeshed_tets, total / 10, worst, cgal,
+                    check_interface(m).conforming() ? "interface conforming" : "INTERFACE NOT CONFORMING");
+      std::snprintf(res, sizeof res, "%d -> %d tets, h = %.4g m", tets_before, m.num_tets(), h);
+      bench::print_row(name, res, err, seconds);
+    });
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool remesh_only = argc > 1 && std::string(argv[1]) == "--remesh-only";
+  const std::string bunny_path = argc > 1 && !remesh_only ? argv[1] : TETFSI_SHARED_DIR "/data/bunny.obj";
+  SurfaceMesh bunny = import_surface(bunny_path);
+  validate_surface(bunny, bunny_path);
+  Eigen::Vector3d lo, hi;
+  bounding_box(bunny, lo, hi);
+  const double size = (hi - lo).maxCoeff();
+  const Eigen::Vector3d box_lo = lo.array() - 0.25 * size, box_hi = hi.array() + 0.25 * size;
+  const double v_bunny = enclosed_volume(bunny);
+
+  bench::print_header();
+  if (!remesh_only) complex_cases(bunny, box_lo, box_hi, size, v_bunny);
+  remesh_cases(remesh_only && argc > 2 ? argv[2] : "");
   return 0;
 }

@@ -4,9 +4,8 @@ namespace tetfsi::scene::blocks {
 
 Field coupling() {
   return Field::object("coupling",
-                       "How a fluid and deformable solids are advanced together (coupling/README.md). A scene "
-                       "with a fluid and deformable tet solids runs coupled only when it gives this "
-                       "block (the coupled step does not remesh yet, so it suits small motions).", {
+                       "How a fluid and deformable solids are advanced together (coupling/README.md). Used "
+                       "by scenes with a fluid and deformable tet solids (all keys have defaults).", {
       Field::enumeration("scheme", {"simultaneous", "time_splitting"},
                          "`simultaneous`: one linear system for fluid pressure and solid velocities "
                          "(Chentanez et al. 2006, eq. 7); `time_splitting`: solid with the previous "
@@ -26,6 +25,24 @@ Field coupling() {
                          "gamma = 1, slightly dissipative) or the energy-conserving trapezoidal rule "
                          "(beta = 1/4, gamma = 1/2).")
           .def("chentanez"),
+      Field::enumeration("constraint", {"step_mean", "end_of_step"},
+                         "Incompressibility constraint of the simultaneous solve: `step_mean` on the "
+                         "step's mean fluid and solid velocities with the interface at mid-step (keeps "
+                         "closed cavities' volume to O(h^3) per step), `end_of_step` as printed in eq. (7) "
+                         "(O(h^2) per step; coupling/README.md).")
+          .def("step_mean"),
+      Field::enumeration("mesh_update", {"remesh_when_needed", "remesh_every_step", "move"},
+                         "How the fluid mesh follows the solids each step: the fluid vertices always "
+                         "follow (harmonic extension of the solid motion); `remesh_when_needed` remeshes "
+                         "the fluid with CGAL when its minimum dihedral angle falls below "
+                         "`remesh_below_deg`, `remesh_every_step` every step (as in the paper), `move` "
+                         "never. Only the fluid within `fluid.remesh_band` of the solids is remeshed "
+                         "(0: all of it).")
+          .def("remesh_when_needed"),
+      Field::number("remesh_below_deg", "deg",
+                    "With `remesh_when_needed`: remesh when the moved fluid's minimum dihedral angle is "
+                    "below this (or below half the angle before the step, if that is smaller).")
+          .greater(0).less(60).def(10),
   });
 }
 

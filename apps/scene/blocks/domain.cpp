@@ -39,6 +39,12 @@ Field mesh() {
       Field::number("facet_distance", "m",
                     "Largest distance between a mesh facet and the input surface; 0: edge length / 10.")
           .at_least(0).def(0),
+      Field::number("feature_angle_deg", "deg",
+                    "Solid edges whose facet normals differ by more than this are kept sharp; -1: "
+                    "automatic (60 for piecewise-flat solids such as boxes and sheets, none for smooth "
+                    "or scanned ones); 0: none (corners are rounded, which avoids flat tets in thin "
+                    "sheets).")
+          .at_least(-1).at_most(180).def(-1),
   }).check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
     if (o.at("edge_length_near_solids").get<double>() > o.at("edge_length").get<double>())
       issues.push_back({pointer_append(ptr, "edge_length_near_solids"),

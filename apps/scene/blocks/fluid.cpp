@@ -40,8 +40,9 @@ Field apply_gravity(bool def) {
 
 Field remesh_band() {
   return Field::number("remesh_band", "m",
-                       "With moving (kinematic) solids the fluid is remeshed every step; > 0: only fluid "
-                       "tets within this distance of a solid vertex; 0: the whole fluid.")
+                       "With moving (kinematic) solids the fluid moves with them every step and is remeshed "
+                       "when the moved mesh degrades (stats column remeshed); > 0: only fluid tets within "
+                       "this distance of the degraded tets; 0: the whole fluid.")
       .at_least(0).def(0);
 }
 
@@ -67,7 +68,13 @@ Field fluid() {
             .at_least(0).def(0),
         advection(), apply_gravity(false), remesh_band(), solver()})
     .variant("liquid", {density(1000), viscosity(1e-3), advection(), apply_gravity(true), remesh_band(),
-                        solver()});
+                        solver(),
+                        Field::enumeration("fill", {"domain", "cavities"},
+                                           "`domain`: the liquid fills the domain box around the solids "
+                                           "and the cavities of `sphere_shell` solids; `cavities`: only the "
+                                           "cavity of the scene's one `sphere_shell` (a liquid-filled toy "
+                                           "with nothing outside; no domain box).")
+                            .def("domain")});
 }
 
 }  // namespace tetfsi::scene::blocks

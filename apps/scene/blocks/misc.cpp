@@ -41,7 +41,7 @@ Field probes() {
       Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy",
                                   "membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min",
                                   "membrane_radius_max", "membrane_center_z", "membrane_corner_z",
-                                  "sphere_top_z", "fluid_point", "fluid_kinetic_energy"},
+                                  "sphere_top_z", "fluid_point", "fluid_kinetic_energy", "fluid_volume"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
                          "+ elastic + gravitational energy [J] of everything. Scenes with an `mpm` block "
@@ -53,7 +53,9 @@ Field probes() {
                          "the particle starting at the sphere's top (sphere_on_membrane, water_sphere_impact, "
                          "Figs. 9, 11, 12); `total_energy`: stored energy of particles and membrane. Fluid runner: "
                          "`fluid_point`: one fluid `quantity` at `point` (NaN outside the fluid); "
-                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J].").req()})
+                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J]. Coupled runner: "
+                         "`fluid_volume`: volume of the fluid [m^3] with the solids at their current "
+                         "position (the cavity volume when the fluid fills only a shell's cavity).").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
@@ -66,7 +68,8 @@ Field probes() {
                                           "velocity_y", "velocity_z"},
                              "`pressure` [Pa] (linear in the tet), `smoke` [-], `temperature` [K], "
                              "`speed` and velocity components [m/s] (the tet's value).").req()})
-      .variant("fluid_kinetic_energy", {});
+      .variant("fluid_kinetic_energy", {})
+      .variant("fluid_volume", {});
   for (const char* k : {"membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min", "membrane_radius_max",
                         "membrane_center_z", "membrane_corner_z", "sphere_top_z"})
     probe.variants[k] = {};

@@ -7,9 +7,11 @@ namespace {
 
 Field geometry() {
   return Field::object("geometry", "The solid's rest shape, before `placement`.", {
-      Field::enumeration("type", {"mesh", "box", "sphere", "sheet"},
+      Field::enumeration("type", {"mesh", "box", "sphere", "sheet", "sphere_shell"},
                          "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `box`, "
-                         "`sphere`, `sheet`: primitives centred at the origin.").req(),
+                         "`sphere`, `sheet`: primitives centred at the origin; `sphere_shell`: a hollow "
+                         "sphere whose wall is the solid and whose cavity (radius - thickness) is filled "
+                         "with the scene's fluid (coupled scenes only; see `fluid.fill`).").req(),
   }).tagged_by("type")
     .variant("mesh", {
         Field::file("file", "Surface file, relative to the scene file's folder.").req(),
@@ -22,7 +24,20 @@ Field geometry() {
             .at_least(0).at_most(7).def(3)})
     .variant("sheet", {
         Field::vector("size", 2, "m", "Extent along x and z.").req().greater(0),
-        Field::number("thickness", "m", "Extent along y.").req().greater(0)});
+        Field::number("thickness", "m", "Extent along y.").req().greater(0)})
+    .variant("sphere_shell", {
+        Field::number("radius", "m", "Outer radius.").req().greater(0),
+        Field::number("thickness", "m", "Wall thickness (< radius); the cavity radius is radius - thickness.")
+            .req().greater(0),
+        Field::integer("subdivisions", "Icosphere subdivisions of both surfaces (20 * 4^n triangles).")
+            .at_least(0).at_most(7).def(3)})
+    .check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+      if (o.at("type") == "sphere_shell" && o.contains("radius") && o.contains("thickness") &&
+          !(o["thickness"].get<double>() < o["radius"].get<double>()))
+        issues.push_back({pointer_append(ptr, "thickness"),
+                          fmt::format("expected a wall thickness < radius ({} m), got {} m (no cavity left)",
+                                      o["radius"].get<double>(), o["thickness"].get<double>())});
+    });
 }
 
 Field material() {
@@ -103,6 +118,22 @@ Field boundary_condition() {
   });
 }
 
+Field spring() {
+  return Field::object("", "", {
+      Field::string("name", "Name used in messages (default: the spring's index)."),
+      box("region", "Box (world coordinates [m]): every solid node whose rest position lies inside is tied. "
+                    "Give `region` or `point`."),
+      Field::vector("point", 3, "m", "Tie only the solid node nearest to this point. Give `region` or `point`."),
+      Field::vector("anchor", 3, "m", "Fixed anchor all selected nodes are tied to; omitted: each node is tied "
+                                      "to its own rest position."),
+      Field::number("stiffness", "N/m", "Total stiffness k, spread evenly over the selected nodes (each "
+                                        "gets k/n), so a rigid shift d of the region feels -k d.").req().greater(0),
+  }).check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+    if (o.contains("region") == o.contains("point"))
+      issues.push_back({ptr, o.contains("region") ? "expected either `region` or `point`, got both"
+                                                  : "expected `region` (a box) or `point`, got neither"});
+  });
+}
 
 Field motion() {
   Field key = Field::object("", "", {
@@ -146,6 +177,8 @@ Field solids() {
       Field::array("fixed_regions", "Boxes (world coordinates [m]); nodes inside are fixed.",
                    box("", "")).def(Json::array()),
       Field::vector("initial_velocity", 3, "m/s", "Initial velocity of every node.").def({0, 0, 0}),
+      Field::array("springs", "Linear springs tying a region of a `tet_fem` solid to fixed anchors "
+                   "(coupled and solid runners).", spring()).def(Json::array()),
       motion(),
       integrator(),
       static_solver(),
@@ -159,6 +192,8 @@ Field solids() {
     if (o.at("model").at("type") != "hex8" && !o.at("boundary_conditions").empty())
       issues.push_back({ptr + "/boundary_conditions", "expected []: boundary conditions need model `hex8` "
                                                       "(tet solids use `fixed_regions`)"});
+    if (o.at("model").at("type") == "hex8" && !o.at("springs").empty())
+      issues.push_back({ptr + "/springs", "expected []: springs need model `tet_fem`"});
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
 }

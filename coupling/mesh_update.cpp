@@ -1,0 +1,100 @@
+#include "coupling/mesh_update.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <stdexcept>
+
+#include "mesh/complex_mesher.hpp"  // MeshError
+#include "mesh/mesh_motion.hpp"
+#include "mesh/quality.hpp"
+
+namespace tetfsi::coupling {
+
+MeshUpdatePolicy parse_mesh_update_policy(const std::string& name) {
+  if (name == "move") return MeshUpdatePolicy::kMove;
+  if (name == "remesh_when_needed") return MeshUpdatePolicy::kRemeshWhenNeeded;
+  if (name == "remesh_every_step") return MeshUpdatePolicy::kRemeshEveryStep;
+  throw std::invalid_argument("unknown mesh update policy '" + name +
+                              "' (expected move, remesh_when_needed or remesh_every_step)");
+}
+
+std::string to_string(MeshUpdatePolicy policy) {
+  switch (policy) {
+    case MeshUpdatePolicy::kMove: return "move";
+    case MeshUpdatePolicy::kRemeshWhenNeeded: return "remesh_when_needed";
+    case MeshUpdatePolicy::kRemeshEveryStep: return "remesh_every_step";
+  }
+  return "?";
+}
+
+double fluid_edge_length_near_solids(const mesh::TetMesh& mesh) {
+  std::vector<char> on_solid(mesh.num_vertices(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (mesh.subdomain[t] != mesh::kFluidSubdomain)
+      for (int v : mesh.tets[t]) on_solid[v] = 1;
+  double sum = 0;
+  long count = 0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (mesh.subdomain[t] != mesh::kFluidSubdomain) continue;
+    const auto& tet = mesh.tets[t];
+    if (!std::any_of(tet.begin(), tet.end(), [&](int v) { return on_solid[v] != 0; })) continue;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) sum += (mesh.vertices[tet[i]] - mesh.vertices[tet[j]]).norm(), ++count;
+  }
+  return count > 0 ? sum / count : mesh::mean_edge_length(mesh, mesh::kFluidSubdomain);
+}
+
+MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
+                             const MeshUpdateOptions& options, double start_min_dihedral_deg) {
+  const auto start = std::chrono::steady_clock::now();
+  MeshUpdateResult result;
+  result.mesh = mesh;
+  result.mesh.vertices = mesh::move_with_solids(mesh, solid_positions, options.motion);
+  const mesh::QualityReport moved = mesh::quality_report(result.mesh);
+  if (moved.inverted + moved.degenerate > 0)
+    throw mesh::MeshError("the solid motion of this step inverts " + std::to_string(moved.inverted) + " and flattens " +
+                          std::to_string(moved.degenerate) + " tets even with the fluid vertices following; take a "
+                          "smaller time step");
+  const double moved_fluid_min = mesh::quality_report(result.mesh, mesh::kFluidSubdomain).min_dihedral_deg;
+
+  const auto keep_moved = [&] {
+    result.old_index.resize(mesh.num_vertices());
+    std::iota(result.old_index.begin(), result.old_index.end(), 0);
+    result.report.min_dihedral_deg = moved_fluid_min;
+  };
+  const double threshold = std::min(options.remesh_below_deg, 0.5 * start_min_dihedral_deg);
+  bool remesh = options.policy == MeshUpdatePolicy::kRemeshEveryStep;
+  if (options.policy == MeshUpdatePolicy::kRemeshWhenNeeded) remesh = moved_fluid_min < threshold;
+  if (!remesh) {
+    keep_moved();
+  } else {
+    // Remesh the moved fluid (the motion is already done, so remesh_step's own motion is the
+    // identity) only around the tets below the threshold (adaptive band), with the remesher's
+    // fallback chain (more iterations, wider band, whole fluid) and sliver pass. A result that is
+    // not better than the moved mesh (CGAL's isotropic remeshing can leave slivers where it meets
+    // the frozen interface) is rejected: the moved mesh, which is valid, is kept and the report
+    // says so.
+    mesh::RemeshOptions opt = options.remesh;
+    opt.motion = options.motion;
+    opt.remesh_only_when_needed = options.policy == MeshUpdatePolicy::kRemeshWhenNeeded;
+    opt.adaptive_band = opt.remesh_only_when_needed && opt.band > 0;
+    opt.min_dihedral_deg = threshold;
+    mesh::RemeshResult r = mesh::remesh_step(result.mesh, result.mesh.vertices, opt);
+    const mesh::QualityReport q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
+    if (r.report.remeshed && q.inverted + q.degenerate == 0 && q.min_dihedral_deg > moved_fluid_min) {
+      result.mesh = std::move(r.mesh);
+      result.old_index = std::move(r.old_index);
+      result.report.remeshed = true;
+      result.report.passes = r.report.passes;
+      result.report.min_dihedral_deg = q.min_dihedral_deg;
+    } else {
+      keep_moved();
+      result.report.remesh_rejected = r.report.remeshed;
+    }
+  }
+  result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace tetfsi::coupling

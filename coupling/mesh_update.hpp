@@ -1,0 +1,82 @@
+#pragma once
+/// @file mesh_update.hpp
+/// How the shared fluid-solid mesh follows the solids from one coupled step to the next
+/// (Chentanez et al. 2006, §3.1: "the fluid mesh is regenerated every time step so that it
+/// conforms to the solid"; shared/design.md, "The time step", step 2).
+///
+/// The solid tets are Lagrangian: they keep their connectivity and move with the displacement.
+/// The fluid vertices follow by a stiffened Laplacian of the solid motion (mesh::move_with_solids:
+/// box-boundary vertices fixed, small tets stiffer, so the fine tets next to a solid move almost
+/// rigidly with it and the large tets farther away absorb the distortion). Then,
+/// depending on the policy, the fluid is remeshed with CGAL (mesh::remesh_step) with the solid tets
+/// and the interface frozen, so every solid vertex survives and solid state carries over through
+/// `old_index`. The fluid's fields are moved onto the new mesh by the advection step
+/// (fluid::FluidSolver::predict back-traces from the new mesh into the old one).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh_motion.hpp"
+#include "mesh/remesher.hpp"
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::coupling {
+
+enum class MeshUpdatePolicy {
+  kMove,              ///< move the fluid vertices with the solids; never remesh
+  kRemeshWhenNeeded,  ///< move; remesh when the moved fluid's min dihedral angle drops too low
+  kRemeshEveryStep,   ///< move and remesh every step (the paper's choice)
+};
+
+/// "move" | "remesh_when_needed" | "remesh_every_step". @throws std::invalid_argument otherwise
+MeshUpdatePolicy parse_mesh_update_policy(const std::string& name);
+std::string to_string(MeshUpdatePolicy policy);
+
+struct MeshUpdateOptions {
+  MeshUpdatePolicy policy = MeshUpdatePolicy::kRemeshWhenNeeded;
+  mesh::MeshMotionOptions motion;  ///< how the fluid vertices follow the solids
+  /// kRemeshWhenNeeded: remesh when the moved fluid's minimum dihedral angle is below this [deg]
+  /// (or below half the angle the step started from, whichever is smaller, so that a mesh that
+  /// starts with a 7° sliver is not remeshed every step for it).
+  double remesh_below_deg = 10.0;
+  /// Remeshing options (target edge length, band, passes, sliver pass). A target_edge_length of 0
+  /// is replaced by the mean edge length of the fluid tets touching the solids at start. The
+  /// policy sets remesh_only_when_needed, adaptive_band and min_dihedral_deg (the threshold).
+  mesh::RemeshOptions remesh = [] {
+    mesh::RemeshOptions o;
+    o.target_edge_length = 0;
+    return o;
+  }();
+};
+
+struct MeshUpdateReport {
+  bool remeshed = false;
+  double min_dihedral_deg = 0;  ///< of the fluid tets after the update
+  double seconds = 0;           ///< motion + quality check + remeshing
+  int passes = 0;               ///< CGAL remeshing passes (0 when not remeshed)
+  bool remesh_rejected = false; ///< remeshing was tried but did not beat the moved mesh's quality
+};
+
+struct MeshUpdateResult {
+  mesh::TetMesh mesh;
+  /// For each vertex of `mesh`, its index in the input mesh (-1 for a vertex the remesher made).
+  /// The identity when the mesh was only moved.
+  std::vector<int> old_index;
+  MeshUpdateReport report;
+};
+
+/// Mean edge length [m] of the fluid tets with a vertex on a solid: the remeshing target that
+/// keeps a mesh graded toward the solids as fine near them as it started.
+double fluid_edge_length_near_solids(const mesh::TetMesh& mesh);
+
+/// Moves `mesh` so that every solid vertex v lands on `solid_positions[v]`, then remeshes the fluid
+/// according to `options.policy`.
+/// @param mesh             the shared mesh at the previous step (positively oriented tets)
+/// @param solid_positions  new position of every vertex (read only for vertices of solid tets) [m]
+/// @param start_min_dihedral_deg  the fluid's minimum dihedral angle before this update [deg]
+/// @throws mesh::MeshError if the motion inverts or flattens a tet (the step is too large for the
+///         mesh). A remeshed fluid is used only if its minimum dihedral angle beats the moved one.
+MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
+                             const MeshUpdateOptions& options, double start_min_dihedral_deg);
+
+}  // namespace tetfsi::coupling

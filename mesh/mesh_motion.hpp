@@ -1,0 +1,41 @@
+#pragma once
+/// @file mesh_motion.hpp
+/// Moving the fluid vertices of a fluid-solid complex with the solids, by a stiffened Laplacian:
+/// the "Jacobian-based stiffening" of Tezduyar et al. (Stein, Tezduyar & Benney 2003, "Mesh moving
+/// techniques for fluid-structure interactions with large displacements", J. Appl. Mech. 70).
+///
+/// The displacement d of the fluid vertices minimises Σ_t s_t ∫_t |∇d|² dV with d prescribed on
+/// the solid vertices (their motion) and on the boundary of the mesh (0: the box stays), where d is
+/// P1 on each tet and the stiffness of tet t is
+///
+///     s_t = (V_max / V_t)^χ,
+///
+/// so small tets (those next to the solids, in a graded mesh) are stiffer and move almost rigidly
+/// with the solid, and the distortion goes into the large tets farther away. χ = 0 is the plain
+/// P1 harmonic extension; Stein et al. use χ = 1. The system, Σ_t s_t V_t G_tᵀ G_t (G_t the P1
+/// gradient of tet t), is symmetric positive definite once the Dirichlet vertices are eliminated;
+/// it is solved for the three components with Eigen's conjugate gradients.
+#include <Eigen/Core>
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::mesh {
+
+struct MeshMotionOptions {
+  double stiffening_exponent = 1.0;  ///< χ of s_t = (V_max / V_t)^χ
+  /// CG relative residual. The motion only has to keep tets valid, not be accurate: 1e-8 takes
+  /// about half the iterations of 1e-10 (the remesher used 1e-6 for its plain extension).
+  double tolerance = 1e-8;
+};
+
+/// New positions of every vertex of `mesh`: solid vertices (those of a tet with a label other than
+/// kFluidSubdomain) at `solid_positions`, vertices on the mesh boundary (faces of one tet only) that
+/// are not solid vertices fixed, every other vertex moved by the stiffened Laplacian above.
+/// @param mesh             the complex at its current positions (positively oriented fluid tets)
+/// @param solid_positions  one position per vertex; read only for solid vertices [m]
+/// @throws MeshError if the sizes do not match or CG does not converge
+std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
+                                              const MeshMotionOptions& options = {});
+
+}  // namespace tetfsi::mesh

@@ -1,0 +1,29 @@
+#pragma once
+/// @file remesh_region.hpp
+/// Which tets a band remesh touches and which it hands to CGAL (remesher.hpp; no CGAL here).
+///
+/// The band: fluid tets with a vertex within `band` of a solid vertex. The region given to CGAL:
+/// the band, the tets sharing a vertex with it (so no band tet touches the region's hull), every
+/// solid tet (so the region is a ball around the solids, not a shell), then grown until its hull
+/// is a 2-manifold: CGAL's build_triangulation cones the hull to one infinite vertex, which needs
+/// every hull edge in exactly two hull triangles and a single fan of hull triangles around every
+/// hull vertex. Tets around an offending edge or vertex are added until none is left.
+#include <vector>
+
+#include "mesh/tet_mesh.hpp"
+
+namespace tetfsi::mesh {
+
+/// Per vertex: 0 free fluid vertex, 1 vertex of a solid tet, 2 other vertex on the hull of the mesh
+/// (the box boundary: a face of a single tet).
+std::vector<int> vertex_kinds(const TetMesh& mesh);
+
+/// Per tet: 1 if it is a fluid tet with a vertex within `band` [m] of a seed vertex (all fluid tets
+/// if band <= 0). Seeds: the vertices flagged in `seeds`, or every solid vertex if it is empty.
+std::vector<char> band_tets(const TetMesh& mesh, double band, const std::vector<char>& seeds = {});
+
+/// Per tet: 1 if CGAL gets it (see the file comment). Returns an empty vector if no manifold region
+/// was found within `max_rounds` growth rounds (then the caller hands CGAL the whole mesh).
+std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band, int max_rounds = 8);
+
+}  // namespace tetfsi::mesh
