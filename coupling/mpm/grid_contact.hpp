@@ -45,6 +45,8 @@ struct ContactReport {
   /// side on its node velocities (eq. 59). Can be negative: eq. (59) conserves momentum but not
   /// kinetic energy.
   double dissipated = 0;
+  double work_on_membrane = 0;  ///< kinetic energy given to the FE nodes by eq. (59) [J]
+  double work_on_mpm = 0;       ///< kinetic energy given to the particles by the impulses [J]
 };
 
 /// Energies of the coupled system [J].
@@ -83,8 +85,15 @@ class MpmMembraneCoupling {
   // Per-step grid fields of the membrane (dense, like the MPM grid).
   std::vector<double> mr_;
   std::vector<Vec3> pr_, nr_, xr_, fr_;
-  std::vector<double> gap_;  // NaN except at candidate contact nodes during a step
-  std::vector<std::int64_t> touched_;
+  std::vector<Vec3> ps_;  // particle-side trial momentum at candidate nodes
+  std::vector<std::int64_t> touched_, shared_, candidates_;
+  // Per-step membrane buffers (kept to avoid allocations).
+  std::vector<Vec3> normals_;
+  std::vector<int> inside_;
+  std::vector<mpm::Stencil> fe_st_;
+
+  /// Real-distance gap at candidate node id [m] (see the file comment).
+  double gap(std::int64_t id) const;
 };
 
 }  // namespace tetfsi::mpm_contact

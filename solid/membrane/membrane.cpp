@@ -182,13 +182,18 @@ Mat3 Membrane::global_stress(int e) const {
 }
 
 std::vector<Vec3> Membrane::node_normals() const {
-  std::vector<Vec3> nrm(x_.size(), Vec3::Zero());
+  std::vector<Vec3> nrm;
+  node_normals(nrm);
+  return nrm;
+}
+
+void Membrane::node_normals(std::vector<Vec3>& nrm) const {
+  nrm.assign(x_.size(), Vec3::Zero());
   for (const auto& q : quads_) {
     const auto X = corners(x_, q);
     const Vec3 S = 0.5 * (X[2] - X[0]).cross(X[3] - X[1]);
     for (int id : q) nrm[id] += 0.25 * S;
   }
-  return nrm;
 }
 
 MembraneEnergies Membrane::energies() const {

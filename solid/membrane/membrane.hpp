@@ -91,6 +91,8 @@ class Membrane {
   Mat3 global_stress(int e) const;
   /// Area-weighted node normals sum_e S_e / 4 (unnormalised), for contact.
   std::vector<Vec3> node_normals() const;
+  /// The same into `out` (resized; no allocation once it has the size).
+  void node_normals(std::vector<Vec3>& out) const;
   MembraneEnergies energies() const;
   Vec3 total_momentum() const;
 
