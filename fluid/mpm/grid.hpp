@@ -65,15 +65,15 @@ struct Grid {
   Stencil stencil_unchecked(const Vec3& x) const {
     int base[3];
     double f[3];
+    const double inv = 1.0 / h;
     for (int a = 0; a < 3; ++a) {
-      const double s = (x[a] - lo[a]) / h;
+      const double s = (x[a] - lo[a]) * inv;
       base[a] = static_cast<int>(s);
       f[a] = s - base[a];
     }
     Stencil st;
     const std::int64_t sx = cells[0] + 1, sxy = sx * (cells[1] + 1);
     const std::int64_t b = node_index(base[0], base[1], base[2]);
-    const double inv = 1.0 / h;
     // 1D linear hat functions and their derivatives along each axis.
     const double w[3][2] = {{1.0 - f[0], f[0]}, {1.0 - f[1], f[1]}, {1.0 - f[2], f[2]}};
     const double g[2] = {-inv, inv};
@@ -89,8 +89,9 @@ struct Grid {
   }
   /// Index (i, j, k) of the cell containing x, as used by stencil() (x inside the grid).
   std::array<int, 3> cell_of(const Vec3& x) const {
-    return {static_cast<int>((x[0] - lo[0]) / h), static_cast<int>((x[1] - lo[1]) / h),
-            static_cast<int>((x[2] - lo[2]) / h)};
+    const double inv = 1.0 / h;
+    return {static_cast<int>((x[0] - lo[0]) * inv), static_cast<int>((x[1] - lo[1]) * inv),
+            static_cast<int>((x[2] - lo[2]) * inv)};
   }
   /// Per-node mask of components held at zero by faces and constrained axes (3 bools per node).
   std::vector<std::array<bool, 3>> build_constraint_mask() const;
