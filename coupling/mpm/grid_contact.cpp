@@ -16,6 +16,7 @@ MpmMembraneCoupling::MpmMembraneCoupling(mpm::MpmSolver& mpm, membrane::Membrane
   nr_.assign(nn, Vec3::Zero());
   xr_.assign(nn, Vec3::Zero());
   ps_.assign(nn, Vec3::Zero());
+  seen_.assign(nn, 0);
   fr_.assign(nn, Vec3::Zero());
 }
 
@@ -33,6 +34,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
 
   // Step 4a: membrane mass, momentum, normals and mass-weighted positions on the grid.
   for (auto id : touched_) {
+    seen_[id] = 0;
     mr_[id] = 0;
     pr_[id].setZero();
     nr_[id].setZero();
@@ -53,15 +55,16 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     const auto& st = fe_st_.back();
     for (int c = 0; c < 8; ++c) {
       const auto id = st.node[c];
-      if (mr_[id] == 0 && nr_[id].isZero(0.0)) touched_.push_back(id);
+      if (!seen_[id]) {  // first touch: the list stays in a deterministic order, no sort needed
+        seen_[id] = 1;
+        touched_.push_back(id);
+      }
       mr_[id] += st.N[c] * M[k];
       pr_[id] += (st.N[c] * M[k]) * V[k];
       nr_[id] += st.N[c] * normals_[k];
       xr_[id] += (st.N[c] * M[k]) * X[k];
     }
   }
-  std::sort(touched_.begin(), touched_.end());
-  touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
 
   // Step 4b: candidate nodes (shared by both bodies, approaching by eq. 52). The particle-side
   // trial momentum is the one the particles carry (see the header).

@@ -88,8 +88,9 @@ class MpmSolver {
   /// most what it changes the grid's (see coupling/mpm/grid_contact.hpp). Visits only the
   /// particles of the cells around the nodes.
   void particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out);
-  /// Kinetic energy given to the particles by the impulses of the last finish_step [J]
-  /// (sum_p m_p (v_p . dv_p + |dv_p|^2 / 2) with dv_p the impulse part of eq. 65).
+  /// Work of the impulses of the last finish_step on the particles [J]:
+  /// sum_p m_p dv_p . (v_p^{n-1/2} + v_p^{n+1/2}) / 2, dv_p = sum_I N_Ip d_I / m_I the impulse part
+  /// of eq. (65) (mid-step velocity, as the kinetic energy change of the whole step splits).
   double impulse_work() const { return impulse_work_; }
   /// Node components held at zero by the grid conditions.
   const std::vector<std::array<bool, 3>>& constraint_mask() const { return mask_; }

@@ -109,6 +109,9 @@ class Membrane {
   Vec3 gravity_ = Vec3::Zero();
   double ext_work_ = 0, damp_loss_ = 0;
   std::vector<Vec3> f_ext_;  // external + damping part of f^n, for the work bookkeeping
+  // Element corner forces of compute_forces and the node -> corner map that gathers them.
+  std::vector<Vec3> corner_force_, pressure_force_;
+  std::vector<int> node_start_, node_corner_;
 };
 
 }  // namespace tetfsi::membrane
