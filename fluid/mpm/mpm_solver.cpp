@@ -17,9 +17,14 @@ constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reducti
 
 /// Bound of eq. (21) for one particle, h / (c + |v|), and the explicit viscous bound
 /// rho h^2 / (8 mu) of viscous fluids [s].
-double particle_step_bound(const Material& mat, double rho, const Mat3& stress, const Vec3& v, double h) {
+/// `p_modulus` is lambda + 2 G of a linear-elastic material (precomputed: saves the divisions of
+/// Material::sound_speed in the particle loop).
+double particle_step_bound(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v,
+                           double h) {
   double dt = std::numeric_limits<double>::infinity();
-  const double c = mat.sound_speed(rho, -stress.trace() / 3.0) + v.norm();
+  const double sound = mat.kind == Material::Kind::LinearElastic ? std::sqrt(p_modulus / rho)
+                                                                 : mat.sound_speed(rho, -stress.trace() / 3.0);
+  const double c = sound + v.norm();
   if (c > 0) dt = h / c;
   if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) dt = std::min(dt, rho * h * h / (8.0 * mat.viscosity));
   return dt;
@@ -47,6 +52,8 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
     if (!grid_.contains(particles_.x[p])) throw std::invalid_argument(where.str() + " is outside the grid");
     total_mass += particles_.mass[p];
   }
+  for (const auto& m : materials_)
+    lame_.push_back({m.lame_lambda(), 2.0 * m.shear_modulus(), m.lame_lambda() + 2 * m.shear_modulus()});
   mask_ = grid_.build_constraint_mask();
   const auto nn = static_cast<std::size_t>(grid_.num_nodes());
   mass_.assign(nn, 0.0);
@@ -55,7 +62,8 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
   mass_eps_ = n ? 1e-12 * total_mass / double(n) : 0.0;
   critical_dt_ = std::numeric_limits<double>::infinity();
   for (std::size_t p = 0; p < n; ++p)
-    critical_dt_ = std::min(critical_dt_, particle_step_bound(materials_[particles_.material[p]], particles_.rho[p],
+    critical_dt_ = std::min(critical_dt_, particle_step_bound(materials_[particles_.material[p]],
+                                                              lame_[particles_.material[p]][2], particles_.rho[p],
                                                               particles_.stress[p], particles_.v[p], grid_.h));
   critical_dt_ *= options_.cfl;
 }
@@ -146,7 +154,8 @@ void MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil& 
     // Eq. (22) is printed as sigma Omega + (sigma Omega)^T; with Omega_ij = (v_i,j - v_j,i)/2 as in
     // eq. (24) the objective rotation of sigma is W sigma - sigma W, which is what is used.
     const Mat3& s = P.stress[p];
-    const Mat3 rate = mat.lame_lambda() * trD * Mat3::Identity() + 2.0 * mat.shear_modulus() * D;
+    const auto& lm = lame_[P.material[p]];  // lambda, 2 G
+    const Mat3 rate = lm[0] * trD * Mat3::Identity() + lm[1] * D;
     P.stress[p] = s + dt * (rate + W * s - s * W);
     return;
   }
@@ -246,7 +255,8 @@ void MpmSolver::finish_step(double dt) {
           }
           P.v[p] += dv;
           P.x[p] += dt * vel;
-          a.dt = std::min(a.dt, particle_step_bound(materials_[P.material[p]], P.rho[p], P.stress[p], P.v[p], h));
+          const auto mat = P.material[p];
+          a.dt = std::min(a.dt, particle_step_bound(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p], h));
           const bool ok = P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
                           std::isfinite(P.rho[p]) && grid_.contains(P.x[p]);
           if (!ok) a.bad = std::min(a.bad, p);

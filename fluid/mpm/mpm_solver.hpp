@@ -111,6 +111,7 @@ class MpmSolver {
 
   Grid grid_;
   std::vector<Material> materials_;
+  std::vector<std::array<double, 3>> lame_;  // per material: lambda, 2 G, lambda + 2 G [Pa]
   Particles particles_;
   MpmOptions options_;
   std::vector<std::array<bool, 3>> mask_;

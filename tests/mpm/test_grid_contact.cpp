@@ -174,11 +174,13 @@ TEST(GasExpansion, FramesAreReadableVtu) {
 
 TEST(GasExpansion, SettlesToPaperRadiusAndEnergyLoss) {
   // Section 7.3 acceptance at a coarse particle spacing (0.05; the paper's 0.025 runs in
-  // bench_mpm): by t = 3.5 the membrane has settled near a circle of radius 0.96 (within 2%) and
-  // 3-7% of the energy has been lost (paper: about 5%, Fig. 18).
+  // bench_mpm): by t = 3 the membrane has settled near a circle of radius 0.96 (within 2%; the
+  // radii change by less than 0.1% after t = 2.5) and 3-7% of the energy has been lost (paper:
+  // about 5%, Fig. 18). The loss keeps creeping up after settling (about 0.85% per time unit at
+  // this spacing and step, see coupling/mpm/README.md), which is why the end time matters.
   mpm_contact::GasExpansionParams prm;
   prm.particle_spacing = 0.05;
-  prm.t_end = 3.5;
+  prm.t_end = 3.0;
   prm.record_every = 1000000;
   const auto res = mpm_contact::run_gas_expansion(prm);
   std::printf("[gas settled] r_0deg=%.4f r_90deg=%.4f energy lost=%.2f%%\n", res.radius_0deg, res.radius_90deg,
