@@ -24,6 +24,10 @@ namespace tetfsi::mpm {
 
 class CellBins {
  public:
+  /// Below this many particles the coloured passes run serially (task overhead dominates; the
+  /// result is the same either way).
+  static constexpr std::size_t kParallelMin = 16384;
+
   /// Bins the positions `x` (all inside `grid`). The slab axis is the axis along which the box of
   /// occupied cells is longest (ties: the later axis).
   void build(const Grid& grid, const std::vector<Vec3>& x);
@@ -46,6 +50,13 @@ class CellBins {
     for (int colour = 0; colour < 2; ++colour) {
       const int count = (slabs - colour + 1) / 2;
       if (count <= 0) continue;
+      if (order_.size() < kParallelMin) {  // same per-node order as the parallel branch
+        for (int s = 0; s < count; ++s) {
+          const auto [b, e] = slab_range(2 * s + colour);
+          for (std::uint32_t q = b; q < e; ++q) f(static_cast<std::size_t>(order_[q]));
+        }
+        continue;
+      }
       tbb::parallel_for(tbb::blocked_range<int>(0, count, 1),
                         [&](const tbb::blocked_range<int>& r) {
                           for (int s = r.begin(); s != r.end(); ++s) {

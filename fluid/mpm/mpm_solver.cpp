@@ -72,6 +72,13 @@ template <class F>
 void MpmSolver::for_each_box_node(F&& f) const {
   const int nx = box_hi_[0] - box_lo_[0] + 1, ny = box_hi_[1] - box_lo_[1] + 1, nz = box_hi_[2] - box_lo_[2] + 1;
   if (nx <= 0 || ny <= 0 || nz <= 0) return;
+  if (std::int64_t(nx) * ny * nz < 8192) {  // small box: task overhead dominates
+    for (int row = 0; row < ny * nz; ++row) {
+      const std::int64_t first = grid_.node_index(box_lo_[0], box_lo_[1] + row % ny, box_lo_[2] + row / ny);
+      for (std::int64_t id = first; id < first + nx; ++id) f(id);
+    }
+    return;
+  }
   tbb::parallel_for(tbb::blocked_range<int>(0, ny * nz, 16), [&](const tbb::blocked_range<int>& r) {
     for (int row = r.begin(); row != r.end(); ++row) {
       const std::int64_t first = grid_.node_index(box_lo_[0], box_lo_[1] + row % ny, box_lo_[2] + row / ny);

@@ -260,7 +260,7 @@ TEST(GridContact, SlipContactDoesNotGainEnergyAndTheLossIsBookedAsDissipation) {
 TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
   // Same input + thread count => same output; the coloured scatter makes it hold across thread
   // counts too. Gas expansion (7.3) at spacing 0.05 for 0.05 time units: about 600 coupled steps
-  // with contact on most of them.
+  // with contact on most of them (small enough to run the serial branches of the particle passes).
   auto run = [](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     mpm_contact::GasExpansionParams prm;
@@ -286,6 +286,31 @@ TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
     state.push_back(model->coupling().energies().contact);
     return state;
   };
+  // A body large enough for the parallel branches (CellBins::kParallelMin particles, a node box
+  // above 8192 nodes): an elastic ball of 33k particles spinning and breathing, 10 MPM steps.
+  auto run_ball = [](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    mpm::Grid g = mpm::Grid::covering(Vec3(0, 0, 0), Vec3(1, 1, 1), 0.04);
+    mpm::Particles P;
+    const Vec3 c(0.5013, 0.4987, 0.5021);
+    mpm::sample_lattice(P, c - Vec3(0.4, 0.4, 0.4), c + Vec3(0.4, 0.4, 0.4), 0.02, 1000, 0, Vec3::Zero(), 0,
+                        [&](const Vec3& x) { return (x - c).norm() < 0.4; });
+    for (std::size_t p = 0; p < P.size(); ++p) P.v[p] = Vec3(0, 0, 3).cross(P.x[p] - c) + 0.5 * (P.x[p] - c);
+    EXPECT_GT(P.size(), mpm::CellBins::kParallelMin);
+    mpm::MpmSolver s(g, {mpm::Material::linear_elastic(1000, 1e7, 0.3)}, P);
+    for (int k = 0; k < 10; ++k) s.step(s.critical_time_step());
+    std::vector<double> state;
+    for (std::size_t p = 0; p < s.particles().size(); ++p) {
+      state.insert(state.end(), s.particles().v[p].data(), s.particles().v[p].data() + 3);
+      state.insert(state.end(), s.particles().stress[p].data(), s.particles().stress[p].data() + 9);
+    }
+    state.push_back(s.energies().total());
+    return state;
+  };
+  const auto ball2 = run_ball(2), ball1 = run_ball(1);
+  ASSERT_EQ(ball1.size(), ball2.size());
+  EXPECT_EQ(std::memcmp(ball1.data(), ball2.data(), ball1.size() * sizeof(double)), 0);
+
   const auto a = run(2), b = run(2), c = run(1);
   ASSERT_EQ(a.size(), b.size());
   ASSERT_EQ(a.size(), c.size());
