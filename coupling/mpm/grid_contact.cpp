@@ -17,6 +17,7 @@ MpmMembraneCoupling::MpmMembraneCoupling(mpm::MpmSolver& mpm, membrane::Membrane
   xr_.assign(nn, Vec3::Zero());
   ps_.assign(nn, Vec3::Zero());
   seen_.assign(nn, 0);
+  gap_.assign(nn, std::numeric_limits<double>::quiet_NaN());
   fr_.assign(nn, Vec3::Zero());
 }
 
@@ -88,9 +89,12 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     nr_[id] = n;
     candidates_.push_back(id);
   }
+  compute_gaps();
   // Steps 4c-4d.
   for (auto id : candidates_) {
-    if (!(gap(id) < opt_.distance_factor * h)) continue;
+    const double g = gap_[id];
+    gap_[id] = std::numeric_limits<double>::quiet_NaN();
+    if (!(g < opt_.distance_factor * h)) continue;
     const double mr = mr_[id], m_s = ms[id];
     const Vec3 n = nr_[id];
     const Vec3 pr = pr_[id], p_s = ps_[id];
@@ -145,29 +149,38 @@ ContactReport MpmMembraneCoupling::step(double dt) {
   return rep;
 }
 
-double MpmMembraneCoupling::gap(std::int64_t id) const {
+void MpmMembraneCoupling::compute_gaps() {
   // Real-distance confirmation: gap between the membrane (mass centre of its points around I)
-  // and the surface of the nearest particle with N_Ip > 0 (the particles of the 8 cells around I),
-  // along n_I.
+  // and the surface of the nearest particle with N_Ip > 0, along n_I. One pass over the particles
+  // of the cells around the candidate nodes (each node lies in 8 cells); min is order-free.
+  if (candidates_.empty()) return;
   const auto& grid = mpm_.grid();
   const auto& P = mpm_.particles();
   const auto& bins = mpm_.bins();
   const std::int64_t nx = grid.cells[0] + 1, ny = grid.cells[1] + 1;
-  const int i = static_cast<int>(id % nx), j = static_cast<int>((id / nx) % ny), k = static_cast<int>(id / (nx * ny));
-  const Vec3 xr = xr_[id] / mr_[id], n = nr_[id];
-  double g = std::numeric_limits<double>::infinity();
-  for (int ck = k - 1; ck <= k; ++ck)
-    for (int cj = j - 1; cj <= j; ++cj)
-      for (int ci = i - 1; ci <= i; ++ci) {
-        const auto [b, e] = bins.cell(ci, cj, ck);
-        for (auto it = b; it != e; ++it) {
-          const auto st = mpm_.stencil(*it);
-          bool supported = false;  // N_Ip > 0 (false on the boundary of the support of I)
-          for (int c = 0; c < 8; ++c) supported |= st.node[c] == id && st.N[c] > 0;
-          if (supported) g = std::min(g, (P.x[*it] - xr).dot(n) - 0.5 * std::cbrt(P.volume(*it)));
-        }
+  cells_.clear();
+  for (auto id : candidates_) {
+    gap_[id] = std::numeric_limits<double>::infinity();
+    const int i = static_cast<int>(id % nx), j = static_cast<int>((id / nx) % ny), k = static_cast<int>(id / (nx * ny));
+    for (int ck = std::max(k - 1, 0); ck <= std::min(k, grid.cells[2] - 1); ++ck)
+      for (int cj = std::max(j - 1, 0); cj <= std::min(j, grid.cells[1] - 1); ++cj)
+        for (int ci = std::max(i - 1, 0); ci <= std::min(i, grid.cells[0] - 1); ++ci)
+          cells_.push_back({ci, cj, ck});
+  }
+  std::sort(cells_.begin(), cells_.end());
+  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  for (const auto& c : cells_) {
+    const auto [b, e] = bins.cell(c[0], c[1], c[2]);
+    for (auto it = b; it != e; ++it) {
+      const auto st = mpm_.stencil(*it);
+      const double radius = 0.5 * std::cbrt(P.volume(*it));
+      for (int q = 0; q < 8; ++q) {
+        const auto id = st.node[q];
+        if (std::isnan(gap_[id]) || !(st.N[q] > 0)) continue;  // not a candidate / outside the support
+        gap_[id] = std::min(gap_[id], (P.x[*it] - xr_[id] / mr_[id]).dot(nr_[id]) - radius);
       }
-  return g;
+    }
+  }
 }
 
 CoupledEnergies MpmMembraneCoupling::energies() const {

@@ -39,6 +39,10 @@
 /// dissipation is constant up to the explicit schemes' own error (0.2% over a gas expansion run).
 #include <Eigen/Core>
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "fluid/mpm/mpm_solver.hpp"
 #include "solid/membrane/membrane.hpp"
 
@@ -108,8 +112,10 @@ class MpmMembraneCoupling {
   std::vector<int> inside_;
   std::vector<mpm::Stencil> fe_st_;
 
-  /// Real-distance gap at candidate node id [m] (see the file comment).
-  double gap(std::int64_t id) const;
+  std::vector<double> gap_;  // NaN except at candidate nodes during a step
+  std::vector<std::array<int, 3>> cells_;
+  /// Real-distance gaps [m] of the candidate nodes into gap_ (see the file comment).
+  void compute_gaps();
 };
 
 }  // namespace tetfsi::mpm_contact
