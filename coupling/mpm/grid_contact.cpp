@@ -15,6 +15,8 @@ MpmMembraneCoupling::MpmMembraneCoupling(mpm::MpmSolver& mpm, membrane::Membrane
   pr_.assign(nn, Vec3::Zero());
   nr_.assign(nn, Vec3::Zero());
   xr_.assign(nn, Vec3::Zero());
+  ps_.assign(nn, Vec3::Zero());
+  seen_.assign(nn, 0);
   gap_.assign(nn, std::numeric_limits<double>::quiet_NaN());
   fr_.assign(nn, Vec3::Zero());
 }
@@ -33,6 +35,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
 
   // Step 4a: membrane mass, momentum, normals and mass-weighted positions on the grid.
   for (auto id : touched_) {
+    seen_[id] = 0;
     mr_[id] = 0;
     pr_[id].setZero();
     nr_[id].setZero();
@@ -43,71 +46,58 @@ ContactReport MpmMembraneCoupling::step(double dt) {
   const auto& X = mem_.positions();
   const auto& V = mem_.velocities();
   const auto& M = mem_.masses();
-  const auto normals = mem_.node_normals();
-  std::vector<int> inside;
-  std::vector<mpm::Stencil> fe_st;
-  inside.reserve(X.size());
-  fe_st.reserve(X.size());
+  mem_.node_normals(normals_);
+  inside_.clear();
+  fe_st_.clear();
   for (int k = 0; k < mem_.num_nodes(); ++k) {
     if (!grid.contains(X[k])) continue;  // outside the grid: no contact possible there
-    inside.push_back(k);
-    fe_st.push_back(grid.stencil(X[k]));
-    const auto& st = fe_st.back();
+    inside_.push_back(k);
+    fe_st_.push_back(grid.stencil_unchecked(X[k]));
+    const auto& st = fe_st_.back();
     for (int c = 0; c < 8; ++c) {
       const auto id = st.node[c];
-      if (mr_[id] == 0 && nr_[id].isZero(0.0)) touched_.push_back(id);
+      if (!seen_[id]) {  // first touch: the list stays in a deterministic order, no sort needed
+        seen_[id] = 1;
+        touched_.push_back(id);
+      }
       mr_[id] += st.N[c] * M[k];
       pr_[id] += (st.N[c] * M[k]) * V[k];
-      nr_[id] += st.N[c] * normals[k];
+      nr_[id] += st.N[c] * normals_[k];
       xr_[id] += (st.N[c] * M[k]) * X[k];
     }
   }
-  std::sort(touched_.begin(), touched_.end());
-  touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
 
-  // Steps 4b: candidate nodes (shared by both bodies, approaching by eq. 52).
-  auto& ps = mpm_.node_momentum();
+  // Step 4b: candidate nodes (shared by both bodies, approaching by eq. 52). The particle-side
+  // trial momentum is the one the particles carry (see the header).
   const auto& ms = mpm_.node_mass();
   const double eps = mpm_.mass_threshold();
   const auto& grad_s = mpm_.node_mass_gradient();
   const double h = grid.h;
-  std::vector<std::int64_t> candidates;
-  for (auto id : touched_) {
+  shared_.clear();
+  for (auto id : touched_)
+    if (mr_[id] > 0 && ms[id] > eps && nr_[id].norm() > 0) shared_.push_back(id);
+  mpm_.particle_trial_momenta(shared_, ps_);
+  candidates_.clear();
+  for (auto id : shared_) {
     const double mr = mr_[id], m_s = ms[id];
-    if (!(mr > 0) || !(m_s > eps) || nr_[id].norm() == 0) continue;
     Vec3 n = nr_[id].normalized();
     // Orient the (two-sided) membrane normal towards body s, i.e. against the outward normal
     // n^s = sum_p N_Ip,i m_p of body s (eq. 51).
     if (n.dot(grad_s[id]) > 0) n = -n;
-    const Vec3 approach = m_s * pr_[id] - mr * ps[id];
+    const Vec3 approach = m_s * pr_[id] - mr * ps_[id];
     if (!(approach.dot(n) > 0)) continue;  // eq. (52)
     nr_[id] = n;
-    gap_[id] = std::numeric_limits<double>::infinity();
-    candidates.push_back(id);
+    candidates_.push_back(id);
   }
-  // Real-distance confirmation: gap between the membrane (mass centre of its points around I)
-  // and the surface of the nearest particle in the support of I, along n_I.
-  if (!candidates.empty()) {
-    const auto& P = mpm_.particles();
-    const auto& pst = mpm_.stencils();
-    for (std::size_t p = 0; p < P.size(); ++p) {
-      const double radius = 0.5 * std::cbrt(P.volume(p));
-      for (int c = 0; c < 8; ++c) {
-        const auto id = pst[p].node[c];
-        if (std::isnan(gap_[id]) || pst[p].N[c] <= 0) continue;  // not a candidate node
-        const double g = (P.x[p] - xr_[id] / mr_[id]).dot(nr_[id]) - radius;
-        gap_[id] = std::min(gap_[id], g);
-      }
-    }
-  }
+  compute_gaps();
   // Steps 4c-4d.
-  for (auto id : candidates) {
-    const double gap = gap_[id];
+  for (auto id : candidates_) {
+    const double g = gap_[id];
     gap_[id] = std::numeric_limits<double>::quiet_NaN();
-    if (!(gap < opt_.distance_factor * h)) continue;
+    if (!(g < opt_.distance_factor * h)) continue;
     const double mr = mr_[id], m_s = ms[id];
     const Vec3 n = nr_[id];
-    const Vec3 pr = pr_[id], p_s = ps[id];
+    const Vec3 pr = pr_[id], p_s = ps_[id];
     const Vec3 approach = m_s * pr - mr * p_s;
     Vec3 f = -approach / ((mr + m_s) * dt);  // eq. (55), force on r (see header for the sign)
     if (opt_.mode == ContactOptions::Mode::Slip) {
@@ -117,38 +107,80 @@ ContactReport MpmMembraneCoupling::step(double dt) {
       f = fn * n + (ft_norm > limit ? Vec3(ft * (limit / ft_norm)) : ft);  // eq. (58)
     }
     fr_[id] = f;
-    const Vec3 ps_new = p_s - dt * f;  // eq. (53) with f^s = -f^r
-    rep.dissipated += 0.5 * (p_s.squaredNorm() - ps_new.squaredNorm()) / m_s;  // MPM side, on the grid
-    ps[id] = ps_new;
+    mpm_.add_node_impulse(id, -dt * f);  // eq. (53) with f^s = -f^r
     rep.impulse_on_mpm -= dt * f;
     rep.impulse_on_membrane += dt * f;
     ++rep.contact_nodes;
   }
-  mpm_.apply_grid_conditions();
 
   // Eq. (59): membrane velocity correction from the grid contact accelerations, then eq. (47).
+  double work_membrane = 0;
   if (rep.contact_nodes > 0) {
     auto& Vm = mem_.velocities();
     const auto& fixed = mem_.fixed();
-    for (std::size_t j = 0; j < inside.size(); ++j) {
-      const int k = inside[j];
-      const auto& st = fe_st[j];
+    for (std::size_t j = 0; j < inside_.size(); ++j) {
+      const int k = inside_[j];
+      const auto& st = fe_st_[j];
       Vec3 dv = Vec3::Zero();
       for (int c = 0; c < 8; ++c) {
         const auto id = st.node[c];
         if (mr_[id] > 0) dv += st.N[c] * fr_[id] / mr_[id];
       }
-      const double ke_before = 0.5 * M[k] * Vm[k].squaredNorm();
+      const Vec3 v_trial = Vm[k];
       Vm[k] += dt * dv;
       for (int a = 0; a < 3; ++a)
         if (fixed[k][a]) Vm[k][a] = 0;
-      rep.dissipated += ke_before - 0.5 * M[k] * Vm[k].squaredNorm();  // membrane side, at its nodes
+      // Work of the contact force over the step with the mid-step velocity (v^{n-1/2} +
+      // v^{n+1/2}) / 2, as for the membrane's external loads.
+      const Vec3 v_old = v_trial - dt * mem_.forces()[k] / M[k];
+      work_membrane += M[k] * (Vm[k] - v_trial).dot(0.5 * (v_old + Vm[k]));
     }
   }
   mem_.update_positions(dt);
   mpm_.finish_step(dt);
+  // Work of the contact forces on both bodies, each measured where its kinetic energy lives
+  // (FE nodes, particles); the loss is minus their sum.
+  if (rep.contact_nodes > 0) {
+    rep.work_on_membrane = work_membrane;
+    rep.work_on_mpm = mpm_.impulse_work();
+    rep.dissipated = -(work_membrane + mpm_.impulse_work());
+  }
   contact_energy_ += rep.dissipated;
   return rep;
+}
+
+void MpmMembraneCoupling::compute_gaps() {
+  // Real-distance confirmation: gap between the membrane (mass centre of its points around I)
+  // and the surface of the nearest particle with N_Ip > 0, along n_I. One pass over the particles
+  // of the cells around the candidate nodes (each node lies in 8 cells); min is order-free.
+  if (candidates_.empty()) return;
+  const auto& grid = mpm_.grid();
+  const auto& P = mpm_.particles();
+  const auto& bins = mpm_.bins();
+  const std::int64_t nx = grid.cells[0] + 1, ny = grid.cells[1] + 1;
+  cells_.clear();
+  for (auto id : candidates_) {
+    gap_[id] = std::numeric_limits<double>::infinity();
+    const int i = static_cast<int>(id % nx), j = static_cast<int>((id / nx) % ny), k = static_cast<int>(id / (nx * ny));
+    for (int ck = std::max(k - 1, 0); ck <= std::min(k, grid.cells[2] - 1); ++ck)
+      for (int cj = std::max(j - 1, 0); cj <= std::min(j, grid.cells[1] - 1); ++cj)
+        for (int ci = std::max(i - 1, 0); ci <= std::min(i, grid.cells[0] - 1); ++ci)
+          cells_.push_back({ci, cj, ck});
+  }
+  std::sort(cells_.begin(), cells_.end());
+  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  for (const auto& c : cells_) {
+    const auto [b, e] = bins.cell(c[0], c[1], c[2]);
+    for (auto it = b; it != e; ++it) {
+      const auto st = mpm_.stencil(*it);
+      const double radius = 0.5 * std::cbrt(P.volume(*it));
+      for (int q = 0; q < 8; ++q) {
+        const auto id = st.node[q];
+        if (std::isnan(gap_[id]) || !(st.N[q] > 0)) continue;  // not a candidate / outside the support
+        gap_[id] = std::min(gap_[id], (P.x[*it] - xr_[id] / mr_[id]).dot(nr_[id]) - radius);
+      }
+    }
+  }
 }
 
 CoupledEnergies MpmMembraneCoupling::energies() const {

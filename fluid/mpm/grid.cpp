@@ -25,40 +25,21 @@ Vec3 Grid::node_position(std::int64_t id) const {
 }
 
 bool Grid::contains(const Vec3& x) const {
+  const double inv = 1.0 / h;  // the same scaling as stencil() and cell_of()
   for (int a = 0; a < 3; ++a) {
-    const double s = (x[a] - lo[a]) / h;
+    const double s = (x[a] - lo[a]) * inv;
     if (!(s >= 0.0) || !(s < cells[a])) return false;
   }
   return true;
 }
 
 Stencil Grid::stencil(const Vec3& x) const {
-  int base[3];
-  double f[3];
-  for (int a = 0; a < 3; ++a) {
-    const double s = (x[a] - lo[a]) / h;
-    if (!(s >= 0.0) || !(s < cells[a])) {
-      std::ostringstream msg;
-      msg << "mpm::Grid: point (" << x.transpose() << ") is outside the background grid";
-      throw std::out_of_range(msg.str());
-    }
-    base[a] = static_cast<int>(s);
-    f[a] = s - base[a];
+  if (!contains(x)) {
+    std::ostringstream msg;
+    msg << "mpm::Grid: point (" << x.transpose() << ") is outside the background grid";
+    throw std::out_of_range(msg.str());
   }
-  Stencil st;
-  int c = 0;
-  for (int dk = 0; dk < 2; ++dk)
-    for (int dj = 0; dj < 2; ++dj)
-      for (int di = 0; di < 2; ++di, ++c) {
-        // 1D linear hat functions and their derivatives along each axis.
-        const double wx = di ? f[0] : 1.0 - f[0], gx = (di ? 1.0 : -1.0) / h;
-        const double wy = dj ? f[1] : 1.0 - f[1], gy = (dj ? 1.0 : -1.0) / h;
-        const double wz = dk ? f[2] : 1.0 - f[2], gz = (dk ? 1.0 : -1.0) / h;
-        st.node[c] = node_index(base[0] + di, base[1] + dj, base[2] + dk);
-        st.N[c] = wx * wy * wz;
-        st.dN[c] = Vec3(gx * wy * wz, wx * gy * wz, wx * wy * gz);
-      }
-  return st;
+  return stencil_unchecked(x);
 }
 
 std::vector<std::array<bool, 3>> Grid::build_constraint_mask() const {

@@ -61,6 +61,38 @@ struct Grid {
   /// Trilinear shape functions of the cell containing x (eq. 15 uses N_Ip; eq. 17 uses N_Ip,j).
   /// @throws std::out_of_range if x is outside the grid
   Stencil stencil(const Vec3& x) const;
+  /// The same without the range check, for the particle loops (x must lie inside the grid).
+  Stencil stencil_unchecked(const Vec3& x) const {
+    int base[3];
+    double f[3];
+    const double inv = 1.0 / h;
+    for (int a = 0; a < 3; ++a) {
+      const double s = (x[a] - lo[a]) * inv;
+      base[a] = static_cast<int>(s);
+      f[a] = s - base[a];
+    }
+    Stencil st;
+    const std::int64_t sx = cells[0] + 1, sxy = sx * (cells[1] + 1);
+    const std::int64_t b = node_index(base[0], base[1], base[2]);
+    // 1D linear hat functions and their derivatives along each axis.
+    const double w[3][2] = {{1.0 - f[0], f[0]}, {1.0 - f[1], f[1]}, {1.0 - f[2], f[2]}};
+    const double g[2] = {-inv, inv};
+    int c = 0;
+    for (int dk = 0; dk < 2; ++dk)
+      for (int dj = 0; dj < 2; ++dj)
+        for (int di = 0; di < 2; ++di, ++c) {
+          st.node[c] = b + di + dj * sx + dk * sxy;
+          st.N[c] = w[0][di] * w[1][dj] * w[2][dk];
+          st.dN[c] = Vec3(g[di] * w[1][dj] * w[2][dk], w[0][di] * g[dj] * w[2][dk], w[0][di] * w[1][dj] * g[dk]);
+        }
+    return st;
+  }
+  /// Index (i, j, k) of the cell containing x, as used by stencil() (x inside the grid).
+  std::array<int, 3> cell_of(const Vec3& x) const {
+    const double inv = 1.0 / h;
+    return {static_cast<int>((x[0] - lo[0]) * inv), static_cast<int>((x[1] - lo[1]) * inv),
+            static_cast<int>((x[2] - lo[2]) * inv)};
+  }
   /// Per-node mask of components held at zero by faces and constrained axes (3 bools per node).
   std::vector<std::array<bool, 3>> build_constraint_mask() const;
 };

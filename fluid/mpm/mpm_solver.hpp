@@ -13,11 +13,15 @@
 /// zero mass then receives a force (through N_I,j != 0 while N_I = 0) that no particle takes back.
 /// A single dt per step is used for Delta t^n and Delta t^{n+1/2}.
 ///
-/// Determinism: per-particle work (stencils, stress update, particle update) runs in TBB
-/// parallel_for writing only to its own particle; the particle-to-grid scatters are serial so that
-/// floating-point sums are always taken in the same order.
+/// Parallelism and determinism: the particle-to-grid scatters (eqs. 60, 61, 51 and 17, 18) run in
+/// parallel over slabs of cells coloured so that no two concurrent tasks write the same node
+/// (CellBins); every node receives its contributions in a fixed order, so results are
+/// bit-identical whatever the number of threads. Node loops cover only the box of occupied cells.
+/// The grid-to-particle update and the reductions (critical step, contact work, energies) use
+/// tbb::parallel_deterministic_reduce with a fixed grain.
 #include <vector>
 
+#include "fluid/mpm/cell_bins.hpp"
 #include "fluid/mpm/grid.hpp"
 #include "fluid/mpm/material.hpp"
 #include "fluid/mpm/particles.hpp"
@@ -50,30 +54,44 @@ class MpmSolver {
   const MpmOptions& options() const { return options_; }
 
   /// Critical step of eq. (21): cfl * min_p h / (c_p + |v_p|), further limited by the explicit
-  /// viscous bound rho h^2 / (8 mu) for viscous fluids.
-  double critical_time_step() const;
+  /// viscous bound rho h^2 / (8 mu) for viscous fluids. Evaluated for the current state (at the
+  /// end of each step, within the particle update).
+  double critical_time_step() const { return critical_dt_; }
 
   /// Steps (60)-(64): trial grid momentum. After this call node_momentum() holds p^{n+1/2}.
   void trial_step(double dt);
-  /// Steps (65) and (19) with the (possibly contact-corrected) grid momentum.
+  /// Adds a contact impulse dp [N s] to the trial momentum p^{n+1/2} of `node` (eq. 53); the
+  /// components held by the grid conditions are dropped. Between trial_step and finish_step.
+  void add_node_impulse(std::int64_t node, const Vec3& dp);
+  /// Steps (65) and (19) with the grid momentum p^{n+1/2} plus the impulses.
   /// @throws std::runtime_error if a particle state becomes non-finite or leaves the grid
   void finish_step(double dt);
   /// trial_step + finish_step.
   void step(double dt);
 
-  // Grid state of the current step (valid after trial_step).
+  // Grid state of the current step (valid after trial_step; zero outside the occupied box).
   const std::vector<double>& node_mass() const { return mass_; }
-  std::vector<Vec3>& node_momentum() { return mom_new_; }
+  /// Trial momentum p^{n+1/2} of eq. (64), without the impulses.
   const std::vector<Vec3>& node_momentum() const { return mom_new_; }
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
   /// n_I^s = sum_p N_Ip,i m_p (eq. 51): the (unnormalised) outward normal of the particle body.
   const std::vector<Vec3>& node_mass_gradient() const { return mass_grad_; }
-  /// Shape-function stencils of the particles at the start of the current step.
-  const std::vector<Stencil>& stencils() const { return stencils_; }
-  /// Re-applies the grid conditions to p^{n+1/2} (after a contact changed it).
-  void apply_grid_conditions();
-  /// Grid nodes with mass, ascending.
-  const std::vector<std::int64_t>& active_nodes() const { return active_; }
+  /// Shape functions of particle p at the start of the current step (valid until finish_step).
+  Stencil stencil(std::size_t p) const { return grid_.stencil_unchecked(particles_.x[p]); }
+  /// The particles binned by cell at the start of the current step (valid until finish_step).
+  const CellBins& bins() const { return bins_; }
+  /// Momentum the particles would carry to each of `nodes` after the trial update without
+  /// contact: p~_I = sum_p m_p N_Ip (v_p + sum_J N_Jp (p_J^{n+1/2} - p_J^{n-1/2}) / m_J), written
+  /// to out[I] (a node-indexed array of the grid's size; other entries are left alone). It differs
+  /// from the grid trial momentum p_I^{n+1/2} by the consistent-versus-lumped mass difference of
+  /// the FLIP update (65); an impulse computed from p~ changes the particles' kinetic energy by at
+  /// most what it changes the grid's (see coupling/mpm/grid_contact.hpp). Visits only the
+  /// particles of the cells around the nodes.
+  void particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out);
+  /// Work of the impulses of the last finish_step on the particles [J]:
+  /// sum_p m_p dv_p . (v_p^{n-1/2} + v_p^{n+1/2}) / 2, dv_p = sum_I N_Ip d_I / m_I the impulse part
+  /// of eq. (65) (mid-step velocity, as the kinetic energy change of the whole step splits).
+  double impulse_work() const { return impulse_work_; }
   /// Node components held at zero by the grid conditions.
   const std::vector<std::array<bool, 3>>& constraint_mask() const { return mask_; }
   /// Nodes with mass below this threshold are treated as empty.
@@ -85,19 +103,28 @@ class MpmSolver {
   long steps() const { return steps_; }
 
  private:
-  void update_particle_stress(std::size_t p, double dt);
+  void update_particle_stress(std::size_t p, double dt, const Stencil& st);
+  /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
+  template <class F>
+  void for_each_box_node(F&& f) const;
+  void check_particles(double dt) const;
 
   Grid grid_;
   std::vector<Material> materials_;
+  std::vector<std::array<double, 3>> lame_;  // per material: lambda, 2 G, lambda + 2 G [Pa]
   Particles particles_;
   MpmOptions options_;
   std::vector<std::array<bool, 3>> mask_;
-  std::vector<Stencil> stencils_;
+  CellBins bins_;
+  std::array<int, 3> box_lo_{0, 0, 0}, box_hi_{-1, -1, -1};  // node box of the current step
   std::vector<double> mass_;
-  std::vector<Vec3> mom_old_, mom_new_, force_, mass_grad_;
-  std::vector<Vec3> vel_, dvel_;  // per-node grid velocities of the current phase
-  std::vector<std::int64_t> active_;
+  std::vector<Vec3> mom_old_, mom_new_, force_, mass_grad_, impulse_;
+  std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
+  std::vector<std::int64_t> impulse_nodes_, cells_;
+  std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
+  double critical_dt_ = 0;
+  double impulse_work_ = 0;
   double time_ = 0;
   long steps_ = 0;
 };

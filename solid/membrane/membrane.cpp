@@ -1,6 +1,8 @@
 #include "solid/membrane/membrane.hpp"
 
 #include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <limits>
@@ -54,6 +56,17 @@ Membrane::Membrane(std::vector<Vec3> nodes, std::vector<std::array<int, 4>> quad
   }
   for (int i = 0; i < n; ++i)
     if (!(mass_[i] > 0)) throw std::invalid_argument("membrane: node " + std::to_string(i) + " belongs to no element");
+  // Node -> element corners (4 e + k), ascending in e, for the force gather.
+  node_start_.assign(n + 1, 0);
+  for (const auto& q : quads_)
+    for (int id : q) ++node_start_[id + 1];
+  for (int i = 0; i < n; ++i) node_start_[i + 1] += node_start_[i];
+  node_corner_.assign(4 * quads_.size(), 0);
+  std::vector<int> next(node_start_.begin(), node_start_.end() - 1);
+  for (std::size_t e = 0; e < quads_.size(); ++e)
+    for (int k = 0; k < 4; ++k) node_corner_[next[quads_[e][k]]++] = static_cast<int>(4 * e + k);
+  corner_force_.assign(4 * quads_.size(), Vec3::Zero());
+  pressure_force_.assign(quads_.size(), Vec3::Zero());
 }
 
 void Membrane::fix(int node, int axis) {
@@ -89,56 +102,65 @@ double Membrane::critical_time_step(double cfl) const {
 
 void Membrane::compute_forces(double dt) {
   const int n = num_nodes();
-  for (int i = 0; i < n; ++i) {
-    f_ext_[i] = mass_[i] * gravity_ - damping_ * mass_[i] * v_[i];
-    f_[i] = f_ext_[i];
-  }
   const double C11 = mat_.plate_modulus(), C12 = mat_.poisson * C11, C33 = 0.5 * (1 - mat_.poisson) * C11;
-  for (std::size_t e = 0; e < quads_.size(); ++e) {
-    const auto& ids = quads_[e];
-    const QuadFrame fr = quad_frame(corners(x_, ids));
-    // Eq. (41): local nodal velocities; eq. (40): centre strain rate. v^{n-1/2} is evaluated on
-    // the mid-step geometry x^{n-1/2} = x^n - dt/2 v^{n-1/2} (second-order consistent rate).
-    std::array<Vec3, 4> xh;
-    for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * dt * v_[ids[k]];
-    const QuadFrame frh = quad_frame(xh);
-    std::array<Vec3, 4> vl;
-    for (int k = 0; k < 4; ++k) vl[k] = frh.q.transpose() * v_[ids[k]];
-    double dxx = 0, dyy = 0, gxy = 0;
-    Vec3 qdot = Vec3::Zero();
-    for (int k = 0; k < 4; ++k) {
-      dxx += frh.b1[k] * vl[k][0];
-      dyy += frh.b2[k] * vl[k][1];
-      gxy += frh.b2[k] * vl[k][0] + frh.b1[k] * vl[k][1];  // engineering shear rate 2 D_xy
-      qdot += frh.gamma[k] * vl[k];
-    }
-    // Plane-stress elastic law in the co-rotational frame (no objective rate needed there).
-    auto& s = stress_[e];
-    s[0] += dt * (C11 * dxx + C12 * dyy);
-    s[1] += dt * (C12 * dxx + C11 * dyy);
-    s[2] += dt * (C33 * gxy);
-    // Flanagan-Belytschko stiffness hourglass forces, accumulated in the element frame.
-    const double k = mat_.hourglass * hg_k_[e], kn = mat_.hourglass_normal * hg_k_[e];
-    Vec3& Q = hg_force_[e];
-    Q[0] += dt * k * qdot[0];
-    Q[1] += dt * k * qdot[1];
-    Q[2] += dt * kn * qdot[2];
-    // Eqs. (42)-(45): f_int = -q f_hat with f_hat = V (B sigma), plus hourglass -Q gamma_K.
-    const double V = fr.area * mat_.thickness;
-    for (int kk = 0; kk < 4; ++kk) {
-      const Vec3 fl(V * (fr.b1[kk] * s[0] + fr.b2[kk] * s[2]), V * (fr.b2[kk] * s[1] + fr.b1[kk] * s[2]), 0.0);
-      const Vec3 f_int = -(fr.q * (fl + fr.gamma[kk] * Q));
-      f_[ids[kk]] += f_int;
-      if (pressure_ != 0) {
-        const Vec3 fp = 0.25 * pressure_ * fr.area_vector;
-        f_[ids[kk]] += fp;
-        f_ext_[ids[kk]] += fp;
+  // Per element, in parallel (each task writes only its elements' state and corner forces).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, quads_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t e = r.begin(); e != r.end(); ++e) {
+      const auto& ids = quads_[e];
+      const QuadFrame fr = quad_frame(corners(x_, ids));
+      // Eq. (41): local nodal velocities; eq. (40): centre strain rate. v^{n-1/2} is evaluated on
+      // the mid-step geometry x^{n-1/2} = x^n - dt/2 v^{n-1/2} (second-order consistent rate).
+      std::array<Vec3, 4> xh;
+      for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * dt * v_[ids[k]];
+      const QuadFrame frh = quad_frame(xh);
+      std::array<Vec3, 4> vl;
+      for (int k = 0; k < 4; ++k) vl[k] = frh.q.transpose() * v_[ids[k]];
+      double dxx = 0, dyy = 0, gxy = 0;
+      Vec3 qdot = Vec3::Zero();
+      for (int k = 0; k < 4; ++k) {
+        dxx += frh.b1[k] * vl[k][0];
+        dyy += frh.b2[k] * vl[k][1];
+        gxy += frh.b2[k] * vl[k][0] + frh.b1[k] * vl[k][1];  // engineering shear rate 2 D_xy
+        qdot += frh.gamma[k] * vl[k];
       }
+      // Plane-stress elastic law in the co-rotational frame (no objective rate needed there).
+      auto& s = stress_[e];
+      s[0] += dt * (C11 * dxx + C12 * dyy);
+      s[1] += dt * (C12 * dxx + C11 * dyy);
+      s[2] += dt * (C33 * gxy);
+      // Flanagan-Belytschko stiffness hourglass forces, accumulated in the element frame.
+      const double k = mat_.hourglass * hg_k_[e], kn = mat_.hourglass_normal * hg_k_[e];
+      Vec3& Q = hg_force_[e];
+      Q[0] += dt * k * qdot[0];
+      Q[1] += dt * k * qdot[1];
+      Q[2] += dt * kn * qdot[2];
+      // Eqs. (42)-(45): f_int = -q f_hat with f_hat = V (B sigma), plus hourglass -Q gamma_K.
+      const double V = fr.area * mat_.thickness;
+      for (int kk = 0; kk < 4; ++kk) {
+        const Vec3 fl(V * (fr.b1[kk] * s[0] + fr.b2[kk] * s[2]), V * (fr.b2[kk] * s[1] + fr.b1[kk] * s[2]), 0.0);
+        corner_force_[4 * e + kk] = -(fr.q * (fl + fr.gamma[kk] * Q));
+      }
+      pressure_force_[e] = 0.25 * pressure_ * fr.area_vector;
     }
-  }
-  for (int i = 0; i < n; ++i)
-    for (int a = 0; a < 3; ++a)
-      if (fixed_[i][a]) f_[i][a] = 0;
+  });
+  // Per node: external part, then the corner forces of its elements in ascending element order
+  // (the order of a serial element loop, so the sums do not depend on the thread count).
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i != r.end(); ++i) {
+      f_ext_[i] = mass_[i] * gravity_ - damping_ * mass_[i] * v_[i];
+      f_[i] = f_ext_[i];
+      for (int a = node_start_[i]; a < node_start_[i + 1]; ++a) {
+        const int e = node_corner_[a] / 4;
+        f_[i] += corner_force_[node_corner_[a]];
+        if (pressure_ != 0) {
+          f_[i] += pressure_force_[e];
+          f_ext_[i] += pressure_force_[e];
+        }
+      }
+      for (int a = 0; a < 3; ++a)
+        if (fixed_[i][a]) f_[i][a] = 0;
+    }
+  });
 }
 
 void Membrane::trial_velocities(double dt) {
@@ -182,13 +204,18 @@ Mat3 Membrane::global_stress(int e) const {
 }
 
 std::vector<Vec3> Membrane::node_normals() const {
-  std::vector<Vec3> nrm(x_.size(), Vec3::Zero());
+  std::vector<Vec3> nrm;
+  node_normals(nrm);
+  return nrm;
+}
+
+void Membrane::node_normals(std::vector<Vec3>& nrm) const {
+  nrm.assign(x_.size(), Vec3::Zero());
   for (const auto& q : quads_) {
     const auto X = corners(x_, q);
     const Vec3 S = 0.5 * (X[2] - X[0]).cross(X[3] - X[1]);
     for (int id : q) nrm[id] += 0.25 * S;
   }
-  return nrm;
 }
 
 MembraneEnergies Membrane::energies() const {

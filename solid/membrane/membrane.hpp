@@ -91,6 +91,8 @@ class Membrane {
   Mat3 global_stress(int e) const;
   /// Area-weighted node normals sum_e S_e / 4 (unnormalised), for contact.
   std::vector<Vec3> node_normals() const;
+  /// The same into `out` (resized; no allocation once it has the size).
+  void node_normals(std::vector<Vec3>& out) const;
   MembraneEnergies energies() const;
   Vec3 total_momentum() const;
 
@@ -107,6 +109,9 @@ class Membrane {
   Vec3 gravity_ = Vec3::Zero();
   double ext_work_ = 0, damp_loss_ = 0;
   std::vector<Vec3> f_ext_;  // external + damping part of f^n, for the work bookkeeping
+  // Element corner forces of compute_forces and the node -> corner map that gathers them.
+  std::vector<Vec3> corner_force_, pressure_force_;
+  std::vector<int> node_start_, node_corner_;
 };
 
 }  // namespace tetfsi::membrane

@@ -111,7 +111,7 @@ TEST(WaterBalloon, TrapezoidalKeepsCavityVolumeAndNeverGainsEnergy) {
 // The paper's scheme (θ = 1) damps: the energy only decreases, and the volume is still kept.
 // Against the paper's end-of-step constraint form on the same squeeze: the solid moves by
 // (h/2)(uⁿ + u^{n+1}), so the end-of-step form leaves an O(h²) volume error per step that the
-// step-mean form (CoupledSettings::mean_constraint, the default) removes. Seen: 1.73e-5 vs 2.27e-7.
+// step-mean form (CoupledSettings::mean_constraint, opt-in) removes. Seen: 1.73e-5 vs 2.27e-7.
 TEST(WaterBalloon, PaperSchemeDissipatesAndKeepsCavityVolume) {
   const BalloonRun run = run_balloon(solid::NewmarkScheme::kChentanez, 0.05, 40);
   print("water balloon, paper scheme", run);

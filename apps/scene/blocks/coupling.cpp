@@ -26,18 +26,20 @@ Field coupling() {
                          "(beta = 1/4, gamma = 1/2).")
           .def("chentanez"),
       Field::enumeration("constraint", {"step_mean", "end_of_step"},
-                         "Incompressibility constraint of the simultaneous solve: `step_mean` on the "
-                         "step's mean fluid and solid velocities with the interface at mid-step (keeps "
-                         "closed cavities' volume to O(h^3) per step), `end_of_step` as printed in eq. (7) "
-                         "(O(h^2) per step; coupling/README.md).")
-          .def("step_mean"),
+                         "Incompressibility constraint of the simultaneous solve: `end_of_step` as printed "
+                         "in eq. (7); `step_mean` on the step's mean fluid and solid velocities with the "
+                         "interface at mid-step, which keeps a closed cavity's volume to O(h^3) per step "
+                         "instead of O(h^2) (use it for liquid-filled shells) but lets divergence errors "
+                         "alternate in sign from step to step, which diverged on the open-jet bar scene "
+                         "(coupling/README.md).")
+          .def("end_of_step"),
       Field::enumeration("mesh_update", {"remesh_when_needed", "remesh_every_step", "move"},
                          "How the fluid mesh follows the solids each step: the fluid vertices always "
-                         "follow (harmonic extension of the solid motion); `remesh_when_needed` remeshes "
+                         "follow (stiffened Laplacian of the solid motion); `remesh_when_needed` remeshes "
                          "the fluid with CGAL when its minimum dihedral angle falls below "
                          "`remesh_below_deg`, `remesh_every_step` every step (as in the paper), `move` "
-                         "never. Only the fluid within `fluid.remesh_band` of the solids is remeshed "
-                         "(0: all of it).")
+                         "never. Only the fluid within `fluid.remesh_band` of the tets that fell below the "
+                         "threshold is remeshed (0: four near-solid cell sizes).")
           .def("remesh_when_needed"),
       Field::number("remesh_below_deg", "deg",
                     "With `remesh_when_needed`: remesh when the moved fluid's minimum dihedral angle is "

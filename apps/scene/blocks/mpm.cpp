@@ -17,7 +17,8 @@ Field contact() {
       Field::number("friction", "", "Coulomb coefficient mu of eq. (58) (slip mode).").at_least(0).def(0.0),
       Field::number("distance_factor", "",
                     "A contact found in momentum form (eq. 52) is kept only if the membrane is within "
-                    "this many cells of the particles. Values near 1 were unstable in the sphere cases.")
+                    "this many cells of the particles (the membrane is stopped at most that far from the "
+                    "particle surface).")
           .greater(0).at_most(1).def(0.25),
   });
 }
@@ -61,6 +62,11 @@ Field mpm() {
                          "sphere (Mie-Grueneisen) at 10 m/s hitting a soft clamped membrane. Sphere cases: "
                          "end time about 0.4 ms.").req(),
       contact(),
+      Field::integer("stats_rows_per_frame",
+                     "Rows of stats.csv and probes.csv per output frame. Each row holds the exact state at "
+                     "its time; the coupled steps between rows (often thousands: the explicit step is "
+                     "limited by the critical step of section 4.4) are not written.")
+          .at_least(1).at_most(1000).def(1),
   }).tagged_by("example")
     .variant("gas_expansion", {
         Field::number("cell", "", "Grid cell size, also the membrane element size (paper: 0.1).")

@@ -83,6 +83,7 @@ GasExpansionResult run_gas_expansion(const GasExpansionParams& prm,
   res.radius_0deg = probes[0].second;
   res.radius_90deg = probes[1].second;
   res.energy_final = model->stored_energy();
+  res.contact_dissipated = model->coupling().energies().contact;
   return res;
 }
 

@@ -26,6 +26,7 @@ struct GasExpansionParams {
 struct GasExpansionResult {
   double radius_0deg = 0, radius_90deg = 0;  ///< final radii
   double energy_initial = 0, energy_final = 0;
+  double contact_dissipated = 0;  ///< accumulated work removed by the contact forces
   double energy_loss_fraction() const { return 1 - energy_final / energy_initial; }
   long steps = 0;
   long particle_updates = 0;  ///< particles x steps

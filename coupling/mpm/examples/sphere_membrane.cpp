@@ -101,6 +101,7 @@ SphereMembraneResult run_sphere_membrane(const SphereMembraneParams& prm,
   res.membrane_center_z = probes[0].second;
   res.second_probe_z = probes[1].second;
   res.energy_final = model->stored_energy();
+  res.contact_dissipated = model->coupling().energies().contact;
   return res;
 }
 

@@ -38,6 +38,7 @@ struct SphereMembraneResult {
   double second_probe_z = 0;  ///< final corner z (7.1a) or sphere top z (7.1b, 7.2) [m]
   /// Stored energy (kinetic + internal of both bodies, membrane hourglass) at start and end [J].
   double energy_initial = 0, energy_final = 0;
+  double contact_dissipated = 0;  ///< accumulated work removed by the contact forces [J]
 };
 
 /// @throws std::invalid_argument on bad sizes, std::runtime_error on instability
