@@ -1,6 +1,8 @@
 #pragma once
 /// @file solver_impls.hpp
 /// Private: the three CoupledSolver implementations (see coupled_solver.hpp) and shared helpers.
+#include <memory>
+
 #include "coupling/solvers/coupled_solver.hpp"
 
 namespace tetfsi::coupling::detail {
@@ -37,11 +39,14 @@ class BiCGSTABSolver final : public CoupledSolver {
 
 class SchurCGSolver final : public CoupledSolver {
  public:
-  explicit SchurCGSolver(CoupledSolverOptions o) : options_(std::move(o)) {}
+  explicit SchurCGSolver(CoupledSolverOptions o);
+  ~SchurCGSolver() override;
   CoupledSolveReport solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) override;
 
  private:
+  struct Factor;  // CHOLMOD factor of A, its symbolic analysis kept while A's pattern stays
   CoupledSolverOptions options_;
+  std::unique_ptr<Factor> factor_;
 };
 
 }  // namespace tetfsi::coupling::detail

@@ -55,8 +55,9 @@ class Vector {
 };
 
 /// BoomerAMG set to one V-cycle as a preconditioner: HMIS coarsening with extended+i
-/// interpolation (strong threshold 0.5, for 3D Laplacians) and symmetric hybrid Gauss-Seidel, so
-/// that the preconditioner is symmetric and CG may use it.
+/// interpolation (strong threshold 0.5, for 3D Laplacians), one level of aggressive coarsening
+/// (multipass interpolation) and symmetric hybrid Gauss-Seidel, so that the preconditioner is
+/// symmetric and CG may use it.
 HYPRE_Solver make_boomeramg_preconditioner();
 
 }  // namespace tetfsi::fluid::hypre

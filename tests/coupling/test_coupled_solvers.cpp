@@ -105,6 +105,23 @@ TEST(CoupledSolversReport, IterativeSolverThatStopsEarlyThrowsInsteadOfFallingBa
   }
 }
 
+TEST(CoupledSolversReport, SchurCGReusesItsFactorAnalysisOnlyWhileThePatternHolds) {
+  // One solver object over a sequence of systems, as in a run: same pattern with new values
+  // (CHOLMOD's analysis is kept), then a larger system (re-analysed), then a smaller one again.
+  CoupledSolverOptions options;
+  options.tolerance = 1e-10;
+  auto solver = make_coupled_solver(CoupledSolverKind::SchurCG, options);
+  CoupledSystem stiffer = make_system(30, 12);
+  stiffer.A = 3.0 * stiffer.A;
+  for (const CoupledSystem& s : {make_system(30, 12), stiffer, make_system(45, 12), make_system(30, 12)}) {
+    const Eigen::VectorXd ref = dense_reference(s);
+    Eigen::VectorXd u, p;
+    solver->solve(s, u, p);
+    EXPECT_LT((u - ref.head(u.size())).norm(), 1e-6 * ref.head(u.size()).norm()) << s.A.rows();
+    EXPECT_LT((p - ref.tail(p.size())).norm(), 1e-6 * ref.tail(p.size()).norm()) << s.A.rows();
+  }
+}
+
 TEST(CoupledSolversReport, PressureOnlySystemIsAPlainProjection) {
   // No solid: eq. (7) reduces to the fluid projection C p = r.
   CoupledSystem s = make_system(30, 8);
