@@ -78,6 +78,7 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
   min_dihedral_deg_ = mesh::quality_report(mesh_, mesh::kFluidSubdomain).min_dihedral_deg;
   if (!(settings_.mesh_update.remesh.target_edge_length > 0))
     settings_.mesh_update.remesh.target_edge_length = fluid_edge_length_near_solids(mesh_);
+  mesh_updater_ = std::make_unique<MeshUpdater>(settings_.mesh_update);
 }
 
 MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
@@ -86,7 +87,7 @@ MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
     const Eigen::VectorXd x = s.integrator->positions();
     for (int a = 0; a < s.model->num_nodes(); ++a) target[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
   }
-  MeshUpdateResult r = update_mesh(mesh_, target, settings_.mesh_update, min_dihedral_deg_);
+  MeshUpdateResult r = mesh_updater_->update(mesh_, target, min_dihedral_deg_);
   min_dihedral_deg_ = r.report.min_dihedral_deg;
   if (r.report.remeshed) {
     // Solid vertices are never removed by the remesher: renumber the solid-node maps and carry

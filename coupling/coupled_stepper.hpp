@@ -126,6 +126,7 @@ class CoupledStepper {
   std::unique_ptr<CoupledSolver> solver_;
   std::vector<double> previous_vertex_pressure_;  // per mesh vertex, for time splitting
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_
+  std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes
   double time_ = 0;
   int step_ = 0;
 };

@@ -45,18 +45,37 @@ double fluid_edge_length_near_solids(const mesh::TetMesh& mesh) {
   return count > 0 ? sum / count : mesh::mean_edge_length(mesh, mesh::kFluidSubdomain);
 }
 
+MeshUpdater::MeshUpdater(MeshUpdateOptions options) : options_(std::move(options)) {}
+MeshUpdater::~MeshUpdater() = default;
+
 MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                              const MeshUpdateOptions& options, double start_min_dihedral_deg) {
+  return MeshUpdater(options).update(mesh, solid_positions, start_min_dihedral_deg);
+}
+
+MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
+                                     double start_min_dihedral_deg) {
+  const MeshUpdateOptions& options = options_;
   const auto start = std::chrono::steady_clock::now();
+  if (!motion_ || motion_->num_vertices() != mesh.num_vertices())
+    motion_ = std::make_unique<mesh::MeshMotion>(mesh, options.motion);
   MeshUpdateResult result;
   result.mesh = mesh;
-  result.mesh.vertices = mesh::move_with_solids(mesh, solid_positions, options.motion);
-  const mesh::QualityReport moved = mesh::quality_report(result.mesh);
-  if (moved.inverted + moved.degenerate > 0)
-    throw mesh::MeshError("the solid motion of this step inverts " + std::to_string(moved.inverted) + " and flattens " +
-                          std::to_string(moved.degenerate) + " tets even with the fluid vertices following; take a "
-                          "smaller time step");
-  const double moved_fluid_min = mesh::quality_report(result.mesh, mesh::kFluidSubdomain).min_dihedral_deg;
+  result.mesh.vertices = motion_->positions(solid_positions);
+  // One pass for the fluid's angles and flat/inverted count; the solid tets only need the latter.
+  const mesh::QualityReport fluid_quality = mesh::quality_report(result.mesh, mesh::kFluidSubdomain);
+  int spoiled = fluid_quality.inverted + fluid_quality.degenerate;
+  for (int t = 0; t < result.mesh.num_tets(); ++t) {
+    if (result.mesh.subdomain[t] == mesh::kFluidSubdomain) continue;
+    const auto& v = result.mesh.tets[t];
+    const auto& x = result.mesh.vertices;
+    spoiled += mesh::flat_or_inverted(x[v[0]], x[v[1]], x[v[2]], x[v[3]]) &&
+               !mesh::flat_or_inverted(mesh.vertices[v[0]], mesh.vertices[v[1]], mesh.vertices[v[2]], mesh.vertices[v[3]]);
+  }
+  if (spoiled > 0)
+    throw mesh::MeshError("the solid motion of this step inverts or flattens " + std::to_string(spoiled) +
+                          " tets even with the fluid vertices following; take a smaller time step");
+  const double moved_fluid_min = fluid_quality.min_dihedral_deg;
 
   const auto keep_moved = [&] {
     result.old_index.resize(mesh.num_vertices());
@@ -88,6 +107,7 @@ MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen:
       result.report.remeshed = true;
       result.report.passes = r.report.passes;
       result.report.min_dihedral_deg = q.min_dihedral_deg;
+      motion_.reset();  // the next step measures the motion from the new mesh
     } else {
       keep_moved();
       result.report.remesh_rejected = r.report.remeshed;

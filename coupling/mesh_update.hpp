@@ -13,6 +13,7 @@
 /// `old_index`. The fluid's fields are moved onto the new mesh by the advection step
 /// (fluid::FluidSolver::predict back-traces from the new mesh into the old one).
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,27 @@ struct MeshUpdateResult {
 /// keeps a mesh graded toward the solids as fine near them as it started.
 double fluid_edge_length_near_solids(const mesh::TetMesh& mesh);
 
+/// Step by step mesh update. The fluid vertices follow the solids by the stiffened Laplacian
+/// measured from the mesh as it was after the last remesh (mesh::MeshMotion: assembled once,
+/// warm-started CG each step), then the fluid is remeshed according to `options.policy`.
+class MeshUpdater {
+ public:
+  explicit MeshUpdater(MeshUpdateOptions options);
+  ~MeshUpdater();
+  const MeshUpdateOptions& options() const { return options_; }
+  MeshUpdateOptions& options() { return options_; }
+
+  /// @param mesh  the mesh this updater returned last time (or the initial mesh)
+  /// Other parameters and the result as update_mesh below.
+  MeshUpdateResult update(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
+                          double start_min_dihedral_deg);
+
+ private:
+  MeshUpdateOptions options_;
+  std::unique_ptr<mesh::MeshMotion> motion_;
+};
+
+/// One update without a cached motion (a MeshUpdater used once).
 /// Moves `mesh` so that every solid vertex v lands on `solid_positions[v]`, then remeshes the fluid
 /// according to `options.policy`.
 /// @param mesh             the shared mesh at the previous step (positively oriented tets)

@@ -25,32 +25,25 @@ Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Eigen::Vector3d, 4>& x
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
-                                              const MeshMotionOptions& options) {
-  const int n = mesh.num_vertices();
-  if (static_cast<int>(solid_positions.size()) != n)
-    throw MeshError("mesh motion: expected " + std::to_string(n) + " positions, got " +
-                    std::to_string(solid_positions.size()));
-  const std::vector<int> kind = vertex_kinds(mesh);  // 0 free, 1 solid (prescribed), 2 boundary (fixed)
-  std::vector<int> unknown(n, -1);
-  int m = 0;
-  for (int v = 0; v < n; ++v)
-    if (kind[v] == 0) unknown[v] = m++;
-  std::vector<Eigen::Vector3d> moved = mesh.vertices;
-  bool still = true;
-  for (int v = 0; v < n; ++v)
-    if (kind[v] == 1) {
-      moved[v] = solid_positions[v];
-      still = still && moved[v] == mesh.vertices[v];
-    }
-  if (m == 0 || still) return moved;
+struct MeshMotion::Solver {
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+};
 
+MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
+    : reference_(mesh.vertices), kind_(vertex_kinds(mesh)), unknown_(mesh.num_vertices(), -1),
+      solver_(std::make_unique<Solver>()) {
+  const int n = mesh.num_vertices();
+  std::vector<int> column(n, -1);
+  int m = 0;
+  for (int v = 0; v < n; ++v) {
+    if (kind_[v] == 0) unknown_[v] = m++;
+    if (kind_[v] == 1) column[v] = static_cast<int>(prescribed_.size()), prescribed_.push_back(v);
+  }
   double v_max = 0;
   for (int t = 0; t < mesh.num_tets(); ++t)
     if (mesh.subdomain[t] == kFluidSubdomain) v_max = std::max(v_max, signed_volume(mesh, t));
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(16 * mesh.tets.size());
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
+  std::vector<Eigen::Triplet<double>> ff, fp;
+  ff.reserve(16 * mesh.tets.size());
   for (int t = 0; t < mesh.num_tets(); ++t) {
     if (mesh.subdomain[t] != kFluidSubdomain) continue;
     const auto& tet = mesh.tets[t];
@@ -62,33 +55,67 @@ std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::ve
     const double s = std::pow(v_max / volume, options.stiffening_exponent) * volume;
     const Eigen::Matrix4d k = s * g * g.transpose();
     for (int i = 0; i < 4; ++i) {
-      const int a = unknown[tet[i]];
+      const int a = unknown_[tet[i]];
       if (a < 0) continue;
       for (int j = 0; j < 4; ++j) {
-        const int b = unknown[tet[j]];
-        if (b >= 0)
-          triplets.emplace_back(a, b, k(i, j));
-        else
-          rhs.row(a) -= k(i, j) * (moved[tet[j]] - mesh.vertices[tet[j]]).transpose();
+        if (unknown_[tet[j]] >= 0) ff.emplace_back(a, unknown_[tet[j]], k(i, j));
+        else if (column[tet[j]] >= 0) fp.emplace_back(a, column[tet[j]], k(i, j));
+        // box-boundary vertices (kind 2) never move: no contribution
       }
     }
   }
-  Eigen::SparseMatrix<double> K(m, m);
-  K.setFromTriplets(triplets.begin(), triplets.end());
-  // CG with a diagonal preconditioner: K is SPD and the tolerance is relative to the right-hand
+  K_ff_.resize(m, m);
+  K_ff_.setFromTriplets(ff.begin(), ff.end());
+  K_fp_.resize(m, static_cast<int>(prescribed_.size()));
+  K_fp_.setFromTriplets(fp.begin(), fp.end());
+  // CG with a diagonal preconditioner: K_ff is SPD; the tolerance is relative to the right-hand
   // side (the prescribed motion), so a rigid-body step converges to round-off.
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
-  cg.setTolerance(options.tolerance);
-  cg.setMaxIterations(std::max(1000, 4 * m));
-  cg.compute(K);
-  for (int c = 0; c < 3; ++c) {
-    if (rhs.col(c).norm() == 0) continue;
-    const Eigen::VectorXd d = cg.solve(rhs.col(c));
-    if (cg.info() != Eigen::Success) throw MeshError("mesh motion: the stiffened Laplacian did not converge");
-    for (int v = 0; v < n; ++v)
-      if (unknown[v] >= 0) moved[v][c] += d[unknown[v]];
+  solver_->cg.setTolerance(options.tolerance);
+  solver_->cg.setMaxIterations(std::max(1000, 4 * m));
+  if (m > 0) solver_->cg.compute(K_ff_);
+  last_ = Eigen::MatrixXd::Zero(m, 3);
+}
+
+MeshMotion::~MeshMotion() = default;
+
+std::vector<Eigen::Vector3d> MeshMotion::positions(const std::vector<Eigen::Vector3d>& solid_positions) {
+  const int n = num_vertices();
+  if (static_cast<int>(solid_positions.size()) != n)
+    throw MeshError("mesh motion: expected " + std::to_string(n) + " positions, got " +
+                    std::to_string(solid_positions.size()));
+  std::vector<Eigen::Vector3d> moved = reference_;
+  Eigen::MatrixXd d_p(prescribed_.size(), 3);
+  for (std::size_t c = 0; c < prescribed_.size(); ++c) {
+    const int v = prescribed_[c];
+    moved[v] = solid_positions[v];
+    d_p.row(c) = (solid_positions[v] - reference_[v]).transpose();
   }
+  if (K_ff_.rows() == 0) return moved;
+  const Eigen::MatrixXd rhs = -(K_fp_ * d_p);
+  for (int c = 0; c < 3; ++c) {
+    if (rhs.col(c).norm() == 0) {
+      last_.col(c).setZero();
+      continue;
+    }
+    last_.col(c) = solver_->cg.solveWithGuess(rhs.col(c), last_.col(c));
+    if (solver_->cg.info() != Eigen::Success) throw MeshError("mesh motion: the stiffened Laplacian did not converge");
+  }
+  for (int v = 0; v < n; ++v)
+    if (unknown_[v] >= 0) moved[v] += last_.row(unknown_[v]).transpose();
   return moved;
+}
+
+std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
+                                              const MeshMotionOptions& options) {
+  if (static_cast<int>(solid_positions.size()) != mesh.num_vertices())
+    throw MeshError("mesh motion: expected " + std::to_string(mesh.num_vertices()) + " positions, got " +
+                    std::to_string(solid_positions.size()));
+  bool still = true;
+  for (int t = 0; t < mesh.num_tets() && still; ++t)
+    if (mesh.subdomain[t] != kFluidSubdomain)
+      for (int v : mesh.tets[t]) still = still && solid_positions[v] == mesh.vertices[v];
+  if (still) return mesh.vertices;
+  return MeshMotion(mesh, options).positions(solid_positions);
 }
 
 }  // namespace tetfsi::mesh

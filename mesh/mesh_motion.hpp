@@ -16,6 +16,9 @@
 /// gradient of tet t), is symmetric positive definite once the Dirichlet vertices are eliminated;
 /// it is solved for the three components with Eigen's conjugate gradients.
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <Eigen/IterativeLinearSolvers>
+#include <memory>
 #include <vector>
 
 #include "mesh/tet_mesh.hpp"
@@ -37,5 +40,35 @@ struct MeshMotionOptions {
 /// @throws MeshError if the sizes do not match or CG does not converge
 std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                                               const MeshMotionOptions& options = {});
+
+/// The same motion measured from a fixed reference mesh, for many steps on one mesh: the
+/// stiffened Laplacian is assembled once at the reference positions, and each call solves it for
+/// the total displacement of the solid vertices since the reference (CG warm-started from the
+/// previous call's solution). Cheaper per step than move_with_solids (no assembly, few CG
+/// iterations), and the same up to the change of geometry since the reference; build a new one
+/// after the mesh is remeshed.
+class MeshMotion {
+ public:
+  /// @param reference  the mesh whose connectivity and positions define the operator
+  /// @throws MeshError if a fluid tet of the reference is flat or inverted
+  MeshMotion(const TetMesh& reference, const MeshMotionOptions& options = {});
+  ~MeshMotion();
+
+  /// Positions of every vertex of the reference mesh with the solid vertices at
+  /// `solid_positions` (one per vertex, read for solid vertices) [m].
+  /// @throws MeshError on a size mismatch or if CG does not converge
+  std::vector<Eigen::Vector3d> positions(const std::vector<Eigen::Vector3d>& solid_positions);
+
+  int num_vertices() const { return static_cast<int>(reference_.size()); }
+
+ private:
+  struct Solver;
+  std::vector<Eigen::Vector3d> reference_;
+  std::vector<int> kind_, unknown_;
+  Eigen::SparseMatrix<double> K_ff_, K_fp_;  // free-free and free-prescribed blocks
+  std::vector<int> prescribed_;               // vertex of each K_fp_ column
+  std::unique_ptr<Solver> solver_;
+  Eigen::MatrixXd last_;                      // previous solution (m x 3), CG's initial guess
+};
 
 }  // namespace tetfsi::mesh

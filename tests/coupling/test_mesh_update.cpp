@@ -126,3 +126,19 @@ TEST(MeshUpdate, ParsesPolicyNames) {
     EXPECT_EQ(coupling::parse_mesh_update_policy(coupling::to_string(p)), p);
   EXPECT_THROW(coupling::parse_mesh_update_policy("sometimes"), std::invalid_argument);
 }
+
+TEST(MeshUpdate, CachedMotionEqualsOneMotionOfTheTotalDisplacement) {
+  // MeshUpdater measures the motion from the mesh of its last remesh: five steps of 0.02 m end
+  // where one 0.1 m motion of the same reference goes (the operator is linear), to CG tolerance.
+  const mesh::TetMesh m0 = sphere_in_box();
+  coupling::MeshUpdateOptions options;
+  options.policy = coupling::MeshUpdatePolicy::kMove;
+  coupling::MeshUpdater updater(options);
+  mesh::TetMesh m = m0;
+  for (int n = 1; n <= 5; ++n) m = updater.update(m, shifted(m0, {0.02 * n, 0, 0}), 0).mesh;
+  const auto once = mesh::move_with_solids(m0, shifted(m0, {0.1, 0, 0}));
+  double err = 0;
+  for (int v = 0; v < m.num_vertices(); ++v) err = std::max(err, (m.vertices[v] - once[v]).norm());
+  EXPECT_LT(err, 1e-6 * 0.1) << "max difference [m]";
+  EXPECT_EQ(mesh::quality_report(m).inverted, 0);
+}
