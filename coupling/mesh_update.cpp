@@ -58,7 +58,11 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   const MeshUpdateOptions& options = options_;
   const auto start = std::chrono::steady_clock::now();
   if (!motion_ || motion_->num_vertices() != mesh.num_vertices())
-    motion_ = std::make_unique<mesh::MeshMotion>(mesh, options.motion);
+    motion_ = std::make_unique<mesh::MeshMotion>(mesh, [&] {
+      mesh::MeshMotionOptions o = options.motion;
+      o.factorize = true;  // moved every step until the next remesh: factorize once
+      return o;
+    }());
   MeshUpdateResult result;
   result.mesh = mesh;
   result.mesh.vertices = motion_->positions(solid_positions);

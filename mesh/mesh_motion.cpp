@@ -1,6 +1,7 @@
 #include "mesh/mesh_motion.hpp"
 
 #include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +28,8 @@ Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Eigen::Vector3d, 4>& x
 
 struct MeshMotion::Solver {
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;  // options.factorize
+  bool factorized = false;
 };
 
 MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
@@ -72,7 +75,11 @@ MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
   // side (the prescribed motion), so a rigid-body step converges to round-off.
   solver_->cg.setTolerance(options.tolerance);
   solver_->cg.setMaxIterations(std::max(1000, 4 * m));
-  if (m > 0) solver_->cg.compute(K_ff_);
+  if (m > 0 && options.factorize) {
+    solver_->ldlt.compute(K_ff_);
+    solver_->factorized = solver_->ldlt.info() == Eigen::Success;
+  }
+  if (m > 0 && !solver_->factorized) solver_->cg.compute(K_ff_);
   last_ = Eigen::MatrixXd::Zero(m, 3);
 }
 
@@ -95,6 +102,10 @@ std::vector<Eigen::Vector3d> MeshMotion::positions(const std::vector<Eigen::Vect
   for (int c = 0; c < 3; ++c) {
     if (rhs.col(c).norm() == 0) {
       last_.col(c).setZero();
+      continue;
+    }
+    if (solver_->factorized) {
+      last_.col(c) = solver_->ldlt.solve(rhs.col(c));
       continue;
     }
     last_.col(c) = solver_->cg.solveWithGuess(rhs.col(c), last_.col(c));

@@ -27,6 +27,9 @@ namespace tetfsi::mesh {
 
 struct MeshMotionOptions {
   double stiffening_exponent = 1.0;  ///< χ of s_t = (V_max / V_t)^χ
+  /// MeshMotion only: factorize the operator once (sparse LDLᵀ) instead of CG at every call. Pays
+  /// when the same mesh is moved for many steps (the coupled step between remeshes).
+  bool factorize = false;
   /// CG relative residual. The motion only has to keep tets valid, not be accurate: 1e-8 takes
   /// about half the iterations of 1e-10 (the remesher used 1e-6 for its plain extension).
   double tolerance = 1e-8;
