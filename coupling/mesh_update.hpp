@@ -40,8 +40,9 @@ struct MeshUpdateOptions {
   /// (or below half the angle the step started from, whichever is smaller, so that a mesh that
   /// starts with a 7° sliver is not remeshed every step for it).
   double remesh_below_deg = 10.0;
-  /// Remeshing options (target edge length, band, passes, sliver pass). A target_edge_length of 0
-  /// is replaced by the mean edge length of the fluid tets touching the solids at start. The
+  /// Remeshing options (target edge length, band, passes, sliver pass). In CoupledStepper a
+  /// target_edge_length of 0 is replaced by the mean edge length of the fluid tets touching the
+  /// solids at start, and a band of 0 by four times that. The
   /// policy sets remesh_only_when_needed, adaptive_band and min_dihedral_deg (the threshold).
   mesh::RemeshOptions remesh = [] {
     mesh::RemeshOptions o;

@@ -75,11 +75,8 @@ MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
   // side (the prescribed motion), so a rigid-body step converges to round-off.
   solver_->cg.setTolerance(options.tolerance);
   solver_->cg.setMaxIterations(std::max(1000, 4 * m));
-  if (m > 0 && options.factorize) {
-    solver_->ldlt.compute(K_ff_);
-    solver_->factorized = solver_->ldlt.info() == Eigen::Success;
-  }
-  if (m > 0 && !solver_->factorized) solver_->cg.compute(K_ff_);
+  factorize_ = options.factorize;
+  if (m > 0) solver_->cg.compute(K_ff_);
   last_ = Eigen::MatrixXd::Zero(m, 3);
 }
 
@@ -98,6 +95,12 @@ std::vector<Eigen::Vector3d> MeshMotion::positions(const std::vector<Eigen::Vect
     d_p.row(c) = (solid_positions[v] - reference_[v]).transpose();
   }
   if (K_ff_.rows() == 0) return moved;
+  // Factorize at the second call on this mesh, not the first: a mesh that is remeshed again right
+  // away never pays for a factorization it uses once.
+  if (factorize_ && ++calls_ == 2) {
+    solver_->ldlt.compute(K_ff_);
+    solver_->factorized = solver_->ldlt.info() == Eigen::Success;
+  }
   const Eigen::MatrixXd rhs = -(K_fp_ * d_p);
   for (int c = 0; c < 3; ++c) {
     if (rhs.col(c).norm() == 0) {

@@ -27,8 +27,9 @@ namespace tetfsi::mesh {
 
 struct MeshMotionOptions {
   double stiffening_exponent = 1.0;  ///< χ of s_t = (V_max / V_t)^χ
-  /// MeshMotion only: factorize the operator once (sparse LDLᵀ) instead of CG at every call. Pays
-  /// when the same mesh is moved for many steps (the coupled step between remeshes).
+  /// MeshMotion only: factorize the operator (sparse LDLᵀ, at the second call on a mesh) instead of
+  /// CG at every call. Pays when the same mesh is moved for many steps (the coupled step between
+  /// remeshes): the mesh update at 197k tets went from 0.27 s to 0.13 s per step.
   bool factorize = false;
   /// CG relative residual. The motion only has to keep tets valid, not be accurate: 1e-8 takes
   /// about half the iterations of 1e-10 (the remesher used 1e-6 for its plain extension).
@@ -72,6 +73,8 @@ class MeshMotion {
   std::vector<int> prescribed_;               // vertex of each K_fp_ column
   std::unique_ptr<Solver> solver_;
   Eigen::MatrixXd last_;                      // previous solution (m x 3), CG's initial guess
+  bool factorize_ = false;
+  int calls_ = 0;
 };
 
 }  // namespace tetfsi::mesh

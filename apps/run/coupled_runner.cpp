@@ -108,10 +108,8 @@ class CoupledRunner : public Simulation {
     cs.mean_constraint = c.at("constraint") == "step_mean";
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
-    // Remeshing the whole of a graded fluid at its near-solid size would multiply the tet count
-    // (a bar scene went from 6k to 141k tets in one remesh), so band 0 means four cells here.
-    const double band = js.at("fluid").at("remesh_band").get<double>();
-    cs.mesh_update.remesh.band = band > 0 ? band : 4 * h_near_;
+    // 0: CoupledStepper's default band, four near-solid cells (never the whole fluid).
+    cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
     try {
       stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs);
     } catch (const std::exception& e) {

@@ -45,8 +45,10 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
 
   // One numeric Cholesky of A per step, reused by every CG iteration (two triangular solves each).
   if (n > 0 && !factor_->factorize(s.A))
-    throw CoupledSolveError("schur_cg: Cholesky of the solid block A failed (A not positive definite: "
-                            "time step too large for the linearized stiffness?)");
+    throw CoupledSolveError("schur_cg: the solid block A = M/h + C + (h/2)K' is not positive definite, so its "
+                            "Cholesky factorization failed: the solid's tangent stiffness K' lost definiteness "
+                            "(strong compression or pre-stress) by more than M/h makes up for. Take a smaller dt, "
+                            "or use coupling.solver umfpack, which does not need A to be definite");
   auto A_inv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
     return n > 0 ? Eigen::VectorXd(factor_->llt.solve(x)) : Eigen::VectorXd();
   };
