@@ -251,6 +251,13 @@ CoupledStepReport CoupledStepper::step(double h) {
 
   Eigen::VectorXd u, p;
   if (settings_.scheme == CouplingScheme::kSimultaneous) {
+    // Initial guess of the iterative solvers: the previous step's pressure (carried per mesh
+    // vertex through remeshing) and the current solid velocities.
+    p = Eigen::VectorXd::Zero(m);
+    for (int i = 0; i < static_cast<int>(blocks.unknown.size()); ++i)
+      if (blocks.unknown[i] >= 0) p[blocks.unknown[i]] = previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]];
+    u.resize(n);
+    for (const Solid& s : solids_) u.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->velocity();
     report.solve = solver_->solve(sys, u, p);
   } else {
     // Time splitting: solid with the previous pressure, then fluid with the new solid velocity.
