@@ -40,7 +40,8 @@ Json parse_checking_duplicates(const std::string& text, std::vector<Issue>& issu
       case Event::object_start:
       case Event::array_start:
         if (!stack.empty() && stack.back().array) ++stack.back().index;
-        stack.push_back(Frame{event == Event::array_start});
+        stack.emplace_back();
+        stack.back().array = event == Event::array_start;
         break;
       case Event::key:
         stack.back().key = parsed.get<std::string>();
