@@ -66,9 +66,11 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   MeshUpdateResult result;
   result.mesh = mesh;
   result.mesh.vertices = motion_->positions(solid_positions);
+  const auto moved = std::chrono::steady_clock::now();
+  result.report.motion_seconds = std::chrono::duration<double>(moved - start).count();
   // One pass for the fluid's angles and flat/inverted count; the solid tets only need the latter.
-  const mesh::QualityReport fluid_quality = mesh::quality_report(result.mesh, mesh::kFluidSubdomain);
-  int spoiled = fluid_quality.inverted + fluid_quality.degenerate;
+  const mesh::AngleCheck fluid_quality = mesh::min_dihedral_check(result.mesh, mesh::kFluidSubdomain);
+  int spoiled = fluid_quality.flat_or_inverted;
   for (int t = 0; t < result.mesh.num_tets(); ++t) {
     if (result.mesh.subdomain[t] == mesh::kFluidSubdomain) continue;
     const auto& v = result.mesh.tets[t];
@@ -80,6 +82,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
     throw mesh::MeshError("the solid motion of this step inverts or flattens " + std::to_string(spoiled) +
                           " tets even with the fluid vertices following; take a smaller time step");
   const double moved_fluid_min = fluid_quality.min_dihedral_deg;
+  result.report.check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - moved).count();
 
   const auto keep_moved = [&] {
     result.old_index.resize(mesh.num_vertices());

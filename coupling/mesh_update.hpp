@@ -55,6 +55,8 @@ struct MeshUpdateReport {
   bool remeshed = false;
   double min_dihedral_deg = 0;  ///< of the fluid tets after the update
   double seconds = 0;           ///< motion + quality check + remeshing
+  double motion_seconds = 0;    ///< of which the stiffened-Laplacian motion
+  double check_seconds = 0;     ///< of which the validity and angle check of the moved mesh
   int passes = 0;               ///< CGAL remeshing passes (0 when not remeshed)
   bool remesh_rejected = false; ///< remeshing was tried but did not beat the moved mesh's quality
 };

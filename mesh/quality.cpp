@@ -6,6 +6,9 @@
 #include <limits>
 #include <sstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 namespace tetfsi::mesh {
 
 std::array<double, 6> dihedral_angles_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -61,6 +64,25 @@ double relative_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const
 
 namespace {
 
+/// Largest −n_i·n_j over the six edges of a tet with positive volume (see dihedral_angles_deg).
+double max_dihedral_cosine(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                           const Eigen::Vector3d& d) {
+  const std::array<const Eigen::Vector3d*, 4> p{&a, &b, &c, &d};
+  std::array<Eigen::Vector3d, 4> n;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& p0 = *p[(k + 1) % 4];
+    Eigen::Vector3d m = (*p[(k + 2) % 4] - p0).cross(*p[(k + 3) % 4] - p0);
+    if (m.dot(*p[k] - p0) > 0.0) m = -m;
+    const double len = m.norm();
+    n[k] = len > 0.0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
+  }
+  // Edge (i, j) is shared by the faces opposite the other two vertices: pairs of faces (k, l).
+  static constexpr int kFacePairs[6][2] = {{2, 3}, {1, 3}, {1, 2}, {0, 3}, {0, 2}, {0, 1}};
+  double largest = -1.0;
+  for (const auto& f : kFacePairs) largest = std::max(largest, std::clamp(-n[f[0]].dot(n[f[1]]), -1.0, 1.0));
+  return largest;
+}
+
 QualityReport report(const TetMesh& mesh, bool filter, int label) {
   QualityReport q;
   q.num_vertices = mesh.num_vertices();
@@ -94,6 +116,39 @@ QualityReport report(const TetMesh& mesh, bool filter, int label) {
 }
 
 }  // namespace
+
+AngleCheck min_dihedral_check(const TetMesh& mesh, int subdomain) {
+  struct Partial {
+    double max_cosine = -2.0;  // below any cosine: no valid tet yet
+    int spoiled = 0;
+  };
+  const Partial total = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, mesh.num_tets(), 4096), Partial{},
+      [&](const tbb::blocked_range<int>& range, Partial part) {
+        for (int t = range.begin(); t < range.end(); ++t) {
+          if ((mesh.subdomain.empty() ? 1 : mesh.subdomain[t]) != subdomain) continue;
+          const auto& v = mesh.tets[t];
+          const auto &a = mesh.vertices[v[0]], &b = mesh.vertices[v[1]], &c = mesh.vertices[v[2]],
+                     &d = mesh.vertices[v[3]];
+          if (relative_volume(a, b, c, d) <= 6e-12) {
+            ++part.spoiled;
+            continue;
+          }
+          part.max_cosine = std::max(part.max_cosine, max_dihedral_cosine(a, b, c, d));
+        }
+        return part;
+      },
+      // max and integer sums are exact in any order: the result does not depend on the split.
+      [](Partial x, const Partial& y) {
+        x.max_cosine = std::max(x.max_cosine, y.max_cosine);
+        x.spoiled += y.spoiled;
+        return x;
+      });
+  AngleCheck check;
+  check.flat_or_inverted = total.spoiled;
+  check.min_dihedral_deg = total.max_cosine < -1.5 ? 0.0 : std::acos(total.max_cosine) * 180.0 / M_PI;
+  return check;
+}
 
 double mean_edge_length(const TetMesh& mesh, int subdomain) {
   double sum = 0.0;

@@ -46,6 +46,21 @@ struct QualityReport {
   std::string summary() const;
 };
 
+/// What a moving mesh needs checked each step, and no more: the minimum dihedral angle of the
+/// tets with one label and how many of them are flat or inverted (quality_report computes all of
+/// its fields, about ten times the work).
+struct AngleCheck {
+  double min_dihedral_deg = 0.0;  ///< over the tets with positive volume (0 if there are none) [deg]
+  int flat_or_inverted = 0;       ///< tets with relative_volume <= 6e-12 (inverted or degenerate)
+};
+
+/// The minimum dihedral angle of a tet is acos of the largest cosine −n_i·n_j over its six edges
+/// (n_i, n_j the outward unit normals of the two faces that meet there), so the check compares
+/// cosines and takes one acos at the end. The result equals quality_report(mesh, subdomain)'s
+/// min_dihedral_deg and inverted + degenerate exactly (the same cosines); parallel over tets
+/// (TBB), independent of the thread count.
+AngleCheck min_dihedral_check(const TetMesh& mesh, int subdomain);
+
 /// Mean length [m] of the tet edges of the given subdomain (each edge counted once per tet that
 /// has it). The natural remeshing target (RemeshOptions::target_edge_length).
 double mean_edge_length(const TetMesh& mesh, int subdomain);

@@ -57,6 +57,29 @@ TEST(Quality, InvertedAndDegenerateTetsAreCounted) {
   EXPECT_EQ(q.num_tets, 7);
 }
 
+TEST(Quality, MinDihedralCheckEqualsTheFullReport) {
+  // The per-step check of a moving mesh must agree exactly with quality_report on the fields it
+  // computes: a jittered box (varied angles), one fluid tet inverted, one flat, a solid block
+  // (excluded by the label), and a second thread count.
+  TetMesh m = structured_box({0, 0, 0}, {1, 1, 1}, 6, 6, 6);
+  for (std::size_t v = 0; v < m.vertices.size(); ++v)
+    m.vertices[v] += 0.03 * Eigen::Vector3d(std::sin(7.0 * v), std::cos(11.0 * v), std::sin(13.0 * v + 1));
+  label_block(m, {0.3, 0.3, 0.3}, {0.7, 0.7, 0.7}, solid_subdomain(0));
+  std::swap(m.tets[0][0], m.tets[0][1]);
+  m.vertices.push_back({0.5, 0.5, 0.0});
+  m.tets.push_back({0, 1, 2, static_cast<int>(m.vertices.size()) - 1});
+  m.vertices[1] = {1.0 / 6, 0, 0}, m.vertices[2] = {0, 1.0 / 6, 0}, m.vertices[0] = {0, 0, 0};
+  m.subdomain.push_back(kFluidSubdomain);
+  const QualityReport full = quality_report(m, kFluidSubdomain);
+  const AngleCheck check = min_dihedral_check(m, kFluidSubdomain);
+  EXPECT_GT(full.inverted + full.degenerate, 0);
+  EXPECT_EQ(check.flat_or_inverted, full.inverted + full.degenerate);
+  EXPECT_EQ(check.min_dihedral_deg, full.min_dihedral_deg);  // bit for bit: the same cosines
+  EXPECT_LT(check.min_dihedral_deg, 45.0);                    // the jitter did change the angles
+  const AngleCheck solid = min_dihedral_check(m, solid_subdomain(0));
+  EXPECT_EQ(solid.min_dihedral_deg, quality_report(m, solid_subdomain(0)).min_dihedral_deg);
+}
+
 TEST(Interface, EmbeddedBlockHasItsSurfaceAsInterface) {
   TetMesh m = structured_box({0, 0, 0}, {4, 4, 4}, 4, 4, 4);
   label_block(m, {1, 1, 1}, {3, 3, 3}, solid_subdomain(0));

@@ -97,8 +97,10 @@ void compare_solvers(int cells, bool with_umfpack) {
       solve[kind] = std::min(solve[kind], rep.solve.setup_seconds + rep.solve.solve_seconds);
     }
     bench::print_row(fmt::format("coupled step, {}", rep.solve.solver), res,
-                     fmt::format("residual {:.1e}, {} it, solve {:.3f} s, mesh update {:.3f} s{}, {}+{} unknowns",
+                     fmt::format("residual {:.1e}, {} it, solve {:.3f} s, mesh update {:.3f} s (motion {:.3f}, check {:.3f}){}, "
+                                 "{}+{} unknowns",
                                  rep.solve.residual.max(), rep.solve.iterations, solve[kind], rep.mesh_update.seconds,
+                                 rep.mesh_update.motion_seconds, rep.mesh_update.check_seconds,
                                  rep.mesh_update.remeshed ? " (remeshed)" : "", rep.pressure_unknowns, rep.solid_dofs),
                      step[kind]);
   }
