@@ -98,13 +98,17 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
                                  const FluidMesh& targets, double dt, AdvectionReport& rep) {
   const int n = targets.num_tets();
   std::vector<Location> feet(n);
+  // When the target mesh is the velocity mesh moved (the same tets, as between two remeshes of a
+  // coupled run), the centroid of target tet t lies in or next to tet t of the velocity mesh: the
+  // walk starts there (one or two steps) instead of at the previous sample's tet.
+  const bool same_tets = targets.tets == vel_mesh.tets;
   std::atomic<int> clamped_total{0}, outside_total{0};
   const int blocks = (n + kBlock - 1) / kBlock;
   tbb::parallel_for(0, blocks, [&](int b) {
     int hint = -1, clamped = 0, outside = 0;
     for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
-      const Eigen::Vector3d x0 = targets.centroid(t);
-      const Location l0 = locator.locate(x0, hint);
+      const Eigen::Vector3d& x0 = targets.centroid(t);
+      const Location l0 = locator.locate(x0, same_tets ? t : hint);
       hint = l0.tet;
       if (!l0.inside) {
         ++outside;

@@ -23,11 +23,6 @@ constexpr int kFaceVertices[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}
 
 }  // namespace
 
-Eigen::Vector3d FluidMesh::centroid(int t) const {
-  const auto& v = tets[t];
-  return 0.25 * (nodes[v[0]] + nodes[v[1]] + nodes[v[2]] + nodes[v[3]]);
-}
-
 double FluidMesh::mean_edge_length() const {
   double sum = 0.0;
   for (const auto& v : tets)
@@ -74,8 +69,10 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh) {
   const int nf = fm.num_tets();
   fm.volume.resize(nf);
   fm.grad.resize(nf);
+  fm.centroids.resize(nf);
   for (int t = 0; t < nf; ++t) {
     const auto& v = fm.tets[t];
+    fm.centroids[t] = 0.25 * (fm.nodes[v[0]] + fm.nodes[v[1]] + fm.nodes[v[2]] + fm.nodes[v[3]]);
     Eigen::Matrix3d e;
     e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
     e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];

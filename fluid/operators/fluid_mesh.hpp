@@ -34,6 +34,7 @@ struct FluidMesh {
   std::vector<int> tet_to_mesh_tet;                   ///< #T fluid tet -> TetMesh tet
   std::vector<double> volume;                         ///< #T tet volumes V_t [m^3]
   std::vector<std::array<Eigen::Vector3d, 4>> grad;   ///< #T gradients of the 4 hat functions [1/m]
+  std::vector<Eigen::Vector3d> centroids;             ///< #T tet centroids [m] (point location reads them often)
   std::vector<std::array<int, 4>> neighbor;           ///< fluid tet across the face opposite vertex k, -1 if none
   std::vector<BoundaryFace> boundary_faces;           ///< every fluid boundary triangle
   std::vector<double> dual_volume;                    ///< #N lumped node volume sum_t V_t / 4 [m^3]
@@ -42,7 +43,7 @@ struct FluidMesh {
   int num_nodes() const { return static_cast<int>(nodes.size()); }
   int num_tets() const { return static_cast<int>(tets.size()); }
   /// Centroid of fluid tet t [m].
-  Eigen::Vector3d centroid(int t) const;
+  const Eigen::Vector3d& centroid(int t) const { return centroids[t]; }
   /// Mean edge length over all fluid tets [m].
   double mean_edge_length() const;
 };
