@@ -60,7 +60,8 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   rep.assemble_seconds += now() - t0;
   t0 = now();
   AdvectionReport adv;
-  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection);
+  const BoundaryExits exits = boundary_exits(mesh_, bc);
+  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection, &exits);
   mesh_ = std::move(new_mesh);
   advected_velocity_ = fields_.velocity;
   rep.clamped_traces = adv.clamped + adv.outside_start;

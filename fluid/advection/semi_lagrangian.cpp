@@ -73,10 +73,11 @@ Eigen::Vector3d interp_velocity(const FluidMesh& m, const Packed& nodal, const L
 /// Moves from `from` (inside, at `from_loc`) towards `to`; returns the location of `to` if inside,
 /// else of the last inside point found by bisection on the segment.
 Location trace_to(const PointLocator& loc, const Eigen::Vector3d& from, const Location& from_loc,
-                  const Eigen::Vector3d& to, int& clamped) {
+                  const Eigen::Vector3d& to, int& clamped, bool* cut = nullptr) {
   Location l = loc.locate(to, from_loc.tet);
   if (l.inside) return l;
   ++clamped;
+  if (cut) *cut = true;
   Eigen::Vector3d a = from, b = to;
   Location la = from_loc;
   for (int it = 0; it < 12; ++it) {
@@ -93,9 +94,12 @@ Location trace_to(const PointLocator& loc, const Eigen::Vector3d& from, const Lo
 }
 
 /// RK2 (midpoint) feet of the centroids of `targets`, traced for time dt (negative: forward) through
-/// the velocity reconstructed on `vel_mesh`; returned as locations in `vel_mesh`.
+/// the velocity reconstructed on `vel_mesh`; returned as locations in `vel_mesh`. `cut` (if given):
+/// 1 for the samples whose final trace was cut at the fluid boundary.
 std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
-                                 const FluidMesh& targets, double dt, AdvectionReport& rep) {
+                                 const FluidMesh& targets, double dt, AdvectionReport& rep,
+                                 std::vector<char>* cut = nullptr) {
+  if (cut) cut->assign(targets.num_tets(), 0);
   const int n = targets.num_tets();
   std::vector<Location> feet(n);
   // When the target mesh is the velocity mesh moved (the same tets, as between two remeshes of a
@@ -117,7 +121,9 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
       }
       const Eigen::Vector3d xm = x0 - 0.5 * dt * interp_velocity(vel_mesh, nodal, l0);
       const Location lm = trace_to(locator, x0, l0, xm, clamped);
-      feet[t] = trace_to(locator, x0, l0, x0 - dt * interp_velocity(vel_mesh, nodal, lm), clamped);
+      bool foot_cut = false;
+      feet[t] = trace_to(locator, x0, l0, x0 - dt * interp_velocity(vel_mesh, nodal, lm), clamped, &foot_cut);
+      if (cut && foot_cut) (*cut)[t] = 1;
     }
     clamped_total += clamped;
     outside_total += outside;
@@ -125,6 +131,42 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
   rep.clamped += clamped_total;
   rep.outside_start += outside_total;
   return feet;
+}
+
+/// Boundary face (index into m.boundary_faces) through which a trace cut at `foot` left the fluid,
+/// -1 if not found (see semi_lagrangian.hpp: nearest boundary face of the foot's tet, within 0.01).
+int exit_face(const FluidMesh& m, const std::vector<int>& face_of, const Location& foot) {
+  int best = -1;
+  double best_bary = 0.01;
+  for (int k = 0; k < 4; ++k) {
+    const int f = face_of[4 * static_cast<size_t>(foot.tet) + k];
+    if (f >= 0 && foot.bary[k] <= best_bary) {
+      best_bary = foot.bary[k];
+      best = f;
+    }
+  }
+  return best;
+}
+
+/// Drops the tangential velocity of the samples whose trace left through an open face (ExitRule::kOpen).
+void apply_exits(const FluidMesh& old_mesh, const BoundaryExits& exits, const std::vector<Location>& feet,
+                 const std::vector<char>& cut, Packed& values, AdvectionReport& rep) {
+  std::vector<int> face_of(4 * static_cast<size_t>(old_mesh.num_tets()), -1);
+  for (size_t f = 0; f < old_mesh.boundary_faces.size(); ++f) {
+    const BoundaryFace& bf = old_mesh.boundary_faces[f];
+    face_of[4 * static_cast<size_t>(bf.tet) + bf.local_face] = static_cast<int>(f);
+  }
+  for (size_t t = 0; t < values.size(); ++t) {
+    if (!cut[t]) continue;
+    const int f = exit_face(old_mesh, face_of, feet[t]);
+    if (f < 0 || exits.rule[f] != ExitRule::kOpen) continue;
+    const Eigen::Vector3d& n = old_mesh.boundary_faces[f].normal;
+    const double un = values[t].head<3>().dot(n);
+    if (un < 0.0) {
+      values[t].head<3>() = un * n;
+      ++rep.backflow_feet;
+    }
+  }
 }
 
 Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
@@ -136,7 +178,9 @@ Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
 }  // namespace
 
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
-                   AdvectionReport* report, AdvectionScheme scheme) {
+                   AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits) {
+  if (exits && exits->rule.size() != old_mesh.boundary_faces.size())
+    throw std::invalid_argument("advect: exit rules do not match the old mesh's boundary faces");
   if (static_cast<int>(old_fields.velocity.size()) != old_mesh.num_tets() ||
       old_fields.smoke.size() != old_mesh.num_tets() || old_fields.temperature.size() != old_mesh.num_tets())
     throw std::invalid_argument("advect: old fields do not match the old mesh's tet count");
@@ -144,7 +188,8 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   const Packed f = pack(old_fields);
   const Packed f_nodal = to_nodes(old_mesh, f);
   const PointLocator old_locator(old_mesh);
-  const std::vector<Location> feet = trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep);
+  std::vector<char> cut;
+  const std::vector<Location> feet = trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep, &cut);
   Packed forward(new_mesh.num_tets());
   tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
     forward[t] = scheme == AdvectionScheme::kLinear ? interp_linear(old_mesh, f, f_nodal, feet[t])
@@ -180,6 +225,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
         if (v[c] >= lo[c] && v[c] <= hi[c]) forward[t][c] = v[c];
     });
   }
+  if (exits) apply_exits(old_mesh, *exits, feet, cut, forward, rep);
   if (report) *report = rep;
   return unpack(forward);
 }

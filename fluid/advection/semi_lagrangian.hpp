@@ -15,10 +15,17 @@
 /// inside a solid) the trace is cut back by bisection along the segment from x to the last point
 /// inside the fluid (12 halvings). A sample centroid not inside the old fluid at all (a solid moved
 /// away from it) takes the old values at the nearest tet the walk reached (clamped barycentric).
+/// Backflow: with `exits` (boundary_conditions.hpp), a trace cut at an open face reads the normal part
+/// (u.n) n of the clamped velocity where u.n < 0, the fluid entering there (ExitRule::kOpen). The exit
+/// face is the boundary face of the clamped foot's tet with the smallest barycentric coordinate (the
+/// foot lies within 2^-12 of the trace from it); if that coordinate exceeds 0.01 (the trace left
+/// through an edge of a neighbouring tet) the clamped value is kept. Walls, inflow patches and solid
+/// interfaces keep the clamped value, so domains without open faces advect exactly as without `exits`.
 #include <Eigen/Core>
 #include <vector>
 
 #include "fluid/advection/point_locator.hpp"
+#include "fluid/boundary/boundary_conditions.hpp"
 #include "fluid/operators/fluid_mesh.hpp"
 #include "fluid/operators/p1_operators.hpp"
 
@@ -47,12 +54,16 @@ enum class AdvectionScheme { kSemiLagrangian, kBfecc, kLinear };
 struct AdvectionReport {
   int clamped = 0;          ///< traces cut at the fluid boundary
   int outside_start = 0;    ///< new samples not inside the old fluid
+  int backflow_feet = 0;    ///< samples whose tangential velocity was dropped at an open face (ExitRule::kOpen)
 };
 
 /// Advects `old_fields` (on `old_mesh`) to the tets of `new_mesh` over dt [s].
 /// Deterministic: samples are processed in fixed blocks, each walk starting from the previous
 /// sample's tet in the block (new-mesh order is spatially coherent) or from the grid.
+/// `exits`: boundary_exits(old_mesh, bc) (one entry per old_mesh.boundary_faces), or nullptr to clamp
+/// at every boundary face.
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
-                   AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian);
+                   AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
+                   const BoundaryExits* exits = nullptr);
 
 }  // namespace tetfsi::fluid

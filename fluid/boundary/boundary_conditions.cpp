@@ -7,6 +7,36 @@
 #include "fluid/operators/boundary_flux.hpp"
 
 namespace tetfsi::fluid {
+namespace {
+
+/// The patch's velocity at the three vertices of face `bf` [m/s].
+std::array<Eigen::Vector3d, 3> inflow_vertex_velocity(const FluidMesh& mesh, const BoundaryPatch& patch,
+                                                      const BoundaryFace& bf) {
+  std::array<Eigen::Vector3d, 3> v;
+  for (int a = 0; a < 3; ++a)
+    v[a] = patch.velocity_field ? patch.velocity_field(mesh.nodes[bf.nodes[a]]) : patch.velocity;
+  return v;
+}
+
+}  // namespace
+
+int outer_face_patch(const FluidMesh& mesh, const BoundaryConditions& bc, const BoundaryFace& face) {
+  if (face.other_subdomain >= mesh::solid_subdomain(0)) return -1;
+  const Eigen::Vector3d c = (mesh.nodes[face.nodes[0]] + mesh.nodes[face.nodes[1]] + mesh.nodes[face.nodes[2]]) / 3.0;
+  for (size_t p = 0; p < bc.patches.size(); ++p)
+    if (bc.patches[p].region.contains(c)) return static_cast<int>(p);
+  return -1;
+}
+
+BoundaryExits boundary_exits(const FluidMesh& mesh, const BoundaryConditions& bc) {
+  BoundaryExits e;
+  e.rule.assign(mesh.boundary_faces.size(), ExitRule::kClamp);
+  for (size_t f = 0; f < mesh.boundary_faces.size(); ++f) {
+    const int p = outer_face_patch(mesh, bc, mesh.boundary_faces[f]);
+    if (p >= 0 && bc.patches[p].kind == FaceKind::kOpen) e.rule[f] = ExitRule::kOpen;
+  }
+  return e;
+}
 
 ClassifiedBoundary classify_boundary(const FluidMesh& mesh, const BoundaryConditions& bc) {
   ClassifiedBoundary cb;
@@ -38,21 +68,12 @@ ClassifiedBoundary classify_boundary(const FluidMesh& mesh, const BoundaryCondit
         cb.flux_velocity.push_back(v);
       }
     } else {
-      const Eigen::Vector3d c = (mesh.nodes[bf.nodes[0]] + mesh.nodes[bf.nodes[1]] + mesh.nodes[bf.nodes[2]]) / 3.0;
-      for (size_t p = 0; p < bc.patches.size(); ++p) {
-        if (!bc.patches[p].region.contains(c)) continue;
-        cb.face_patch[f] = static_cast<int>(p);
-        cb.face_kind[f] = bc.patches[p].kind;
-        break;
-      }
+      cb.face_patch[f] = outer_face_patch(mesh, bc, bf);
+      if (cb.face_patch[f] >= 0) cb.face_kind[f] = bc.patches[cb.face_patch[f]].kind;
       if (cb.face_kind[f] == FaceKind::kInflow) {
         nk = NodeKind::kInflow;
-        const BoundaryPatch& patch = bc.patches[cb.face_patch[f]];
-        std::array<Eigen::Vector3d, 3> v;
-        for (int a = 0; a < 3; ++a)
-          v[a] = patch.velocity_field ? patch.velocity_field(mesh.nodes[bf.nodes[a]]) : patch.velocity;
         cb.flux_faces.push_back(static_cast<int>(f));
-        cb.flux_velocity.push_back(v);
+        cb.flux_velocity.push_back(inflow_vertex_velocity(mesh, bc.patches[cb.face_patch[f]], bf));
       } else if (cb.face_kind[f] == FaceKind::kOpen) {
         nk = NodeKind::kOpen;
         cb.closed = false;

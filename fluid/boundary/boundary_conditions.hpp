@@ -5,7 +5,8 @@
 ///  - wall:      no flux, u.n = 0. Natural in the weak form: nothing to add (boundary_flux.hpp).
 ///  - inflow:    prescribed velocity u_in on a patch: adds int phi_i (u_in.n) dA to the divergence;
 ///               the tets touching the patch also receive the patch's smoke and temperature.
-///  - open:      p = 0 (Dirichlet) at every node of the face; flow leaves or enters freely.
+///  - open:      p = 0 (Dirichlet) at every node of the face; flow leaves or enters freely; fluid
+///               entering (backflow) carries only its normal velocity (ExitRule::kOpen).
 ///  - interface: a face shared with a solid tet (TetMesh label >= 2); the solid's P1 vertex
 ///               velocities prescribe u.n (kinematic solids; the coupling solves for them instead).
 /// A domain without open faces is closed: the pressure is then defined up to a constant
@@ -77,6 +78,32 @@ struct ClassifiedBoundary {
   bool closed = true;                    ///< no open node: pressure has a constant null space
   double flux_imbalance = 0.0;           ///< net flux removed by balance_inflow / sum |f| [-]
 };
+
+/// Index of the first patch of `bc` whose region holds the centroid of outer boundary face `face`
+/// (a face not shared with a solid), -1 if none (a wall).
+int outer_face_patch(const FluidMesh& mesh, const BoundaryConditions& bc, const BoundaryFace& face);
+
+/// What a semi-Lagrangian back-trace reads where it leaves the fluid through a boundary face
+/// (semi_lagrangian.hpp): the state of the fluid that enters through that face during the step.
+///  - kClamp (walls, solid interfaces, inflow patches): the reconstructed value at the boundary point.
+///  - kOpen (p = 0): backflow keeps only its normal component, u = (u.n) n where u.n < 0; outflow
+///    traces do not leave through the face. This is OpenFOAM's pressureInletOutletVelocity (zero
+///    gradient for outflow; for inflow the face-normal component of the interior value). With p = 0
+///    the fluid re-entering through an open face brings the kinetic-energy flux -1/2 rho |u|^2 (u.n)
+///    per unit area and does no work against the pressure: the backflow instability of the
+///    do-nothing condition (Braack & Mucha 2014, J. Comput. Math. 32(5) 507-521; Bazilevs et al.
+///    2009, Comput. Methods Appl. Mech. Engrg. 198, 3534-3550). Clamping extrapolates the interior's
+///    tangential velocity into the entering fluid (zero gradient), so a vortex crossing the face
+///    feeds itself; dropping the tangential part limits the flux to -1/2 rho (u.n)^2 (u.n).
+enum class ExitRule : unsigned char { kClamp, kOpen };
+
+/// ExitRule per boundary face of one FluidMesh.
+struct BoundaryExits {
+  std::vector<ExitRule> rule;  ///< per mesh.boundary_faces
+};
+
+/// The exit rules of `mesh`'s boundary faces under `bc` (the patches only; solid velocities unused).
+BoundaryExits boundary_exits(const FluidMesh& mesh, const BoundaryConditions& bc);
 
 /// Classifies faces and nodes and assembles the boundary flux.
 /// @throws std::invalid_argument if solid_vertex_velocity is non-empty but too short
