@@ -172,7 +172,8 @@ void MpmMembraneCoupling::compute_gaps() {
   for (const auto& c : cells_) {
     const auto [b, e] = bins.cell(c[0], c[1], c[2]);
     for (auto it = b; it != e; ++it) {
-      const auto st = mpm_.stencil(*it);
+      mpm::Stencil local;
+      const auto& st = mpm_.binned_stencil(bins.position(it), local);
       const double radius = 0.5 * std::cbrt(P.volume(*it));
       for (int q = 0; q < 8; ++q) {
         const auto id = st.node[q];

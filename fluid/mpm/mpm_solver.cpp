@@ -2,7 +2,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
+
+#include "fluid/mpm/reduce.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,12 @@ namespace tetfsi::mpm {
 namespace {
 
 constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reductions
+// Below this many particles the reductions run serially (same result; see reduce.hpp).
+constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
+// Up to this many particles the stencils of a step are computed once and kept (320 B each: 2.6 MB
+// at the limit, cache-resident); larger bodies recompute them in each pass, which is cheaper than
+// streaming the array (membrane on sphere, 113k particles: 36 MB per step).
+constexpr std::size_t kCacheStencilsMax = 8192;
 
 /// Bound of eq. (21) for one particle, h / (c + |v|), and the explicit viscous bound
 /// rho h^2 / (8 mu) of viscous fluids [s].
@@ -28,6 +35,45 @@ double particle_step_bound(const Material& mat, double p_modulus, double rho, co
   if (c > 0) dt = h / c;
   if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) dt = std::min(dt, rho * h * h / (8.0 * mat.viscosity));
   return dt;
+}
+
+/// Velocity gradient L_ij = sum_I v_iI N_I,j over the 8 nodes of a stencil (eq. 62 / 63), written
+/// out in scalars: the same sums in the same order as the Eigen outer products
+/// L += v_I N_I,j^T (bit-identical without FMA), without their 3-vector packet shuffles.
+Mat3 velocity_gradient(const Stencil& st, const std::vector<Vec3>& vel) {
+  double L[3][3] = {};
+  for (int c = 0; c < 8; ++c) {
+    const double* v = vel[st.node[c]].data();
+    const double* g = st.dN[c].data();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L[i][j] += v[i] * g[j];
+  }
+  Mat3 out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out(i, j) = L[i][j];
+  return out;
+}
+
+/// Nodal forces of one particle, eqs. (17)-(18): f_I += -V sigma N_I,j + N_I m_p g, in scalars.
+/// `minus_volume` is -V_p. The component sums follow Eigen's evaluation of -V * (sigma * dN) for a
+/// fixed 3x3 times 3-vector product ((-V sigma_ij) dN_j, rows 0 and 1 summed as (a + b) + c, row 2
+/// as a + (b + c)), so the forces are bit-identical to that expression.
+void nodal_forces(const Stencil& st, double minus_volume, const Mat3& sigma, const Vec3& body,
+                  std::vector<Vec3>& force) {
+  double A[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) A[i][j] = minus_volume * sigma(i, j);
+  for (int c = 0; c < 8; ++c) {
+    const double* g = st.dN[c].data();
+    const double n = st.N[c];
+    double* f = force[st.node[c]].data();
+    const double f0 = (A[0][0] * g[0] + A[0][1] * g[1]) + A[0][2] * g[2];
+    const double f1 = (A[1][0] * g[0] + A[1][1] * g[1]) + A[1][2] * g[2];
+    const double f2 = A[2][0] * g[0] + (A[2][1] * g[1] + A[2][2] * g[2]);
+    f[0] += f0 + n * body[0];
+    f[1] += f1 + n * body[1];
+    f[2] += f2 + n * body[2];
+  }
 }
 
 }  // namespace
@@ -96,6 +142,8 @@ void MpmSolver::trial_step(double dt) {
     for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_, &impulse_, &vel_, &dvel_, &dvel_imp_}) (*f)[id].setZero();
   });
   impulse_nodes_.clear();
+  stencils_.resize(P.size() <= kCacheStencilsMax ? P.size() : 0);
+  work_.resize(P.size());
   bins_.build(grid_, P.x);
   if (bins_.empty()) {
     box_lo_ = {0, 0, 0};
@@ -108,8 +156,10 @@ void MpmSolver::trial_step(double dt) {
   }
 
   // Step 2a (eqs. 60, 61, 51): coloured parallel scatter.
-  bins_.for_each_coloured([&](std::size_t p) {
-    const Stencil st = grid_.stencil_unchecked(P.x[p]);
+  bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
+    Stencil local;
+    Stencil& st = stencils_.empty() ? local : stencils_[q];
+    st = grid_.stencil_unchecked(P.x[p]);
     const double m = P.mass[p];
     const Vec3 mv = m * P.v[p];
     for (int c = 0; c < 8; ++c) {
@@ -127,13 +177,12 @@ void MpmSolver::trial_step(double dt) {
   });
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17, 18): stress update, then the particle's nodal
   // forces, in the same coloured pass.
-  bins_.for_each_coloured([&](std::size_t p) {
-    const Stencil st = grid_.stencil_unchecked(P.x[p]);
-    update_particle_stress(p, dt, st);
-    const double V = P.volume(p);
+  bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
+    Stencil local;
+    const Stencil& st = binned_stencil(q, local);
+    const double V = update_particle_stress(p, dt, st);
     const Vec3 body = P.mass[p] * options_.gravity;
-    const Mat3& sigma = P.stress[p];
-    for (int c = 0; c < 8; ++c) force_[st.node[c]] += -V * (sigma * st.dN[c]) + st.N[c] * body;
+    nodal_forces(st, -V, P.stress[p], body, force_);
   });
   // Step 2e (eq. 64) and grid conditions on f and p^{n+1/2}.
   for_each_box_node([&](std::int64_t id) {
@@ -143,43 +192,53 @@ void MpmSolver::trial_step(double dt) {
   });
 }
 
-void MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil& st) {
+double MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil& st) {
   auto& P = particles_;
   // Velocity gradient L_ij = sum_I v_iI N_I,j; D = sym L (eq. 23), W = skew L (eq. 24).
-  Mat3 L = Mat3::Zero();
-  for (int c = 0; c < 8; ++c) L += vel_[st.node[c]] * st.dN[c].transpose();
+  const Mat3 L = velocity_gradient(st, vel_);
   const Mat3 D = 0.5 * (L + L.transpose());
-  const Mat3 W = 0.5 * (L - L.transpose());
   const double trD = D.trace();
   const auto& mat = materials_[P.material[p]];
   const double rho_old = P.rho[p];
   // Mass conservation: rho^{n+1} = rho^n exp(-dt tr D).
-  const double rho_new = rho_old * std::exp(-dt * trD);
+  const double shrink = std::exp(-dt * trD);
+  const double rho_new = rho_old * shrink;
   P.rho[p] = rho_new;
   if (mat.kind == Material::Kind::LinearElastic) {
     // Hypo-elastic Jaumann update (eqs. 22, 25): sigma += dt (C:D + W sigma - sigma W).
     // Eq. (22) is printed as sigma Omega + (sigma Omega)^T; with Omega_ij = (v_i,j - v_j,i)/2 as in
     // eq. (24) the objective rotation of sigma is W sigma - sigma W, which is what is used.
+    const Mat3 W = 0.5 * (L - L.transpose());
     const Mat3& s = P.stress[p];
     const auto& lm = lame_[P.material[p]];  // lambda, 2 G
     const Mat3 rate = lm[0] * trD * Mat3::Identity() + lm[1] * D;
     P.stress[p] = s + dt * (rate + W * s - s * W);
-    return;
+    return P.mass[p] / rho_new;
   }
   // Fluid (eq. 26): sigma = 2 mu D' - p I, p from the EOS with the energy equation
   //   dE = (s_visc : D dt) V/V0 - (p^n + p^{n+1})/2 dV/V0,
   // solved exactly for E^{n+1} because both EOS are linear in E (p = a + b E).
-  const double V0 = P.mass[p] / mat.rho0;
-  const double Vold = P.mass[p] / rho_old, Vnew = P.mass[p] / rho_new;
-  const double dv = (Vnew - Vold) / V0;
-  const Mat3 Ddev = D - (trD / 3.0) * Mat3::Identity();
-  const Mat3 svisc = 2.0 * mat.viscosity * Ddev;
-  const double w_visc = (svisc.cwiseProduct(Ddev)).sum() * dt * 0.5 * (Vold + Vnew) / V0;
-  const double p_old = -P.stress[p].trace() / 3.0;
+  // Volume ratios V/V0 = rho0/rho with V^{n+1}/V^n = 1/shrink (two divisions instead of the four of
+  // m/rho0, m/rho^n, m/rho^{n+1} and dV/V0: this chain of dependent divisions was the critical
+  // path of the particle update).
+  constexpr double kThird = 1.0 / 3.0;
+  const double r_old = mat.rho0 / rho_old, r_new = r_old / shrink;
+  const double dv = r_new - r_old;
+  const double mean = trD * kThird;
+  Mat3 Ddev = D;
+  for (int a = 0; a < 3; ++a) Ddev(a, a) -= mean;
+  const double two_mu = 2.0 * mat.viscosity;
+  const double w_visc = two_mu * Ddev.squaredNorm() * dt * 0.5 * (r_old + r_new);
+  const Mat3& s_old = P.stress[p];
+  const double p_old = -(s_old(0, 0) + s_old(1, 1) + s_old(2, 2)) * kThird;
   const auto [a, b] = mat.eos_coefficients(rho_new);
   const double E = (P.energy[p] + w_visc - 0.5 * (p_old + a) * dv) / (1.0 + 0.5 * b * dv);
   P.energy[p] = E;
-  P.stress[p] = svisc - (a + b * E) * Mat3::Identity();
+  const double pressure = a + b * E;
+  Mat3& s = P.stress[p];
+  s = two_mu * Ddev;
+  for (int a = 0; a < 3; ++a) s(a, a) -= pressure;
+  return P.mass[p] / rho_new;
 }
 
 void MpmSolver::add_node_impulse(std::int64_t node, const Vec3& dp) {
@@ -212,7 +271,8 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
     const auto [b, e] = bins_.cell(ci, cj, ck);
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
-      const Stencil st = stencil(p);
+      Stencil local;
+      const Stencil& st = binned_stencil(bins_.position(it), local);
       Vec3 v = particles_.v[p];
       for (int c = 0; c < 8; ++c) {
         const auto id = st.node[c];
@@ -241,16 +301,22 @@ void MpmSolver::finish_step(double dt) {
   // Grid-to-particle update with the reductions of this step: kinetic energy given by the
   // impulses, the next critical step (eq. 21) and the first invalid particle.
   struct Acc {
-    double work = 0;
     double dt = std::numeric_limits<double>::infinity();
     std::size_t bad = std::numeric_limits<std::size_t>::max();
   };
+  // With cached stencils the particles are visited in binned order (the order of the cache),
+  // otherwise in particle order (sequential access to the particle arrays); the impulse work is
+  // stored per particle and summed in particle order below, so no sum depends on the visiting order.
   const double h = grid_.h;
-  const Acc acc = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, n, kGrain), Acc{},
+  const auto& order = bins_.order();
+  const bool binned = !stencils_.empty();
+  const Acc acc = deterministic_reduce(
+      n, kGrain, kSerialBelow, Acc{},
       [&](const tbb::blocked_range<std::size_t>& r, Acc a) {
-        for (std::size_t p = r.begin(); p != r.end(); ++p) {
-          const Stencil st = grid_.stencil_unchecked(P.x[p]);
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const std::size_t p = binned ? order[i] : i;
+          Stencil local;
+          const Stencil& st = binned ? stencils_[i] : (local = grid_.stencil_unchecked(P.x[p]));
           Vec3 dv = Vec3::Zero(), vel = Vec3::Zero(), dvi = Vec3::Zero();
           for (int c = 0; c < 8; ++c) {
             dv += st.N[c] * dvel_[st.node[c]];
@@ -258,7 +324,7 @@ void MpmSolver::finish_step(double dt) {
           }
           if (impulses) {
             for (int c = 0; c < 8; ++c) dvi += st.N[c] * dvel_imp_[st.node[c]];
-            a.work += P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
+            work_[p] = P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
           }
           P.v[p] += dv;
           P.x[p] += dt * vel;
@@ -271,13 +337,18 @@ void MpmSolver::finish_step(double dt) {
         return a;
       },
       [](Acc a, const Acc& b) {
-        a.work += b.work;
         a.dt = std::min(a.dt, b.dt);
         a.bad = std::min(a.bad, b.bad);
         return a;
-      },
-      tbb::simple_partitioner());
-  impulse_work_ = acc.work;
+      });
+  impulse_work_ = !impulses ? 0.0
+                             : deterministic_reduce(
+                                   n, kGrain, kSerialBelow, 0.0,
+                                   [&](const tbb::blocked_range<std::size_t>& r, double w) {
+                                     for (std::size_t p = r.begin(); p != r.end(); ++p) w += work_[p];
+                                     return w;
+                                   },
+                                   [](double a, double b) { return a + b; });
   critical_dt_ = options_.cfl * acc.dt;
   if (acc.bad < n) check_particles(dt);
   time_ += dt;
@@ -315,8 +386,8 @@ MpmEnergies MpmSolver::energies() const {
     a.gravity += b.gravity;
     return a;
   };
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, P.size(), kGrain), MpmEnergies{},
+  return deterministic_reduce(
+      P.size(), kGrain, kSerialBelow, MpmEnergies{},
       [&](const tbb::blocked_range<std::size_t>& r, MpmEnergies e) {
         for (std::size_t p = r.begin(); p != r.end(); ++p) {
           const auto& mat = materials_[P.material[p]];
@@ -333,7 +404,7 @@ MpmEnergies MpmSolver::energies() const {
         }
         return e;
       },
-      sum, tbb::simple_partitioner());
+      sum);
 }
 
 Vec3 MpmSolver::total_momentum() const {

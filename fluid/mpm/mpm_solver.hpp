@@ -76,8 +76,15 @@ class MpmSolver {
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
   /// n_I^s = sum_p N_Ip,i m_p (eq. 51): the (unnormalised) outward normal of the particle body.
   const std::vector<Vec3>& node_mass_gradient() const { return mass_grad_; }
-  /// Shape functions of particle p at the start of the current step (valid until finish_step).
-  Stencil stencil(std::size_t p) const { return grid_.stencil_unchecked(particles_.x[p]); }
+  /// Shape functions, at the start of the current step, of the particle at binned position q, i.e.
+  /// of particle bins().order()[q] (valid after trial_step until finish_step). Small bodies keep
+  /// them from the mass scatter (in binned order, the order of the particle passes); otherwise
+  /// they are computed into `local`. Returns a reference to the one used.
+  const Stencil& binned_stencil(std::size_t q, Stencil& local) const {
+    if (!stencils_.empty()) return stencils_[q];
+    local = grid_.stencil_unchecked(particles_.x[bins_.order()[q]]);
+    return local;
+  }
   /// The particles binned by cell at the start of the current step (valid until finish_step).
   const CellBins& bins() const { return bins_; }
   /// Momentum the particles would carry to each of `nodes` after the trial update without
@@ -103,7 +110,8 @@ class MpmSolver {
   long steps() const { return steps_; }
 
  private:
-  void update_particle_stress(std::size_t p, double dt, const Stencil& st);
+  /// Stress, density and energy update of particle p (eqs. 22-26); returns its new volume m / rho.
+  double update_particle_stress(std::size_t p, double dt, const Stencil& st);
   /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
   template <class F>
   void for_each_box_node(F&& f) const;
@@ -120,6 +128,8 @@ class MpmSolver {
   std::vector<double> mass_;
   std::vector<Vec3> mom_old_, mom_new_, force_, mass_grad_, impulse_;
   std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
+  std::vector<Stencil> stencils_;            // per binned position, at the start of the current step
+  std::vector<double> work_;                 // per particle: impulse work of the last finish_step
   std::vector<std::int64_t> impulse_nodes_, cells_;
   std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
