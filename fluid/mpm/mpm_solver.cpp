@@ -26,15 +26,27 @@ constexpr std::size_t kCacheStencilsMax = 8192;
 /// rho h^2 / (8 mu) of viscous fluids [s].
 /// `p_modulus` is lambda + 2 G of a linear-elastic material (precomputed: saves the divisions of
 /// Material::sound_speed in the particle loop).
-double particle_step_bound(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v,
-                           double h) {
-  double dt = std::numeric_limits<double>::infinity();
+double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
   const double sound = mat.kind == Material::Kind::LinearElastic ? std::sqrt(p_modulus / rho)
                                                                  : mat.sound_speed(rho, -stress.trace() / 3.0);
-  const double c = sound + v.norm();
-  if (c > 0) dt = h / c;
-  if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) dt = std::min(dt, rho * h * h / (8.0 * mat.viscosity));
-  return dt;
+  return sound + v.norm();
+}
+
+/// Explicit viscous bound rho h^2 / (8 mu) [s] (infinite unless a viscous fluid).
+double viscous_bound(const Material& mat, double rho, double h) {
+  if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) return rho * h * h / (8.0 * mat.viscosity);
+  return std::numeric_limits<double>::infinity();
+}
+
+/// h / c for the largest c > 0 (infinite if none): equal to the smallest h / c_p, since rounded
+/// division is monotone, with one division per step instead of one per particle.
+double sound_bound(double c_max, double h) {
+  return c_max > 0 ? h / c_max : std::numeric_limits<double>::infinity();
+}
+
+double particle_step_bound(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v,
+                           double h) {
+  return std::min(sound_bound(particle_speed(mat, p_modulus, rho, stress, v), h), viscous_bound(mat, rho, h));
 }
 
 /// Velocity gradient L_ij = sum_I v_iI N_I,j over the 8 nodes of a stencil (eq. 62 / 63), written
@@ -58,6 +70,9 @@ Mat3 velocity_gradient(const Stencil& st, const std::vector<Vec3>& vel) {
 /// `minus_volume` is -V_p. The component sums follow Eigen's evaluation of -V * (sigma * dN) for a
 /// fixed 3x3 times 3-vector product ((-V sigma_ij) dN_j, rows 0 and 1 summed as (a + b) + c, row 2
 /// as a + (b + c)), so the forces are bit-identical to that expression.
+/// With `with_body` false the body term is left out: it is then +0 (no gravity), and adding it
+/// changes nothing (a node sum starts at +0 and can never become -0 in round-to-nearest).
+template <bool with_body>
 void nodal_forces(const Stencil& st, double minus_volume, const Mat3& sigma, const Vec3& body,
                   std::vector<Vec3>& force) {
   double A[3][3];
@@ -70,9 +85,16 @@ void nodal_forces(const Stencil& st, double minus_volume, const Mat3& sigma, con
     const double f0 = (A[0][0] * g[0] + A[0][1] * g[1]) + A[0][2] * g[2];
     const double f1 = (A[1][0] * g[0] + A[1][1] * g[1]) + A[1][2] * g[2];
     const double f2 = A[2][0] * g[0] + (A[2][1] * g[1] + A[2][2] * g[2]);
-    f[0] += f0 + n * body[0];
-    f[1] += f1 + n * body[1];
-    f[2] += f2 + n * body[2];
+    if constexpr (with_body) {
+      f[0] += f0 + n * body[0];
+      f[1] += f1 + n * body[1];
+      f[2] += f2 + n * body[2];
+    } else {
+      (void)n;
+      f[0] += f0;
+      f[1] += f1;
+      f[2] += f2;
+    }
   }
 }
 
@@ -136,11 +158,15 @@ void MpmSolver::for_each_box_node(F&& f) const {
 void MpmSolver::trial_step(double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("MpmSolver: time step must be positive");
   auto& P = particles_;
-  // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step).
+  // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step): the
+  // accumulated fields, and p^{n+1/2} (zero outside the box for callers). The per-phase velocities
+  // vel_, dvel_, dvel_imp_ are overwritten on the whole new box before they are read; impulses are
+  // non-zero only at impulse_nodes_.
   for_each_box_node([&](std::int64_t id) {
     mass_[id] = 0;
-    for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_, &impulse_, &vel_, &dvel_, &dvel_imp_}) (*f)[id].setZero();
+    for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_}) (*f)[id].setZero();
   });
+  for (auto id : impulse_nodes_) impulse_[id].setZero();
   impulse_nodes_.clear();
   stencils_.resize(P.size() <= kCacheStencilsMax ? P.size() : 0);
   work_.resize(P.size());
@@ -159,7 +185,7 @@ void MpmSolver::trial_step(double dt) {
   bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
     Stencil local;
     Stencil& st = stencils_.empty() ? local : stencils_[q];
-    st = grid_.stencil_unchecked(P.x[p]);
+    grid_.fill_stencil(P.x[p], st);
     const double m = P.mass[p];
     const Vec3 mv = m * P.v[p];
     for (int c = 0; c < 8; ++c) {
@@ -177,12 +203,16 @@ void MpmSolver::trial_step(double dt) {
   });
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17, 18): stress update, then the particle's nodal
   // forces, in the same coloured pass.
+  const bool gravity = !options_.gravity.isZero(0.0);
   bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
     Stencil local;
     const Stencil& st = binned_stencil(q, local);
     const double V = update_particle_stress(p, dt, st);
     const Vec3 body = P.mass[p] * options_.gravity;
-    nodal_forces(st, -V, P.stress[p], body, force_);
+    if (gravity)
+      nodal_forces<true>(st, -V, P.stress[p], body, force_);
+    else
+      nodal_forces<false>(st, -V, P.stress[p], body, force_);
   });
   // Step 2e (eq. 64) and grid conditions on f and p^{n+1/2}.
   for_each_box_node([&](std::int64_t id) {
@@ -301,7 +331,8 @@ void MpmSolver::finish_step(double dt) {
   // Grid-to-particle update with the reductions of this step: kinetic energy given by the
   // impulses, the next critical step (eq. 21) and the first invalid particle.
   struct Acc {
-    double dt = std::numeric_limits<double>::infinity();
+    double c_max = 0;  // largest c + |v| (eq. 21)
+    double dt = std::numeric_limits<double>::infinity();  // smallest viscous bound
     std::size_t bad = std::numeric_limits<std::size_t>::max();
   };
   // With cached stencils the particles are visited in binned order (the order of the cache),
@@ -310,13 +341,15 @@ void MpmSolver::finish_step(double dt) {
   const double h = grid_.h;
   const auto& order = bins_.order();
   const bool binned = !stencils_.empty();
+  bool viscous = false;
+  for (const auto& m : materials_) viscous = viscous || viscous_bound(m, 1.0, h) < std::numeric_limits<double>::infinity();
   const Acc acc = deterministic_reduce(
       n, kGrain, kSerialBelow, Acc{},
       [&](const tbb::blocked_range<std::size_t>& r, Acc a) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           const std::size_t p = binned ? order[i] : i;
           Stencil local;
-          const Stencil& st = binned ? stencils_[i] : (local = grid_.stencil_unchecked(P.x[p]));
+          const Stencil& st = binned ? stencils_[i] : (grid_.fill_stencil(P.x[p], local), local);
           Vec3 dv = Vec3::Zero(), vel = Vec3::Zero(), dvi = Vec3::Zero();
           for (int c = 0; c < 8; ++c) {
             dv += st.N[c] * dvel_[st.node[c]];
@@ -329,7 +362,8 @@ void MpmSolver::finish_step(double dt) {
           P.v[p] += dv;
           P.x[p] += dt * vel;
           const auto mat = P.material[p];
-          a.dt = std::min(a.dt, particle_step_bound(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p], h));
+          a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
+          if (viscous) a.dt = std::min(a.dt, viscous_bound(materials_[mat], P.rho[p], h));
           const bool ok = P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
                           std::isfinite(P.rho[p]) && grid_.contains(P.x[p]);
           if (!ok) a.bad = std::min(a.bad, p);
@@ -337,6 +371,7 @@ void MpmSolver::finish_step(double dt) {
         return a;
       },
       [](Acc a, const Acc& b) {
+        a.c_max = std::max(a.c_max, b.c_max);
         a.dt = std::min(a.dt, b.dt);
         a.bad = std::min(a.bad, b.bad);
         return a;
@@ -349,7 +384,7 @@ void MpmSolver::finish_step(double dt) {
                                      return w;
                                    },
                                    [](double a, double b) { return a + b; });
-  critical_dt_ = options_.cfl * acc.dt;
+  critical_dt_ = options_.cfl * std::min(sound_bound(acc.c_max, h), acc.dt);
   if (acc.bad < n) check_particles(dt);
   time_ += dt;
   ++steps_;

@@ -82,7 +82,7 @@ class MpmSolver {
   /// they are computed into `local`. Returns a reference to the one used.
   const Stencil& binned_stencil(std::size_t q, Stencil& local) const {
     if (!stencils_.empty()) return stencils_[q];
-    local = grid_.stencil_unchecked(particles_.x[bins_.order()[q]]);
+    grid_.fill_stencil(particles_.x[bins_.order()[q]], local);
     return local;
   }
   /// The particles binned by cell at the start of the current step (valid until finish_step).
