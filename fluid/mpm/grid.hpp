@@ -30,6 +30,8 @@ struct Stencil {
   std::array<std::int64_t, 8> node{};
   std::array<double, 8> N{};
   std::array<Vec3, 8> dN{};
+  std::array<int, 3> cell{};      ///< (i, j, k) of the cell
+  std::array<double, 3> frac{};  ///< position in the cell, (x - x_cell) / h in [0, 1)
 };
 
 /// The regular grid: origin `lo`, cubic cell size `h` [m], `cells` cells per axis.
@@ -83,6 +85,10 @@ struct Grid {
       const double s = (x[a] - lo[a]) * inv;
       base[a] = static_cast<int>(s);
       f[a] = s - base[a];
+    }
+    for (int a = 0; a < 3; ++a) {
+      st.cell[a] = base[a];
+      st.frac[a] = f[a];
     }
     const std::int64_t sx = cells[0] + 1, sxy = sx * (cells[1] + 1);
     const std::int64_t b = node_index(base[0], base[1], base[2]);

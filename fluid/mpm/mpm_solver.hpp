@@ -110,6 +110,11 @@ class MpmSolver {
   long steps() const { return steps_; }
 
  private:
+  /// Per cell of the occupied box, the velocity gradient of the trilinear field as a bilinear
+  /// function of the position in the cell (from vel_; see mpm_solver.cpp).
+  void cell_gradients();
+  /// L_ij = sum_I v_iI N_I,j of a particle from its cell's coefficients.
+  Mat3 velocity_gradient(const Stencil& st) const;
   /// Stress, density and energy update of particle p (eqs. 22-26); returns its new volume m / rho.
   double update_particle_stress(std::size_t p, double dt, const Stencil& st);
   /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
@@ -130,6 +135,7 @@ class MpmSolver {
   std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
   std::vector<Stencil> stencils_;            // per binned position, at the start of the current step
   std::vector<double> work_;                 // per particle: impulse work of the last finish_step
+  std::vector<std::array<double, 36>> cell_grad_;  // per cell of the box: see cell_gradients()
   std::vector<std::int64_t> impulse_nodes_, cells_;
   std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
