@@ -174,6 +174,7 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
   }
   for (const auto& m : materials_)
     lame_.push_back({m.lame_lambda(), 2.0 * m.shear_modulus(), m.lame_lambda() + 2 * m.shear_modulus()});
+  for (const auto& m : materials_) inv_rho0_.push_back(1.0 / m.rho0);
   mask_ = grid_.build_constraint_mask();
   const auto nn = static_cast<std::size_t>(grid_.num_nodes());
   mass_.assign(nn, 0.0);
@@ -301,11 +302,12 @@ double MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil
   // Fluid (eq. 26): sigma = 2 mu D' - p I, p from the EOS with the energy equation
   //   dE = (s_visc : D dt) V/V0 - (p^n + p^{n+1})/2 dV/V0,
   // solved exactly for E^{n+1} because both EOS are linear in E (p = a + b E).
-  // Volume ratios V/V0 = rho0/rho with V^{n+1}/V^n = 1/shrink (two divisions instead of the four of
-  // m/rho0, m/rho^n, m/rho^{n+1} and dV/V0: this chain of dependent divisions was the critical
-  // path of the particle update).
+  // Volume ratios V/V0 = rho0/rho with V^{n+1}/V^n = exp(dt tr D): one division, off the path
+  // from tr D to the stress, instead of the chain of m/rho0, m/rho^n, m/rho^{n+1}, dV/V0 and the
+  // EOS's rho/rho0 (that chain of dependent divisions was the critical path of the update).
   constexpr double kThird = 1.0 / 3.0;
-  const double r_old = mat.rho0 / rho_old, r_new = r_old / shrink;
+  const double inv_rho0 = inv_rho0_[P.material[p]];
+  const double r_old = mat.rho0 / rho_old, r_new = r_old * exp_small(dt * trD);
   const double dv = r_new - r_old;
   const double mean = trD * kThird;
   Mat3 Ddev = D;
@@ -314,14 +316,16 @@ double MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil
   const double w_visc = two_mu * Ddev.squaredNorm() * dt * 0.5 * (r_old + r_new);
   const Mat3& s_old = P.stress[p];
   const double p_old = -(s_old(0, 0) + s_old(1, 1) + s_old(2, 2)) * kThird;
-  const auto [a, b] = mat.eos_coefficients(rho_new);
+  // Ideal gas (eq. 67): p = (gamma - 1) (rho / rho0) E, with rho / rho0 = 1 / r_new.
+  const auto [a, b] = mat.eos == Eos::IdealGas ? std::pair<double, double>{0.0, (mat.gamma - 1.0) * (rho_new * inv_rho0)}
+                                               : mat.eos_coefficients(rho_new);
   const double E = (P.energy[p] + w_visc - 0.5 * (p_old + a) * dv) / (1.0 + 0.5 * b * dv);
   P.energy[p] = E;
   const double pressure = a + b * E;
   Mat3& s = P.stress[p];
   s = two_mu * Ddev;
   for (int a = 0; a < 3; ++a) s(a, a) -= pressure;
-  return P.mass[p] / rho_new;
+  return (P.mass[p] * inv_rho0) * r_new;  // V = V0 r_new
 }
 
 void MpmSolver::add_node_impulse(std::int64_t node, const Vec3& dp) {
@@ -332,26 +336,46 @@ void MpmSolver::add_node_impulse(std::int64_t node, const Vec3& dp) {
   impulse_[node] += d;
 }
 
+const std::vector<std::array<int, 3>>& MpmSolver::cells_around(const std::vector<std::int64_t>& nodes) {
+  around_.clear();
+  if (bins_.empty()) return around_;
+  const auto& lo = bins_.lo();
+  const auto& hi = bins_.hi();
+  const int ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1, ez = hi[2] - lo[2] + 1;
+  cell_mark_.resize(std::size_t(ex) * ey * ez, 0);  // all zero between calls
+  const std::int64_t nx = grid_.cells[0] + 1, ny = grid_.cells[1] + 1;
+  int kmin = ez, kmax = -1;
+  for (auto node : nodes) {
+    const int i = static_cast<int>(node % nx), j = static_cast<int>((node / nx) % ny), k = static_cast<int>(node / (nx * ny));
+    for (int ck = std::max(k - 1, lo[2]); ck <= std::min(k, hi[2]); ++ck)
+      for (int cj = std::max(j - 1, lo[1]); cj <= std::min(j, hi[1]); ++cj)
+        for (int ci = std::max(i - 1, lo[0]); ci <= std::min(i, hi[0]); ++ci) {
+          cell_mark_[std::size_t(ci - lo[0]) + std::size_t(ex) * ((cj - lo[1]) + std::size_t(ey) * (ck - lo[2]))] = 1;
+          kmin = std::min(kmin, ck - lo[2]);
+          kmax = std::max(kmax, ck - lo[2]);
+        }
+  }
+  // Scan in k, j, i order: ascending global cell index; clear the marks on the way.
+  for (int k = kmin; k <= kmax; ++k)
+    for (int j = 0; j < ey; ++j)
+      for (int i = 0; i < ex; ++i) {
+        auto& m = cell_mark_[std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k)];
+        if (!m) continue;
+        m = 0;
+        around_.push_back({lo[0] + i, lo[1] + j, lo[2] + k});
+      }
+  return around_;
+}
+
 void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out) {
   if (marked_.size() != mass_.size()) marked_.assign(mass_.size(), 0);
-  const std::int64_t nx = grid_.cells[0] + 1, ny = grid_.cells[1] + 1;
-  // Cells around the nodes (each node lies in 8 cells), ascending and unique.
-  cells_.clear();
   for (auto node : nodes) {
     marked_[node] = 1;
     out[node].setZero();
-    const int i = static_cast<int>(node % nx), j = static_cast<int>((node / nx) % ny), k = static_cast<int>(node / (nx * ny));
-    for (int ck = std::max(k - 1, 0); ck <= std::min(k, grid_.cells[2] - 1); ++ck)
-      for (int cj = std::max(j - 1, 0); cj <= std::min(j, grid_.cells[1] - 1); ++cj)
-        for (int ci = std::max(i - 1, 0); ci <= std::min(i, grid_.cells[0] - 1); ++ci)
-          cells_.push_back(ci + std::int64_t(grid_.cells[0]) * (cj + std::int64_t(grid_.cells[1]) * ck));
   }
-  std::sort(cells_.begin(), cells_.end());
-  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
-  for (auto cell : cells_) {
-    const int ci = static_cast<int>(cell % grid_.cells[0]), cj = static_cast<int>((cell / grid_.cells[0]) % grid_.cells[1]);
-    const int ck = static_cast<int>(cell / (std::int64_t(grid_.cells[0]) * grid_.cells[1]));
-    const auto [b, e] = bins_.cell(ci, cj, ck);
+  // The particles of the cells around the nodes, cell by cell in ascending index.
+  for (const auto& c : cells_around(nodes)) {
+    const auto [b, e] = bins_.cell(c[0], c[1], c[2]);
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
       Stencil local;

@@ -95,6 +95,9 @@ class MpmSolver {
   /// most what it changes the grid's (see coupling/mpm/grid_contact.hpp). Visits only the
   /// particles of the cells around the nodes.
   void particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out);
+  /// The occupied cells around `nodes` (each node lies in up to 8 cells) as (i, j, k), unique and in
+  /// ascending global cell index (valid after trial_step, until the next call).
+  const std::vector<std::array<int, 3>>& cells_around(const std::vector<std::int64_t>& nodes);
   /// Work of the impulses of the last finish_step on the particles [J]:
   /// sum_p m_p dv_p . (v_p^{n-1/2} + v_p^{n+1/2}) / 2, dv_p = sum_I N_Ip d_I / m_I the impulse part
   /// of eq. (65) (mid-step velocity, as the kinetic energy change of the whole step splits).
@@ -125,6 +128,7 @@ class MpmSolver {
   Grid grid_;
   std::vector<Material> materials_;
   std::vector<std::array<double, 3>> lame_;  // per material: lambda, 2 G, lambda + 2 G [Pa]
+  std::vector<double> inv_rho0_;              // per material: 1 / rho0
   Particles particles_;
   MpmOptions options_;
   std::vector<std::array<bool, 3>> mask_;
@@ -136,7 +140,9 @@ class MpmSolver {
   std::vector<Stencil> stencils_;            // per binned position, at the start of the current step
   std::vector<double> work_;                 // per particle: impulse work of the last finish_step
   std::vector<std::array<double, 36>> cell_grad_;  // per cell of the box: see cell_gradients()
-  std::vector<std::int64_t> impulse_nodes_, cells_;
+  std::vector<std::int64_t> impulse_nodes_;
+  std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around
+  std::vector<std::array<int, 3>> around_;     // result of cells_around
   std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
   double critical_dt_ = 0;
