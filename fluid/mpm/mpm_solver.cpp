@@ -50,8 +50,9 @@ double particle_step_bound(const Material& mat, double p_modulus, double rho, co
 }
 
 /// exp(x) for the density update: the Taylor polynomial to x^5 when |x| < 2^-10 (truncation below
-/// x^6 / 720 < 2e-21, far under the rounding of the result; per step |dt tr D| is ~1e-6 here),
-/// std::exp otherwise. The call to exp was ~5% of the gas expansion's particle work.
+/// x^6 / 720 < 2e-21, far under the rounding of the result; in the gas expansion dt ~ 6e-5 and
+/// |tr D| is of order 1), std::exp otherwise. The call to exp was ~5% of the gas expansion's
+/// particle work.
 double exp_small(double x) {
   if (std::abs(x) >= 0x1p-10) return std::exp(x);
   return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0)))));
@@ -72,32 +73,41 @@ void MpmSolver::cell_gradients() {
   cell_grad_.resize(std::size_t(ex) * ey * ez);
   const double inv = 1.0 / grid_.h;
   const std::int64_t sx = grid_.cells[0] + 1, sxy = sx * (grid_.cells[1] + 1);
-  for (int k = 0; k < ez; ++k)
-    for (int j = 0; j < ey; ++j)
-      for (int i = 0; i < ex; ++i) {
-        const std::int64_t n0 = grid_.node_index(lo[0] + i, lo[1] + j, lo[2] + k);
-        // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
-        auto v = [&](int a, int b, int c) -> const Vec3& { return vel_[n0 + a + b * sx + c * sxy]; };
-        auto& G = cell_grad_[std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k)];
-        for (int r = 0; r < 3; ++r) {
-          // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
-          const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
-                                v(1, 0, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(0, 1, 1)[r]};
-          const double dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
-                                v(0, 1, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(1, 0, 1)[r]};
-          const double dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
-                                v(0, 1, 1)[r] - v(0, 1, 0)[r], v(1, 1, 1)[r] - v(1, 1, 0)[r]};
-          const double* d[3] = {dx, dy, dz};
-          for (int col = 0; col < 3; ++col) {
-            // d[col] = {D(0,0), D(1,0), D(0,1), D(1,1)} in the column's two fractions.
-            const double* D = d[col];
-            G[12 * col + r] = inv * D[0];
-            G[12 * col + 3 + r] = inv * (D[1] - D[0]);
-            G[12 * col + 6 + r] = inv * (D[2] - D[0]);
-            G[12 * col + 9 + r] = inv * ((D[3] - D[2]) - (D[1] - D[0]));
-          }
+  // One row of cells along x per call; each cell writes only its own coefficients.
+  auto row = [&](int jk) {
+    const int j = jk % ey, k = jk / ey;
+    for (int i = 0; i < ex; ++i) {
+      const std::int64_t n0 = grid_.node_index(lo[0] + i, lo[1] + j, lo[2] + k);
+      // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
+      auto v = [&](int a, int b, int c) -> const Vec3& { return vel_[n0 + a + b * sx + c * sxy]; };
+      auto& G = cell_grad_[std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k)];
+      for (int r = 0; r < 3; ++r) {
+        // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
+        const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
+                              v(1, 0, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(0, 1, 1)[r]};
+        const double dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
+                              v(0, 1, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(1, 0, 1)[r]};
+        const double dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
+                              v(0, 1, 1)[r] - v(0, 1, 0)[r], v(1, 1, 1)[r] - v(1, 1, 0)[r]};
+        const double* d[3] = {dx, dy, dz};
+        for (int col = 0; col < 3; ++col) {
+          // d[col] = {D(0,0), D(1,0), D(0,1), D(1,1)} in the column's two fractions.
+          const double* D = d[col];
+          G[12 * col + r] = inv * D[0];
+          G[12 * col + 3 + r] = inv * (D[1] - D[0]);
+          G[12 * col + 6 + r] = inv * (D[2] - D[0]);
+          G[12 * col + 9 + r] = inv * ((D[3] - D[2]) - (D[1] - D[0]));
         }
       }
+    }
+  };
+  if (cell_grad_.size() < 8192) {  // small box: task overhead dominates
+    for (int jk = 0; jk < ey * ez; ++jk) row(jk);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<int>(0, ey * ez, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int jk = r.begin(); jk != r.end(); ++jk) row(jk);
+  });
 }
 
 Mat3 MpmSolver::velocity_gradient(const Stencil& st) const {
