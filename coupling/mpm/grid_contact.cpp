@@ -154,25 +154,14 @@ void MpmMembraneCoupling::compute_gaps() {
   // and the surface of the nearest particle with N_Ip > 0, along n_I. One pass over the particles
   // of the cells around the candidate nodes (each node lies in 8 cells); min is order-free.
   if (candidates_.empty()) return;
-  const auto& grid = mpm_.grid();
   const auto& P = mpm_.particles();
   const auto& bins = mpm_.bins();
-  const std::int64_t nx = grid.cells[0] + 1, ny = grid.cells[1] + 1;
-  cells_.clear();
-  for (auto id : candidates_) {
-    gap_[id] = std::numeric_limits<double>::infinity();
-    const int i = static_cast<int>(id % nx), j = static_cast<int>((id / nx) % ny), k = static_cast<int>(id / (nx * ny));
-    for (int ck = std::max(k - 1, 0); ck <= std::min(k, grid.cells[2] - 1); ++ck)
-      for (int cj = std::max(j - 1, 0); cj <= std::min(j, grid.cells[1] - 1); ++cj)
-        for (int ci = std::max(i - 1, 0); ci <= std::min(i, grid.cells[0] - 1); ++ci)
-          cells_.push_back({ci, cj, ck});
-  }
-  std::sort(cells_.begin(), cells_.end());
-  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
-  for (const auto& c : cells_) {
+  for (auto id : candidates_) gap_[id] = std::numeric_limits<double>::infinity();
+  for (const auto& c : mpm_.cells_around(candidates_)) {
     const auto [b, e] = bins.cell(c[0], c[1], c[2]);
     for (auto it = b; it != e; ++it) {
-      const auto st = mpm_.stencil(*it);
+      mpm::Stencil local;
+      const auto& st = mpm_.binned_stencil(bins.position(it), local);
       const double radius = 0.5 * std::cbrt(P.volume(*it));
       for (int q = 0; q < 8; ++q) {
         const auto id = st.node[q];

@@ -113,7 +113,6 @@ class MpmMembraneCoupling {
   std::vector<mpm::Stencil> fe_st_;
 
   std::vector<double> gap_;  // NaN except at candidate nodes during a step
-  std::vector<std::array<int, 3>> cells_;
   /// Real-distance gaps [m] of the candidate nodes into gap_ (see the file comment).
   void compute_gaps();
 };

@@ -37,16 +37,18 @@ void CellBins::build(const Grid& grid, const std::vector<Vec3>& x) {
     return;
   }
   // Box of occupied cells (min / max are exact, so the reduction order does not matter).
-  const Box box = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, n, 1024), Box{},
-      [&](const tbb::blocked_range<std::size_t>& r, Box b) {
-        for (std::size_t p = r.begin(); p != r.end(); ++p) b.add(grid.cell_of(x[p]));
-        return b;
-      },
-      [](Box a, const Box& b) {
-        a.add(b);
-        return a;
-      });
+  // Small sets run serially (task overhead dominates; the result is the same).
+  const bool parallel = n >= kParallelMin;
+  auto box_of = [&](const tbb::blocked_range<std::size_t>& r, Box b) {
+    for (std::size_t p = r.begin(); p != r.end(); ++p) b.add(grid.cell_of(x[p]));
+    return b;
+  };
+  const Box box = parallel ? tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, n, 1024), Box{}, box_of,
+                                                  [](Box a, const Box& b) {
+                                                    a.add(b);
+                                                    return a;
+                                                  })
+                           : box_of(tbb::blocked_range<std::size_t>(0, n), Box{});
   lo_ = box.lo;
   hi_ = box.hi;
   // Slab axis: the longest side of the box; the other two are the fast axes of the key.
@@ -56,14 +58,18 @@ void CellBins::build(const Grid& grid, const std::vector<Vec3>& x) {
   axis_ = slab == 0 ? std::array<int, 3>{1, 2, 0} : slab == 1 ? std::array<int, 3>{0, 2, 1} : std::array<int, 3>{0, 1, 2};
   for (int a = 0; a < 3; ++a) extent_[a] = hi_[axis_[a]] - lo_[axis_[a]] + 1;
   const std::size_t cells = std::size_t(extent_[0]) * extent_[1] * extent_[2];
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+  auto keys = [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t p = r.begin(); p != r.end(); ++p) {
       const auto c = grid.cell_of(x[p]);
       key_[p] = static_cast<std::uint32_t>(
           (c[axis_[0]] - lo_[axis_[0]]) +
           std::size_t(extent_[0]) * ((c[axis_[1]] - lo_[axis_[1]]) + std::size_t(extent_[1]) * (c[axis_[2]] - lo_[axis_[2]])));
     }
-  });
+  };
+  if (parallel)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), keys);
+  else
+    keys(tbb::blocked_range<std::size_t>(0, n));
   // Stable counting sort by key.
   start_.assign(cells + 1, 0);
   for (std::size_t p = 0; p < n; ++p) ++start_[key_[p] + 1];

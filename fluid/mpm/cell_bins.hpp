@@ -42,8 +42,14 @@ class CellBins {
   /// outside the box.
   std::pair<const std::uint32_t*, const std::uint32_t*> cell(int i, int j, int k) const;
 
-  /// Calls f(p) for every particle; concurrent calls never write to the same grid node through
-  /// the particle's own 8-node stencil (see the file comment). Deterministic order per node.
+  /// Position of a particle id in the binned order, from a pointer of a cell() range.
+  std::size_t position(const std::uint32_t* it) const { return static_cast<std::size_t>(it - order_.data()); }
+  /// Particle ids in binned order (position q holds order()[q]).
+  const std::vector<std::uint32_t>& order() const { return order_; }
+
+  /// Calls f(q, p) for every particle p at binned position q; concurrent calls never write to the
+  /// same grid node through the particle's own 8-node stencil (see the file comment). Deterministic
+  /// order per node.
   template <class F>
   void for_each_coloured(F&& f) const {
     const int slabs = (extent_[2] + 1) / 2;  // slabs of two layers along the slab axis
@@ -53,7 +59,7 @@ class CellBins {
       if (order_.size() < kParallelMin) {  // same per-node order as the parallel branch
         for (int s = 0; s < count; ++s) {
           const auto [b, e] = slab_range(2 * s + colour);
-          for (std::uint32_t q = b; q < e; ++q) f(static_cast<std::size_t>(order_[q]));
+          for (std::uint32_t q = b; q < e; ++q) f(std::size_t(q), static_cast<std::size_t>(order_[q]));
         }
         continue;
       }
@@ -62,7 +68,7 @@ class CellBins {
                           for (int s = r.begin(); s != r.end(); ++s) {
                             const int slab = 2 * s + colour;
                             const auto [b, e] = slab_range(slab);
-                            for (std::uint32_t q = b; q < e; ++q) f(static_cast<std::size_t>(order_[q]));
+                            for (std::uint32_t q = b; q < e; ++q) f(std::size_t(q), static_cast<std::size_t>(order_[q]));
                           }
                         },
                         tbb::simple_partitioner());

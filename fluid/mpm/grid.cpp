@@ -24,15 +24,6 @@ Vec3 Grid::node_position(std::int64_t id) const {
   return lo + h * Vec3(double(i), double(j), double(k));
 }
 
-bool Grid::contains(const Vec3& x) const {
-  const double inv = 1.0 / h;  // the same scaling as stencil() and cell_of()
-  for (int a = 0; a < 3; ++a) {
-    const double s = (x[a] - lo[a]) * inv;
-    if (!(s >= 0.0) || !(s < cells[a])) return false;
-  }
-  return true;
-}
-
 Stencil Grid::stencil(const Vec3& x) const {
   if (!contains(x)) {
     std::ostringstream msg;

@@ -30,6 +30,8 @@ struct Stencil {
   std::array<std::int64_t, 8> node{};
   std::array<double, 8> N{};
   std::array<Vec3, 8> dN{};
+  std::array<int, 3> cell{};      ///< (i, j, k) of the cell
+  std::array<double, 3> frac{};  ///< position in the cell, (x - x_cell) / h in [0, 1)
 };
 
 /// The regular grid: origin `lo`, cubic cell size `h` [m], `cells` cells per axis.
@@ -57,12 +59,25 @@ struct Grid {
   }
   Vec3 node_position(std::int64_t id) const;
   /// True if x lies inside the grid box (closed at the low end, open at the high end).
-  bool contains(const Vec3& x) const;
+  bool contains(const Vec3& x) const {
+    const double inv = 1.0 / h;  // the same scaling as stencil() and cell_of()
+    for (int a = 0; a < 3; ++a) {
+      const double s = (x[a] - lo[a]) * inv;
+      if (!(s >= 0.0) || !(s < cells[a])) return false;
+    }
+    return true;
+  }
   /// Trilinear shape functions of the cell containing x (eq. 15 uses N_Ip; eq. 17 uses N_Ip,j).
   /// @throws std::out_of_range if x is outside the grid
   Stencil stencil(const Vec3& x) const;
   /// The same without the range check, for the particle loops (x must lie inside the grid).
   Stencil stencil_unchecked(const Vec3& x) const {
+    Stencil st;
+    fill_stencil(x, st);
+    return st;
+  }
+  /// stencil_unchecked written straight into `st` (no temporary to copy in the particle loops).
+  void fill_stencil(const Vec3& x, Stencil& st) const {
     int base[3];
     double f[3];
     const double inv = 1.0 / h;
@@ -71,7 +86,10 @@ struct Grid {
       base[a] = static_cast<int>(s);
       f[a] = s - base[a];
     }
-    Stencil st;
+    for (int a = 0; a < 3; ++a) {
+      st.cell[a] = base[a];
+      st.frac[a] = f[a];
+    }
     const std::int64_t sx = cells[0] + 1, sxy = sx * (cells[1] + 1);
     const std::int64_t b = node_index(base[0], base[1], base[2]);
     // 1D linear hat functions and their derivatives along each axis.
@@ -85,7 +103,6 @@ struct Grid {
           st.N[c] = w[0][di] * w[1][dj] * w[2][dk];
           st.dN[c] = Vec3(g[di] * w[1][dj] * w[2][dk], w[0][di] * g[dj] * w[2][dk], w[0][di] * w[1][dj] * g[dk]);
         }
-    return st;
   }
   /// Index (i, j, k) of the cell containing x, as used by stencil() (x inside the grid).
   std::array<int, 3> cell_of(const Vec3& x) const {

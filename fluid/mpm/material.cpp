@@ -58,20 +58,4 @@ void Material::validate() const {
   if (eos == Eos::MieGruneisen && !(c0 > 0)) fail("Mie-Grueneisen c0 must be > 0");
 }
 
-std::pair<double, double> Material::eos_coefficients(double rho) const {
-  if (eos == Eos::IdealGas) return {0.0, (gamma - 1.0) * rho / rho0};
-  const double mu = rho / rho0 - 1.0;
-  if (mu < 0.0) return {0.0, 0.0};
-  const double den = 1.0 - (s - 1.0) * mu;
-  const double pH = rho0 * c0 * c0 * mu * (1.0 + mu) / (den * den);
-  return {pH * (1.0 - 0.5 * gamma0 * mu), gamma0};
-}
-
-double Material::sound_speed(double rho, double p) const {
-  if (kind == Kind::LinearElastic) return std::sqrt((lame_lambda() + 2 * shear_modulus()) / rho);
-  if (eos == Eos::IdealGas) return std::sqrt(gamma * std::max(p, 0.0) / rho);
-  const double mu = rho / rho0 - 1.0;
-  return c0 * (1.0 + s * std::max(mu, 0.0));
-}
-
 }  // namespace tetfsi::mpm

@@ -6,7 +6,10 @@
 /// ideal gas (eq. 67, Table 2).
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <utility>
 
 namespace tetfsi::mpm {
 
@@ -46,7 +49,15 @@ struct Material {
   /// p_H = rho0 c0^2 mu_c (1+mu_c) / [1-(s-1) mu_c]^2; for mu_c < 0 (tension) p = 0, a = b = 0.
   /// (The paper writes gamma = gamma0 rho0/rho for the Grueneisen parameter; with E per reference
   /// volume gamma rho e = gamma0 E, so the energy term is gamma0 E; the Hugoniot term uses gamma0.)
-  std::pair<double, double> eos_coefficients(double rho) const;
+  /// (Inline: called once per particle and step.)
+  std::pair<double, double> eos_coefficients(double rho) const {
+    if (eos == Eos::IdealGas) return {0.0, (gamma - 1.0) * rho / rho0};
+    const double mu = rho / rho0 - 1.0;
+    if (mu < 0.0) return {0.0, 0.0};
+    const double den = 1.0 - (s - 1.0) * mu;
+    const double pH = rho0 * c0 * c0 * mu * (1.0 + mu) / (den * den);
+    return {pH * (1.0 - 0.5 * gamma0 * mu), gamma0};
+  }
   double pressure(double rho, double E) const {
     const auto [a, b] = eos_coefficients(rho);
     return a + b * E;
@@ -54,7 +65,12 @@ struct Material {
   /// Local sound speed [m/s] for the critical time step (eq. 21).
   /// Solid: sqrt((lambda + 2G)/rho). Ideal gas: sqrt(gamma p / rho). Mie-Grueneisen:
   /// c0 (1 + s mu_c) for mu_c > 0 (slope of the Hugoniot), else c0.
-  double sound_speed(double rho, double p) const;
+  double sound_speed(double rho, double p) const {
+    if (kind == Kind::LinearElastic) return std::sqrt((lame_lambda() + 2 * shear_modulus()) / rho);
+    if (eos == Eos::IdealGas) return std::sqrt(gamma * std::max(p, 0.0) / rho);
+    const double mu = rho / rho0 - 1.0;
+    return c0 * (1.0 + s * std::max(mu, 0.0));
+  }
 };
 
 }  // namespace tetfsi::mpm

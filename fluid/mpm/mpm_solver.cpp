@@ -2,7 +2,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
+
+#include "fluid/mpm/reduce.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,20 +15,149 @@ namespace tetfsi::mpm {
 namespace {
 
 constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reductions
+// Below this many particles the reductions run serially (same result; see reduce.hpp).
+constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
+// Up to this many particles the stencils of a step are computed once and kept (320 B each: 2.6 MB
+// at the limit, cache-resident); larger bodies recompute them in each pass, which is cheaper than
+// streaming the array (membrane on sphere, 113k particles: 36 MB per step).
+constexpr std::size_t kCacheStencilsMax = 8192;
 
 /// Bound of eq. (21) for one particle, h / (c + |v|), and the explicit viscous bound
 /// rho h^2 / (8 mu) of viscous fluids [s].
 /// `p_modulus` is lambda + 2 G of a linear-elastic material (precomputed: saves the divisions of
 /// Material::sound_speed in the particle loop).
-double particle_step_bound(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v,
-                           double h) {
-  double dt = std::numeric_limits<double>::infinity();
+double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
   const double sound = mat.kind == Material::Kind::LinearElastic ? std::sqrt(p_modulus / rho)
                                                                  : mat.sound_speed(rho, -stress.trace() / 3.0);
-  const double c = sound + v.norm();
-  if (c > 0) dt = h / c;
-  if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) dt = std::min(dt, rho * h * h / (8.0 * mat.viscosity));
-  return dt;
+  return sound + v.norm();
+}
+
+/// Explicit viscous bound rho h^2 / (8 mu) [s] (infinite unless a viscous fluid).
+double viscous_bound(const Material& mat, double rho, double h) {
+  if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) return rho * h * h / (8.0 * mat.viscosity);
+  return std::numeric_limits<double>::infinity();
+}
+
+/// h / c for the largest c > 0 (infinite if none): equal to the smallest h / c_p, since rounded
+/// division is monotone, with one division per step instead of one per particle.
+double sound_bound(double c_max, double h) {
+  return c_max > 0 ? h / c_max : std::numeric_limits<double>::infinity();
+}
+
+double particle_step_bound(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v,
+                           double h) {
+  return std::min(sound_bound(particle_speed(mat, p_modulus, rho, stress, v), h), viscous_bound(mat, rho, h));
+}
+
+/// exp(x) for the density update: the Taylor polynomial to x^5 when |x| < 2^-10 (truncation below
+/// x^6 / 720 < 2e-21, far under the rounding of the result; in the gas expansion dt ~ 6e-5 and
+/// |tr D| is of order 1), std::exp otherwise. The call to exp was ~5% of the gas expansion's
+/// particle work.
+double exp_small(double x) {
+  if (std::abs(x) >= 0x1p-10) return std::exp(x);
+  return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0)))));
+}
+
+}  // namespace
+
+void MpmSolver::cell_gradients() {
+  // Inside a cell the trilinear velocity field has the bilinear gradient
+  //   dv/dx (fy, fz) = [ (1-fy)(1-fz) D_00 + fy (1-fz) D_10 + (1-fy) fz D_01 + fy fz D_11 ] / h,
+  //   D_bc = v_1bc - v_0bc (nodes a b c = x, y, z offsets), and the same for y and z,
+  // i.e. sum_I v_I N_I,j (eqs. 62, 63) written as a + fb b + fc c + fb fc d per column: the 8-node
+  // gather of every particle becomes 36 coefficients per cell (64 particles per cell in the gas
+  // expansion of section 7.3).
+  const auto& lo = bins_.lo();
+  const auto& hi = bins_.hi();
+  const int ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1, ez = hi[2] - lo[2] + 1;
+  cell_grad_.resize(std::size_t(ex) * ey * ez);
+  const double inv = 1.0 / grid_.h;
+  const std::int64_t sx = grid_.cells[0] + 1, sxy = sx * (grid_.cells[1] + 1);
+  // One row of cells along x per call; each cell writes only its own coefficients.
+  auto row = [&](int jk) {
+    const int j = jk % ey, k = jk / ey;
+    for (int i = 0; i < ex; ++i) {
+      const std::int64_t n0 = grid_.node_index(lo[0] + i, lo[1] + j, lo[2] + k);
+      // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
+      auto v = [&](int a, int b, int c) -> const Vec3& { return vel_[n0 + a + b * sx + c * sxy]; };
+      auto& G = cell_grad_[std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k)];
+      for (int r = 0; r < 3; ++r) {
+        // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
+        const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
+                              v(1, 0, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(0, 1, 1)[r]};
+        const double dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
+                              v(0, 1, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(1, 0, 1)[r]};
+        const double dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
+                              v(0, 1, 1)[r] - v(0, 1, 0)[r], v(1, 1, 1)[r] - v(1, 1, 0)[r]};
+        const double* d[3] = {dx, dy, dz};
+        for (int col = 0; col < 3; ++col) {
+          // d[col] = {D(0,0), D(1,0), D(0,1), D(1,1)} in the column's two fractions.
+          const double* D = d[col];
+          G[12 * col + r] = inv * D[0];
+          G[12 * col + 3 + r] = inv * (D[1] - D[0]);
+          G[12 * col + 6 + r] = inv * (D[2] - D[0]);
+          G[12 * col + 9 + r] = inv * ((D[3] - D[2]) - (D[1] - D[0]));
+        }
+      }
+    }
+  };
+  if (cell_grad_.size() < 8192) {  // small box: task overhead dominates
+    for (int jk = 0; jk < ey * ez; ++jk) row(jk);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<int>(0, ey * ez, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int jk = r.begin(); jk != r.end(); ++jk) row(jk);
+  });
+}
+
+Mat3 MpmSolver::velocity_gradient(const Stencil& st) const {
+  const auto& lo = bins_.lo();
+  const auto& hi = bins_.hi();
+  const std::size_t ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1;
+  const auto& G = cell_grad_[std::size_t(st.cell[0] - lo[0]) + ex * ((st.cell[1] - lo[1]) + ey * (st.cell[2] - lo[2]))];
+  const double fx = st.frac[0], fy = st.frac[1], fz = st.frac[2];
+  const double pa[3] = {fy, fx, fx}, pb[3] = {fz, fz, fy};
+  Mat3 L;
+  for (int col = 0; col < 3; ++col) {
+    const double a = pa[col], b = pb[col], ab = a * b;
+    const double* g = G.data() + 12 * col;
+    for (int r = 0; r < 3; ++r) L(r, col) = g[r] + a * g[3 + r] + b * g[6 + r] + ab * g[9 + r];
+  }
+  return L;
+}
+
+namespace {
+
+/// Nodal forces of one particle, eqs. (17)-(18): f_I += -V sigma N_I,j + N_I m_p g, in scalars.
+/// `minus_volume` is -V_p. The component sums follow Eigen's evaluation of -V * (sigma * dN) for a
+/// fixed 3x3 times 3-vector product ((-V sigma_ij) dN_j, rows 0 and 1 summed as (a + b) + c, row 2
+/// as a + (b + c)), so the forces are bit-identical to that expression.
+/// With `with_body` false the body term is left out: it is then +0 (no gravity), and adding it
+/// changes nothing (a node sum starts at +0 and can never become -0 in round-to-nearest).
+template <bool with_body>
+void nodal_forces(const Stencil& st, double minus_volume, const Mat3& sigma, const Vec3& body,
+                  std::vector<Vec3>& force) {
+  double A[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) A[i][j] = minus_volume * sigma(i, j);
+  for (int c = 0; c < 8; ++c) {
+    const double* g = st.dN[c].data();
+    const double n = st.N[c];
+    double* f = force[st.node[c]].data();
+    const double f0 = (A[0][0] * g[0] + A[0][1] * g[1]) + A[0][2] * g[2];
+    const double f1 = (A[1][0] * g[0] + A[1][1] * g[1]) + A[1][2] * g[2];
+    const double f2 = A[2][0] * g[0] + (A[2][1] * g[1] + A[2][2] * g[2]);
+    if constexpr (with_body) {
+      f[0] += f0 + n * body[0];
+      f[1] += f1 + n * body[1];
+      f[2] += f2 + n * body[2];
+    } else {
+      (void)n;
+      f[0] += f0;
+      f[1] += f1;
+      f[2] += f2;
+    }
+  }
 }
 
 }  // namespace
@@ -54,6 +184,7 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
   }
   for (const auto& m : materials_)
     lame_.push_back({m.lame_lambda(), 2.0 * m.shear_modulus(), m.lame_lambda() + 2 * m.shear_modulus()});
+  for (const auto& m : materials_) inv_rho0_.push_back(1.0 / m.rho0);
   mask_ = grid_.build_constraint_mask();
   const auto nn = static_cast<std::size_t>(grid_.num_nodes());
   mass_.assign(nn, 0.0);
@@ -90,12 +221,18 @@ void MpmSolver::for_each_box_node(F&& f) const {
 void MpmSolver::trial_step(double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("MpmSolver: time step must be positive");
   auto& P = particles_;
-  // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step).
+  // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step): the
+  // accumulated fields, and p^{n+1/2} (zero outside the box for callers). The per-phase velocities
+  // vel_, dvel_, dvel_imp_ are overwritten on the whole new box before they are read; impulses are
+  // non-zero only at impulse_nodes_.
   for_each_box_node([&](std::int64_t id) {
     mass_[id] = 0;
-    for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_, &impulse_, &vel_, &dvel_, &dvel_imp_}) (*f)[id].setZero();
+    for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_}) (*f)[id].setZero();
   });
+  for (auto id : impulse_nodes_) impulse_[id].setZero();
   impulse_nodes_.clear();
+  stencils_.resize(P.size() <= kCacheStencilsMax ? P.size() : 0);
+  work_.resize(P.size());
   bins_.build(grid_, P.x);
   if (bins_.empty()) {
     box_lo_ = {0, 0, 0};
@@ -108,8 +245,10 @@ void MpmSolver::trial_step(double dt) {
   }
 
   // Step 2a (eqs. 60, 61, 51): coloured parallel scatter.
-  bins_.for_each_coloured([&](std::size_t p) {
-    const Stencil st = grid_.stencil_unchecked(P.x[p]);
+  bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
+    Stencil local;
+    Stencil& st = stencils_.empty() ? local : stencils_[q];
+    grid_.fill_stencil(P.x[p], st);
     const double m = P.mass[p];
     const Vec3 mv = m * P.v[p];
     for (int c = 0; c < 8; ++c) {
@@ -125,15 +264,19 @@ void MpmSolver::trial_step(double dt) {
       if (mask_[id][a]) mom_old_[id][a] = 0.0;
     vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
   });
+  cell_gradients();
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17, 18): stress update, then the particle's nodal
   // forces, in the same coloured pass.
-  bins_.for_each_coloured([&](std::size_t p) {
-    const Stencil st = grid_.stencil_unchecked(P.x[p]);
-    update_particle_stress(p, dt, st);
-    const double V = P.volume(p);
+  const bool gravity = !options_.gravity.isZero(0.0);
+  bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
+    Stencil local;
+    const Stencil& st = binned_stencil(q, local);
+    const double V = update_particle_stress(p, dt, st);
     const Vec3 body = P.mass[p] * options_.gravity;
-    const Mat3& sigma = P.stress[p];
-    for (int c = 0; c < 8; ++c) force_[st.node[c]] += -V * (sigma * st.dN[c]) + st.N[c] * body;
+    if (gravity)
+      nodal_forces<true>(st, -V, P.stress[p], body, force_);
+    else
+      nodal_forces<false>(st, -V, P.stress[p], body, force_);
   });
   // Step 2e (eq. 64) and grid conditions on f and p^{n+1/2}.
   for_each_box_node([&](std::int64_t id) {
@@ -143,43 +286,56 @@ void MpmSolver::trial_step(double dt) {
   });
 }
 
-void MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil& st) {
+double MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil& st) {
   auto& P = particles_;
   // Velocity gradient L_ij = sum_I v_iI N_I,j; D = sym L (eq. 23), W = skew L (eq. 24).
-  Mat3 L = Mat3::Zero();
-  for (int c = 0; c < 8; ++c) L += vel_[st.node[c]] * st.dN[c].transpose();
+  const Mat3 L = velocity_gradient(st);
   const Mat3 D = 0.5 * (L + L.transpose());
-  const Mat3 W = 0.5 * (L - L.transpose());
   const double trD = D.trace();
   const auto& mat = materials_[P.material[p]];
   const double rho_old = P.rho[p];
   // Mass conservation: rho^{n+1} = rho^n exp(-dt tr D).
-  const double rho_new = rho_old * std::exp(-dt * trD);
+  const double shrink = exp_small(-dt * trD);
+  const double rho_new = rho_old * shrink;
   P.rho[p] = rho_new;
   if (mat.kind == Material::Kind::LinearElastic) {
     // Hypo-elastic Jaumann update (eqs. 22, 25): sigma += dt (C:D + W sigma - sigma W).
     // Eq. (22) is printed as sigma Omega + (sigma Omega)^T; with Omega_ij = (v_i,j - v_j,i)/2 as in
     // eq. (24) the objective rotation of sigma is W sigma - sigma W, which is what is used.
+    const Mat3 W = 0.5 * (L - L.transpose());
     const Mat3& s = P.stress[p];
     const auto& lm = lame_[P.material[p]];  // lambda, 2 G
     const Mat3 rate = lm[0] * trD * Mat3::Identity() + lm[1] * D;
     P.stress[p] = s + dt * (rate + W * s - s * W);
-    return;
+    return P.mass[p] / rho_new;
   }
   // Fluid (eq. 26): sigma = 2 mu D' - p I, p from the EOS with the energy equation
   //   dE = (s_visc : D dt) V/V0 - (p^n + p^{n+1})/2 dV/V0,
   // solved exactly for E^{n+1} because both EOS are linear in E (p = a + b E).
-  const double V0 = P.mass[p] / mat.rho0;
-  const double Vold = P.mass[p] / rho_old, Vnew = P.mass[p] / rho_new;
-  const double dv = (Vnew - Vold) / V0;
-  const Mat3 Ddev = D - (trD / 3.0) * Mat3::Identity();
-  const Mat3 svisc = 2.0 * mat.viscosity * Ddev;
-  const double w_visc = (svisc.cwiseProduct(Ddev)).sum() * dt * 0.5 * (Vold + Vnew) / V0;
-  const double p_old = -P.stress[p].trace() / 3.0;
-  const auto [a, b] = mat.eos_coefficients(rho_new);
+  // Volume ratios V/V0 = rho0/rho with V^{n+1}/V^n = exp(dt tr D): one division, off the path
+  // from tr D to the stress, instead of the chain of m/rho0, m/rho^n, m/rho^{n+1}, dV/V0 and the
+  // EOS's rho/rho0 (that chain of dependent divisions was the critical path of the update).
+  constexpr double kThird = 1.0 / 3.0;
+  const double inv_rho0 = inv_rho0_[P.material[p]];
+  const double r_old = mat.rho0 / rho_old, r_new = r_old * exp_small(dt * trD);
+  const double dv = r_new - r_old;
+  const double mean = trD * kThird;
+  Mat3 Ddev = D;
+  for (int a = 0; a < 3; ++a) Ddev(a, a) -= mean;
+  const double two_mu = 2.0 * mat.viscosity;
+  const double w_visc = two_mu * Ddev.squaredNorm() * dt * 0.5 * (r_old + r_new);
+  const Mat3& s_old = P.stress[p];
+  const double p_old = -(s_old(0, 0) + s_old(1, 1) + s_old(2, 2)) * kThird;
+  // Ideal gas (eq. 67): p = (gamma - 1) (rho / rho0) E, with rho / rho0 = 1 / r_new.
+  const auto [a, b] = mat.eos == Eos::IdealGas ? std::pair<double, double>{0.0, (mat.gamma - 1.0) * (rho_new * inv_rho0)}
+                                               : mat.eos_coefficients(rho_new);
   const double E = (P.energy[p] + w_visc - 0.5 * (p_old + a) * dv) / (1.0 + 0.5 * b * dv);
   P.energy[p] = E;
-  P.stress[p] = svisc - (a + b * E) * Mat3::Identity();
+  const double pressure = a + b * E;
+  Mat3& s = P.stress[p];
+  s = two_mu * Ddev;
+  for (int a = 0; a < 3; ++a) s(a, a) -= pressure;
+  return (P.mass[p] * inv_rho0) * r_new;  // V = V0 r_new
 }
 
 void MpmSolver::add_node_impulse(std::int64_t node, const Vec3& dp) {
@@ -190,29 +346,50 @@ void MpmSolver::add_node_impulse(std::int64_t node, const Vec3& dp) {
   impulse_[node] += d;
 }
 
+const std::vector<std::array<int, 3>>& MpmSolver::cells_around(const std::vector<std::int64_t>& nodes) {
+  around_.clear();
+  if (bins_.empty()) return around_;
+  const auto& lo = bins_.lo();
+  const auto& hi = bins_.hi();
+  const int ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1, ez = hi[2] - lo[2] + 1;
+  cell_mark_.resize(std::size_t(ex) * ey * ez, 0);  // all zero between calls
+  const std::int64_t nx = grid_.cells[0] + 1, ny = grid_.cells[1] + 1;
+  int kmin = ez, kmax = -1;
+  for (auto node : nodes) {
+    const int i = static_cast<int>(node % nx), j = static_cast<int>((node / nx) % ny), k = static_cast<int>(node / (nx * ny));
+    for (int ck = std::max(k - 1, lo[2]); ck <= std::min(k, hi[2]); ++ck)
+      for (int cj = std::max(j - 1, lo[1]); cj <= std::min(j, hi[1]); ++cj)
+        for (int ci = std::max(i - 1, lo[0]); ci <= std::min(i, hi[0]); ++ci) {
+          cell_mark_[std::size_t(ci - lo[0]) + std::size_t(ex) * ((cj - lo[1]) + std::size_t(ey) * (ck - lo[2]))] = 1;
+          kmin = std::min(kmin, ck - lo[2]);
+          kmax = std::max(kmax, ck - lo[2]);
+        }
+  }
+  // Scan in k, j, i order: ascending global cell index; clear the marks on the way.
+  for (int k = kmin; k <= kmax; ++k)
+    for (int j = 0; j < ey; ++j)
+      for (int i = 0; i < ex; ++i) {
+        auto& m = cell_mark_[std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k)];
+        if (!m) continue;
+        m = 0;
+        around_.push_back({lo[0] + i, lo[1] + j, lo[2] + k});
+      }
+  return around_;
+}
+
 void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out) {
   if (marked_.size() != mass_.size()) marked_.assign(mass_.size(), 0);
-  const std::int64_t nx = grid_.cells[0] + 1, ny = grid_.cells[1] + 1;
-  // Cells around the nodes (each node lies in 8 cells), ascending and unique.
-  cells_.clear();
   for (auto node : nodes) {
     marked_[node] = 1;
     out[node].setZero();
-    const int i = static_cast<int>(node % nx), j = static_cast<int>((node / nx) % ny), k = static_cast<int>(node / (nx * ny));
-    for (int ck = std::max(k - 1, 0); ck <= std::min(k, grid_.cells[2] - 1); ++ck)
-      for (int cj = std::max(j - 1, 0); cj <= std::min(j, grid_.cells[1] - 1); ++cj)
-        for (int ci = std::max(i - 1, 0); ci <= std::min(i, grid_.cells[0] - 1); ++ci)
-          cells_.push_back(ci + std::int64_t(grid_.cells[0]) * (cj + std::int64_t(grid_.cells[1]) * ck));
   }
-  std::sort(cells_.begin(), cells_.end());
-  cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
-  for (auto cell : cells_) {
-    const int ci = static_cast<int>(cell % grid_.cells[0]), cj = static_cast<int>((cell / grid_.cells[0]) % grid_.cells[1]);
-    const int ck = static_cast<int>(cell / (std::int64_t(grid_.cells[0]) * grid_.cells[1]));
-    const auto [b, e] = bins_.cell(ci, cj, ck);
+  // The particles of the cells around the nodes, cell by cell in ascending index.
+  for (const auto& c : cells_around(nodes)) {
+    const auto [b, e] = bins_.cell(c[0], c[1], c[2]);
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
-      const Stencil st = stencil(p);
+      Stencil local;
+      const Stencil& st = binned_stencil(bins_.position(it), local);
       Vec3 v = particles_.v[p];
       for (int c = 0; c < 8; ++c) {
         const auto id = st.node[c];
@@ -241,16 +418,25 @@ void MpmSolver::finish_step(double dt) {
   // Grid-to-particle update with the reductions of this step: kinetic energy given by the
   // impulses, the next critical step (eq. 21) and the first invalid particle.
   struct Acc {
-    double work = 0;
-    double dt = std::numeric_limits<double>::infinity();
+    double c_max = 0;  // largest c + |v| (eq. 21)
+    double dt = std::numeric_limits<double>::infinity();  // smallest viscous bound
     std::size_t bad = std::numeric_limits<std::size_t>::max();
   };
+  // With cached stencils the particles are visited in binned order (the order of the cache),
+  // otherwise in particle order (sequential access to the particle arrays); the impulse work is
+  // stored per particle and summed in particle order below, so no sum depends on the visiting order.
   const double h = grid_.h;
-  const Acc acc = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, n, kGrain), Acc{},
+  const auto& order = bins_.order();
+  const bool binned = !stencils_.empty();
+  bool viscous = false;
+  for (const auto& m : materials_) viscous = viscous || viscous_bound(m, 1.0, h) < std::numeric_limits<double>::infinity();
+  const Acc acc = deterministic_reduce(
+      n, kGrain, kSerialBelow, Acc{},
       [&](const tbb::blocked_range<std::size_t>& r, Acc a) {
-        for (std::size_t p = r.begin(); p != r.end(); ++p) {
-          const Stencil st = grid_.stencil_unchecked(P.x[p]);
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const std::size_t p = binned ? order[i] : i;
+          Stencil local;
+          const Stencil& st = binned ? stencils_[i] : (grid_.fill_stencil(P.x[p], local), local);
           Vec3 dv = Vec3::Zero(), vel = Vec3::Zero(), dvi = Vec3::Zero();
           for (int c = 0; c < 8; ++c) {
             dv += st.N[c] * dvel_[st.node[c]];
@@ -258,12 +444,13 @@ void MpmSolver::finish_step(double dt) {
           }
           if (impulses) {
             for (int c = 0; c < 8; ++c) dvi += st.N[c] * dvel_imp_[st.node[c]];
-            a.work += P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
+            work_[p] = P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
           }
           P.v[p] += dv;
           P.x[p] += dt * vel;
           const auto mat = P.material[p];
-          a.dt = std::min(a.dt, particle_step_bound(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p], h));
+          a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
+          if (viscous) a.dt = std::min(a.dt, viscous_bound(materials_[mat], P.rho[p], h));
           const bool ok = P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
                           std::isfinite(P.rho[p]) && grid_.contains(P.x[p]);
           if (!ok) a.bad = std::min(a.bad, p);
@@ -271,14 +458,20 @@ void MpmSolver::finish_step(double dt) {
         return a;
       },
       [](Acc a, const Acc& b) {
-        a.work += b.work;
+        a.c_max = std::max(a.c_max, b.c_max);
         a.dt = std::min(a.dt, b.dt);
         a.bad = std::min(a.bad, b.bad);
         return a;
-      },
-      tbb::simple_partitioner());
-  impulse_work_ = acc.work;
-  critical_dt_ = options_.cfl * acc.dt;
+      });
+  impulse_work_ = !impulses ? 0.0
+                             : deterministic_reduce(
+                                   n, kGrain, kSerialBelow, 0.0,
+                                   [&](const tbb::blocked_range<std::size_t>& r, double w) {
+                                     for (std::size_t p = r.begin(); p != r.end(); ++p) w += work_[p];
+                                     return w;
+                                   },
+                                   [](double a, double b) { return a + b; });
+  critical_dt_ = options_.cfl * std::min(sound_bound(acc.c_max, h), acc.dt);
   if (acc.bad < n) check_particles(dt);
   time_ += dt;
   ++steps_;
@@ -315,8 +508,8 @@ MpmEnergies MpmSolver::energies() const {
     a.gravity += b.gravity;
     return a;
   };
-  return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, P.size(), kGrain), MpmEnergies{},
+  return deterministic_reduce(
+      P.size(), kGrain, kSerialBelow, MpmEnergies{},
       [&](const tbb::blocked_range<std::size_t>& r, MpmEnergies e) {
         for (std::size_t p = r.begin(); p != r.end(); ++p) {
           const auto& mat = materials_[P.material[p]];
@@ -333,7 +526,7 @@ MpmEnergies MpmSolver::energies() const {
         }
         return e;
       },
-      sum, tbb::simple_partitioner());
+      sum);
 }
 
 Vec3 MpmSolver::total_momentum() const {

@@ -76,8 +76,15 @@ class MpmSolver {
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
   /// n_I^s = sum_p N_Ip,i m_p (eq. 51): the (unnormalised) outward normal of the particle body.
   const std::vector<Vec3>& node_mass_gradient() const { return mass_grad_; }
-  /// Shape functions of particle p at the start of the current step (valid until finish_step).
-  Stencil stencil(std::size_t p) const { return grid_.stencil_unchecked(particles_.x[p]); }
+  /// Shape functions, at the start of the current step, of the particle at binned position q, i.e.
+  /// of particle bins().order()[q] (valid after trial_step until finish_step). Small bodies keep
+  /// them from the mass scatter (in binned order, the order of the particle passes); otherwise
+  /// they are computed into `local`. Returns a reference to the one used.
+  const Stencil& binned_stencil(std::size_t q, Stencil& local) const {
+    if (!stencils_.empty()) return stencils_[q];
+    grid_.fill_stencil(particles_.x[bins_.order()[q]], local);
+    return local;
+  }
   /// The particles binned by cell at the start of the current step (valid until finish_step).
   const CellBins& bins() const { return bins_; }
   /// Momentum the particles would carry to each of `nodes` after the trial update without
@@ -88,6 +95,9 @@ class MpmSolver {
   /// most what it changes the grid's (see coupling/mpm/grid_contact.hpp). Visits only the
   /// particles of the cells around the nodes.
   void particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out);
+  /// The occupied cells around `nodes` (each node lies in up to 8 cells) as (i, j, k), unique and in
+  /// ascending global cell index (valid after trial_step, until the next call).
+  const std::vector<std::array<int, 3>>& cells_around(const std::vector<std::int64_t>& nodes);
   /// Work of the impulses of the last finish_step on the particles [J]:
   /// sum_p m_p dv_p . (v_p^{n-1/2} + v_p^{n+1/2}) / 2, dv_p = sum_I N_Ip d_I / m_I the impulse part
   /// of eq. (65) (mid-step velocity, as the kinetic energy change of the whole step splits).
@@ -103,7 +113,13 @@ class MpmSolver {
   long steps() const { return steps_; }
 
  private:
-  void update_particle_stress(std::size_t p, double dt, const Stencil& st);
+  /// Per cell of the occupied box, the velocity gradient of the trilinear field as a bilinear
+  /// function of the position in the cell (from vel_; see mpm_solver.cpp).
+  void cell_gradients();
+  /// L_ij = sum_I v_iI N_I,j of a particle from its cell's coefficients.
+  Mat3 velocity_gradient(const Stencil& st) const;
+  /// Stress, density and energy update of particle p (eqs. 22-26); returns its new volume m / rho.
+  double update_particle_stress(std::size_t p, double dt, const Stencil& st);
   /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
   template <class F>
   void for_each_box_node(F&& f) const;
@@ -112,6 +128,7 @@ class MpmSolver {
   Grid grid_;
   std::vector<Material> materials_;
   std::vector<std::array<double, 3>> lame_;  // per material: lambda, 2 G, lambda + 2 G [Pa]
+  std::vector<double> inv_rho0_;              // per material: 1 / rho0
   Particles particles_;
   MpmOptions options_;
   std::vector<std::array<bool, 3>> mask_;
@@ -120,7 +137,12 @@ class MpmSolver {
   std::vector<double> mass_;
   std::vector<Vec3> mom_old_, mom_new_, force_, mass_grad_, impulse_;
   std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
-  std::vector<std::int64_t> impulse_nodes_, cells_;
+  std::vector<Stencil> stencils_;            // per binned position, at the start of the current step
+  std::vector<double> work_;                 // per particle: impulse work of the last finish_step
+  std::vector<std::array<double, 36>> cell_grad_;  // per cell of the box: see cell_gradients()
+  std::vector<std::int64_t> impulse_nodes_;
+  std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around
+  std::vector<std::array<int, 3>> around_;     // result of cells_around
   std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
   double critical_dt_ = 0;
