@@ -11,21 +11,30 @@
 
 namespace tetfsi::mesh {
 
-std::array<double, 6> dihedral_angles_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                          const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
-  const std::array<Eigen::Vector3d, 4> p{a, b, c, d};
-  // Face k is opposite vertex k; its normal (unnormalised direction irrelevant) oriented away from
-  // vertex k, so both normals of an edge point out of the tet whatever the tet's orientation.
+namespace {
+
+/// Unit normal of face k (the face opposite vertex k) of tet (a, b, c, d), oriented away from vertex
+/// k, so both normals of an edge point out of the tet whatever the tet's orientation; zero for a
+/// face of zero area. Shared by dihedral_angles_deg and min_dihedral_check (the same cosines).
+std::array<Eigen::Vector3d, 4> outward_face_normals(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                                    const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  const std::array<const Eigen::Vector3d*, 4> p{&a, &b, &c, &d};
   std::array<Eigen::Vector3d, 4> n;
   for (int k = 0; k < 4; ++k) {
-    const auto& p0 = p[(k + 1) % 4];
-    const auto& p1 = p[(k + 2) % 4];
-    const auto& p2 = p[(k + 3) % 4];
-    Eigen::Vector3d m = (p1 - p0).cross(p2 - p0);
-    if (m.dot(p[k] - p0) > 0.0) m = -m;
+    const Eigen::Vector3d& p0 = *p[(k + 1) % 4];
+    Eigen::Vector3d m = (*p[(k + 2) % 4] - p0).cross(*p[(k + 3) % 4] - p0);
+    if (m.dot(*p[k] - p0) > 0.0) m = -m;
     const double len = m.norm();
     n[k] = len > 0.0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
   }
+  return n;
+}
+
+}  // namespace
+
+std::array<double, 6> dihedral_angles_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c, const Eigen::Vector3d& d) {
+  const std::array<Eigen::Vector3d, 4> n = outward_face_normals(a, b, c, d);
   // Edge (i, j) is shared by the faces opposite the two other vertices.
   static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   std::array<double, 6> out{};
@@ -67,15 +76,7 @@ namespace {
 /// Largest −n_i·n_j over the six edges of a tet with positive volume (see dihedral_angles_deg).
 double max_dihedral_cosine(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                            const Eigen::Vector3d& d) {
-  const std::array<const Eigen::Vector3d*, 4> p{&a, &b, &c, &d};
-  std::array<Eigen::Vector3d, 4> n;
-  for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector3d& p0 = *p[(k + 1) % 4];
-    Eigen::Vector3d m = (*p[(k + 2) % 4] - p0).cross(*p[(k + 3) % 4] - p0);
-    if (m.dot(*p[k] - p0) > 0.0) m = -m;
-    const double len = m.norm();
-    n[k] = len > 0.0 ? Eigen::Vector3d(m / len) : Eigen::Vector3d::Zero();
-  }
+  const std::array<Eigen::Vector3d, 4> n = outward_face_normals(a, b, c, d);
   // Edge (i, j) is shared by the faces opposite the other two vertices: pairs of faces (k, l).
   static constexpr int kFacePairs[6][2] = {{2, 3}, {1, 3}, {1, 2}, {0, 3}, {0, 2}, {0, 1}};
   double largest = -1.0;

@@ -47,8 +47,8 @@ struct QualityReport {
 };
 
 /// What a moving mesh needs checked each step, and no more: the minimum dihedral angle of the
-/// tets with one label and how many of them are flat or inverted (quality_report computes all of
-/// its fields, about ten times the work).
+/// tets with one label and how many of them are flat or inverted (quality_report also computes
+/// every angle's acos, the radius-edge ratios and the per-label counts).
 struct AngleCheck {
   double min_dihedral_deg = 0.0;  ///< over the tets with positive volume (0 if there are none) [deg]
   int flat_or_inverted = 0;       ///< tets with relative_volume <= 6e-12 (inverted or degenerate)

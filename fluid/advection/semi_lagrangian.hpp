@@ -58,8 +58,9 @@ struct AdvectionReport {
 };
 
 /// Advects `old_fields` (on `old_mesh`) to the tets of `new_mesh` over dt [s].
-/// Deterministic: samples are processed in fixed blocks, each walk starting from the previous
-/// sample's tet in the block (new-mesh order is spatially coherent) or from the grid.
+/// Deterministic: samples are processed in fixed blocks. Each walk starts at tet t of the old mesh
+/// when both meshes have the same tets (the mesh only moved), else at the previous sample's tet in
+/// the block (new-mesh order is spatially coherent) or from the grid.
 /// `exits`: boundary_exits(old_mesh, bc) (one entry per old_mesh.boundary_faces), or nullptr to clamp
 /// at every boundary face.
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,

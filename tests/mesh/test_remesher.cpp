@@ -161,8 +161,11 @@ TEST(Remesher, SliverPassOpensASliver) {
   EXPECT_EQ(r.slivers_after, 0);
   EXPECT_GE(after.min_dihedral_deg, 10.0);
   EXPECT_EQ(after.inverted + after.degenerate, 0);
-  for (int v = 0; v < m.num_vertices(); ++v)
-    if (v != centre) EXPECT_EQ(m.vertices[v], original.vertices[v]);
+  for (int v = 0; v < m.num_vertices(); ++v) {
+    if (v != centre) {
+      EXPECT_EQ(m.vertices[v], original.vertices[v]);
+    }
+  }
 }
 
 // Deterministic: the same band remesh twice gives the same mesh, vertex for vertex.
