@@ -102,6 +102,7 @@ class CoupledRunner : public Simulation {
     cs.solver = coupling::parse_coupled_solver_kind(c.at("solver").get<std::string>());
     cs.solver_options.tolerance = c.at("tolerance").get<double>();
     cs.solver_options.max_iterations = c.at("max_iterations").get<int>();
+    cs.solver_options.reuse_factorization = c.at("reuse_factorization").get<bool>();
     cs.newmark = c.at("newmark") == "trapezoidal" ? solid::NewmarkScheme::kTrapezoidal
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
@@ -147,7 +148,7 @@ class CoupledRunner : public Simulation {
   }
   std::vector<std::string> columns() const override {
     return {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
-            "solver_iterations", "solver_residual",
+            "solver_iterations", "solver_residual", "solver_factor_age",
             "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
   }
   /// The scene's `dt`, or the CFL step cfl h / u_max with h the fluid edge length next to the
@@ -195,7 +196,7 @@ class CoupledRunner : public Simulation {
                          r.solid_assemble_seconds, r.interface_seconds, r.solve.setup_seconds + r.solve.solve_seconds};
     out.values = {double(r.fluid.num_tets), double(r.mesh_update.remeshed), r.mesh_update.min_dihedral_deg,
                   double(r.pressure_unknowns), double(r.solid_dofs),
-                  double(r.solve.iterations), r.solve.residual.max(), r.fluid_kinetic, r.solid_kinetic,
+                  double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
                   r.solid_strain, r.solid_gravity_potential, r.total_energy()};
     return out;
   }

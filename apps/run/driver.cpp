@@ -111,9 +111,14 @@ class Driver {
         if (!(dt_max > 0) || !std::isfinite(dt_max))
           throw RunError(fmt::format("step {} (t = {:.6g} s): the model asked for a time step of {} s",
                                      step + 1, t, dt_max));
-        const double dt = std::min({dt_max, next_frame - t, end - t});
+        // A step that reaches the next frame (or the end) within round-off of its largest step
+        // lands on it exactly: summing dt's otherwise leaves a remainder of ~1e-12 s, and a step
+        // that short is a different problem (e.g. A = M/h dominates the coupled solve).
+        const double target = std::min(next_frame, end);
+        const bool lands = target - t <= dt_max * (1 + 1e-9);
+        const double dt = lands ? target - t : dt_max;
         StepReport r = sim->step(dt);
-        t += r.dt;
+        t = lands && r.dt == dt ? target : t + r.dt;
         ++step;
         check_finite(*sim, step, t);
         io.restart();

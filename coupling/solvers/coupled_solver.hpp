@@ -14,6 +14,19 @@
 ///                 by preconditioned CG with A factored once by CHOLMOD (A is the smaller, solid
 ///                 block), then recover u. Its preconditioner is IC(Ŝ) by default, or any SPD
 ///                 approximation the caller plugs in (e.g. BoomerAMG of Ŝ).
+///                 From the second step on (option `reuse_factorization`), it keeps the Cholesky
+///                 factor of an earlier A and the preconditioner of an earlier Ŝ, and solves the
+///                 whole system [A −Hᵀ; H C] by GMRES right-preconditioned with the block lower
+///                 triangle [Â 0; H Ŝ] of those lagged blocks (reported as `block_gmres+…`): with
+///                 exact blocks K P⁻¹ = P [I −A⁻¹Hᵀ; 0 I] P⁻¹, whose minimal polynomial has degree
+///                 2, so the iterations are those of the Ŝ-preconditioned Schur complement
+///                 (Murphy, Golub & Wathen, SIAM J. Sci. Comput. 21, 2000) plus the drift of Â.
+///                 The residual GMRES stops on is that of the current system, so the answer is
+///                 the same to the tolerance. Both blocks are rebuilt once the lagged solves' extra
+///                 iterations (beyond the last fresh solve's) add up to twice a fresh solve's, or
+///                 when GMRES misses its cap (3x a fresh solve's iterations + 20), in which case the
+///                 step is solved fresh; a new pattern of A rebuilds the factor, a remeshed fluid
+///                 (new C or H pattern) only Ŝ's preconditioner.
 /// No solver falls back to another silently: each reports its name, iterations and residuals,
 /// and a solve that does not reach its tolerance throws CoupledSolveError.
 #include <Eigen/Core>
@@ -40,6 +53,8 @@ struct CoupledSolverOptions {
   std::function<void(const SparseMatrix& S_hat)> preconditioner_setup;
   std::function<void(const Eigen::VectorXd& r, Eigen::VectorXd& z)> preconditioner_apply;
   std::string preconditioner_name;  ///< reported in stats (e.g. "boomeramg")
+  /// schur_cg only: keep A's factor and Ŝ's preconditioner from step to step (see above).
+  bool reuse_factorization = true;
 };
 
 /// What a solve did; written to stats.csv by the runner.
@@ -49,6 +64,7 @@ struct CoupledSolveReport {
   BlockResiduals residual;    ///< of the returned solution, in the original (unscaled) system
   double setup_seconds = 0;   ///< factorizations and preconditioner set-up
   double solve_seconds = 0;
+  int factor_age = 0;         ///< schur_cg: solves since A was last factorized (0: this solve)
 };
 
 struct CoupledSolveError : std::runtime_error {

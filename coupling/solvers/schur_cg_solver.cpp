@@ -1,49 +1,39 @@
-// The fast path for eq. (7): CG on the SPD pressure Schur complement (see coupled_solver.hpp).
-#include <Eigen/CholmodSupport>
-#include <Eigen/IterativeLinearSolvers>
+// The fast path for eq. (7): CG on the SPD pressure Schur complement (see coupled_solver.hpp);
+// from the second solve on, GMRES with the lagged blocks (lagged_gmres.cpp).
 #include <algorithm>
-#include <vector>
 
-#include "coupling/solvers/solver_impls.hpp"
+#include "coupling/solvers/schur_state.hpp"
 #include "coupling/solvers/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 
-/// Supernodal Cholesky of A = M/h + C + (h/2)K′ (SPD for a stable step). The fill-reducing
-/// ordering and symbolic factor (CHOLMOD's analysis) depend only on A's sparsity pattern, which
-/// stays the same from step to step while the solid meshes do (the remesher freezes them), so
-/// they are computed once and only the numeric factorization is redone per step.
-struct SchurCGSolver::Factor {
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
-  std::vector<SparseMatrix::StorageIndex> outer, inner;  // pattern the analysis was made for
-
-  /// Factorizes A, re-analysing only when its pattern changed. Returns false if A is not SPD.
-  bool factorize(const SparseMatrix& A) {
-    const auto* o = A.outerIndexPtr();
-    const auto* i = A.innerIndexPtr();
-    const bool same = A.isCompressed() && outer.size() == static_cast<std::size_t>(A.outerSize() + 1) &&
-                      inner.size() == static_cast<std::size_t>(A.nonZeros()) && std::equal(outer.begin(), outer.end(), o) &&
-                      std::equal(inner.begin(), inner.end(), i);
-    if (!same) {
-      outer.clear(), inner.clear();
-      llt.analyzePattern(A);
-      if (A.isCompressed()) outer.assign(o, o + A.outerSize() + 1), inner.assign(i, i + A.nonZeros());
-    }
-    llt.factorize(A);
-    return llt.info() == Eigen::Success;
-  }
-};
-
-SchurCGSolver::SchurCGSolver(CoupledSolverOptions o) : options_(std::move(o)), factor_(std::make_unique<Factor>()) {}
+SchurCGSolver::SchurCGSolver(CoupledSolverOptions o)
+    : options_(std::move(o)), factor_(std::make_unique<Factor>()), lag_(std::make_unique<Lag>()) {}
 SchurCGSolver::~SchurCGSolver() = default;
 
 CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
   s.check_sizes();
+  const bool can_lag = options_.reuse_factorization && s.num_solid_dofs() > 0 && s.num_pressures() > 0 &&
+                       !lag_->refresh && factor_->valid && factor_->pattern.matches(s.A);
+  if (!can_lag) return solve_fresh(s, u, p);
+  CoupledSolveReport lagged;
+  if (solve_lagged(s, u, p, lagged)) return lagged;
+  // GMRES missed its cap: the lagged blocks are too far from this system. Solve it fresh; the
+  // report counts the lagged iterations and time too.
+  CoupledSolveReport fresh = solve_fresh(s, u, p);
+  fresh.iterations += lagged.iterations;
+  fresh.setup_seconds += lagged.setup_seconds;
+  fresh.solve_seconds += lagged.solve_seconds;
+  return fresh;
+}
+
+CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
   const int n = s.num_solid_dofs(), m = s.num_pressures();
   CoupledSolveReport report;
   Stopwatch clock;
 
-  // One numeric Cholesky of A per step, reused by every CG iteration (two triangular solves each).
+  // One numeric Cholesky of A per fresh solve, reused by every CG iteration (two triangular
+  // solves each) and by the lagged solves that follow.
   if (n > 0 && !factor_->factorize(s.A))
     throw CoupledSolveError("schur_cg: the solid block A = M/h + C + (h/2)K' is not positive definite, so its "
                             "Cholesky factorization failed: the solid's tangent stiffness K' lost definiteness "
@@ -54,21 +44,23 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   };
 
   // Preconditioner for S = C + H A⁻¹ Hᵀ: the caller's (e.g. BoomerAMG) or IC of Ŝ.
+  Lag& lag = *lag_;
   const SparseMatrix S_hat = approximate_schur_complement(s);
-  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>> ic;
-  std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)> precondition;
   if (options_.preconditioner_apply) {
     if (options_.preconditioner_setup && m > 0) options_.preconditioner_setup(S_hat);
-    precondition = options_.preconditioner_apply;
-    report.solver = "schur_cg+" + (options_.preconditioner_name.empty() ? "custom" : options_.preconditioner_name);
+    lag.precondition = options_.preconditioner_apply;
+    lag.preconditioner_name = options_.preconditioner_name.empty() ? "custom" : options_.preconditioner_name;
   } else {
     if (m > 0) {
-      ic.compute(S_hat);
-      if (ic.info() != Eigen::Success) throw CoupledSolveError("schur_cg: incomplete Cholesky of the Schur approximation failed");
+      lag.ic.compute(S_hat);
+      if (lag.ic.info() != Eigen::Success) throw CoupledSolveError("schur_cg: incomplete Cholesky of the Schur approximation failed");
     }
-    precondition = [&](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
-    report.solver = "schur_cg+ic";
+    lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
+    lag.preconditioner_name = "ic";
   }
+  lag.C_pattern.assign(s.C);
+  lag.H_pattern.assign(s.H);
+  report.solver = "schur_cg+" + lag.preconditioner_name;
   report.setup_seconds = clock.lap();
 
   auto apply_S = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
@@ -96,7 +88,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
     Eigen::VectorXd res = rhs - apply_S(p), z(m), dir(m);
     double rz_previous = 0;
     for (bool first = true; m > 0 && res.norm() > target && it < options_.max_iterations; ++it, first = false) {
-      precondition(res, z);
+      lag.precondition(res, z);
       const double rz = res.dot(z);
       dir = first ? z : Eigen::VectorXd(z + (rz / rz_previous) * dir);
       rz_previous = rz;
@@ -112,6 +104,10 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   }
   report.iterations = it;
   report.solve_seconds = clock.lap();
+  lag.fresh_iterations = it;
+  lag.age = 0;
+  lag.extra_iterations = 0;
+  lag.refresh = false;
   if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");
   require_converged(report, options_.tolerance);
   return report;

@@ -45,8 +45,15 @@ class SchurCGSolver final : public CoupledSolver {
 
  private:
   struct Factor;  // CHOLMOD factor of A, its symbolic analysis kept while A's pattern stays
+  struct Lag;     // what the lagged solves keep: Ŝ's pattern and preconditioner, iteration counts
+  /// Fresh Schur-complement CG: factorizes A and sets up Ŝ's preconditioner for this system.
+  CoupledSolveReport solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p);
+  /// GMRES on the whole system with the lagged blocks; returns false (u, p untouched) if it
+  /// missed its iteration cap.
+  bool solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p, CoupledSolveReport& report);
   CoupledSolverOptions options_;
   std::unique_ptr<Factor> factor_;
+  std::unique_ptr<Lag> lag_;
 };
 
 }  // namespace tetfsi::coupling::detail

@@ -1,6 +1,7 @@
 // The fast path (schur_cg with BoomerAMG, the default with the amg fluid solver) on a 3D coupled
 // step: a soft block in a box of water (block_fixture.hpp). It must agree with the direct
-// reference (UMFPACK) step after step, also once it reuses its CHOLMOD analysis (second step),
+// reference (UMFPACK) step after step, also once it solves with the lagged factor and AMG of the
+// first step (steps 2 and 3),
 // and must throw, not fall back, when its iteration cap is too small.
 #include <gtest/gtest.h>
 
@@ -31,9 +32,10 @@ std::vector<StepState> run(coupling::CoupledSolverKind kind, int steps) {
 }  // namespace
 
 TEST(CoupledBlock, FastPathAgreesWithUmfpackStepAfterStep) {
-  const auto fast = run(coupling::CoupledSolverKind::SchurCG, 2);
-  const auto reference = run(coupling::CoupledSolverKind::Umfpack, 2);
+  const auto fast = run(coupling::CoupledSolverKind::SchurCG, 3);
+  const auto reference = run(coupling::CoupledSolverKind::Umfpack, 3);
   EXPECT_EQ(fast[0].solver, "schur_cg+boomeramg");
+  EXPECT_EQ(fast[1].solver, "block_gmres+boomeramg");  // the factor and AMG of step 1, lagged
   EXPECT_EQ(reference[0].solver, "umfpack");
   for (std::size_t k = 0; k < fast.size(); ++k) {
     // Both solves meet relative block residuals of 1e-10 (measured differences: ~1e-11).

@@ -122,6 +122,56 @@ TEST(CoupledSolversReport, SchurCGReusesItsFactorAnalysisOnlyWhileThePatternHold
   }
 }
 
+TEST(CoupledSolversReport, SchurCGLagsItsBlocksThenRebuildsThemWhenTheyDrift) {
+  // A run-like sequence on one solver: a fresh solve (Schur CG), a lagged one on new values
+  // (GMRES with the earlier factor, as many iterations as the fresh solve), then a solid block whose
+  // diagonal grows up to 300x along the chain (the lagged blocks are far off: many iterations or a missed cap,
+  // after which the solver rebuilds them), then the next solve must be fresh again (or lagged on
+  // the rebuilt factor). Every answer matches the dense LU.
+  CoupledSolverOptions options;
+  options.tolerance = 1e-10;
+  auto solver = make_coupled_solver(CoupledSolverKind::SchurCG, options);
+  CoupledSystem first = make_system(30, 12), second = first, drifted = first;
+  second.A = 1.02 * first.A;
+  second.b *= -0.5;
+  for (int i = 0; i < drifted.A.rows(); ++i) drifted.A.coeffRef(i, i) *= 1.0 + 300.0 * i * i / 900.0;
+  std::vector<CoupledSolveReport> reports;
+  for (const CoupledSystem* s : {&first, &second, &drifted, &drifted}) {
+    const Eigen::VectorXd ref = dense_reference(*s);
+    Eigen::VectorXd u, p;
+    reports.push_back(solver->solve(*s, u, p));
+    EXPECT_LE(reports.back().residual.max(), 1e-10) << reports.size();
+    EXPECT_LT((u - ref.head(u.size())).norm(), 1e-6 * ref.head(u.size()).norm()) << reports.size();
+    EXPECT_LT((p - ref.tail(p.size())).norm(), 1e-6 * ref.tail(p.size()).norm()) << reports.size();
+  }
+  EXPECT_EQ(reports[0].solver, "schur_cg+ic");
+  EXPECT_EQ(reports[0].factor_age, 0);
+  EXPECT_EQ(reports[1].solver, "block_gmres+ic");
+  EXPECT_EQ(reports[1].factor_age, 1);
+  EXPECT_LE(reports[1].iterations, reports[0].iterations + 3);
+  // The drifted system: either solved lagged with so many extra iterations that the blocks are
+  // rebuilt for the next solve, or solved fresh after GMRES missed its cap.
+  const int extra = reports[1].iterations - reports[0].iterations + reports[2].iterations - reports[0].iterations;
+  EXPECT_TRUE(reports[2].factor_age == 0 || extra >= 2 * reports[0].iterations)
+      << reports[2].solver << " " << reports[2].iterations;
+  EXPECT_LE(reports[3].factor_age, 1);
+  EXPECT_LE(reports[3].iterations, reports[0].iterations + 3);
+}
+
+TEST(CoupledSolversReport, SchurCGWithoutReuseFactorizesEverySolve) {
+  CoupledSolverOptions options;
+  options.tolerance = 1e-10;
+  options.reuse_factorization = false;
+  auto solver = make_coupled_solver(CoupledSolverKind::SchurCG, options);
+  const CoupledSystem s = make_system(30, 12);
+  for (int k = 0; k < 2; ++k) {
+    Eigen::VectorXd u, p;
+    const CoupledSolveReport report = solver->solve(s, u, p);
+    EXPECT_EQ(report.solver, "schur_cg+ic");
+    EXPECT_EQ(report.factor_age, 0);
+  }
+}
+
 TEST(CoupledSolversReport, PressureOnlySystemIsAPlainProjection) {
   // No solid: eq. (7) reduces to the fluid projection C p = r.
   CoupledSystem s = make_system(30, 8);

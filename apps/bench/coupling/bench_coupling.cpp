@@ -86,7 +86,12 @@ void compare_solvers(int cells, bool with_umfpack) {
     options.tolerance = kTolerance;
     auto scene = test::make_block_scene(m, kind, options);
     const bool direct = kind == coupling::CoupledSolverKind::Umfpack;
-    if (!direct) scene->step();
+    // The untimed first step of schur_cg factorizes A and sets up BoomerAMG (its cost is shown
+    // in its row); the timed steps after it solve with those blocks lagged (block_gmres).
+    const double first_solve = direct ? 0.0 : [&] {
+      const auto first = scene->step();
+      return first.solve.setup_seconds + first.solve.solve_seconds;
+    }();
     coupling::CoupledStepReport rep;
     step[kind] = solve[kind] = moved[kind] = 1e300;
     for (int k = 0; k < (direct ? 1 : kTimedSteps); ++k) {
@@ -97,9 +102,14 @@ void compare_solvers(int cells, bool with_umfpack) {
       solve[kind] = std::min(solve[kind], rep.solve.setup_seconds + rep.solve.solve_seconds);
     }
     bench::print_row(fmt::format("coupled step, {}", rep.solve.solver), res,
-                     fmt::format("residual {:.1e}, {} it, solve {:.3f} s, mesh update {:.3f} s (motion {:.3f}, check {:.3f}){}, "
+                     fmt::format("residual {:.1e}, {} it, solve {:.3f} s{}, mesh update {:.3f} s (motion {:.3f}, check {:.3f}){}, "
                                  "{}+{} unknowns",
-                                 rep.solve.residual.max(), rep.solve.iterations, solve[kind], rep.mesh_update.seconds,
+                                 rep.solve.residual.max(), rep.solve.iterations, solve[kind],
+                                 rep.solve.factor_age > 0
+                                     ? fmt::format(" (factor {} steps old; first step, fresh: {:.3f} s)",
+                                                   rep.solve.factor_age, first_solve)
+                                     : "",
+                                 rep.mesh_update.seconds,
                                  rep.mesh_update.motion_seconds, rep.mesh_update.check_seconds,
                                  rep.mesh_update.remeshed ? " (remeshed)" : "", rep.pressure_unknowns, rep.solid_dofs),
                      step[kind]);

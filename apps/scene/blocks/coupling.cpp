@@ -16,6 +16,12 @@ Field coupling() {
                          "Solver of eq. (7): `schur_cg` (CG on the pressure Schur complement, the fast "
                          "path), `bicgstab` (as in the paper), `umfpack` (direct LU, the reference).")
           .def("schur_cg"),
+      Field::boolean("reuse_factorization",
+                     "`schur_cg` only: keep the solid block's Cholesky factor and the pressure "
+                     "preconditioner from an earlier step and solve by GMRES preconditioned with them "
+                     "(`solver_factor_age` > 0 in stats.csv), rebuilding both once the extra iterations "
+                     "add up to two fresh solves; the answer meets the same tolerance. `false` factorizes every step.")
+          .def(true),
       Field::number("tolerance", "", "Relative residual of each block row at which the solve stops.")
           .greater(0).less(1).def(1e-8),
       Field::integer("max_iterations", "Iteration limit of the iterative solvers; reaching it stops the run.")

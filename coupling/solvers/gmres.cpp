@@ -1,0 +1,66 @@
+// Restarted right-preconditioned GMRES (see gmres.hpp).
+#include "coupling/solvers/gmres.hpp"
+
+#include <cmath>
+#include <vector>
+
+namespace tetfsi::coupling::detail {
+
+GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& precondition, const Eigen::VectorXd& f,
+                                       Eigen::VectorXd& x, double target, int max_iterations, int restart) {
+  GmresResult result;
+  const Eigen::Index size = f.size();
+  if (x.size() != size) x = Eigen::VectorXd::Zero(size);
+  Eigen::MatrixXd V(size, restart + 1);  // Arnoldi basis of K M⁻¹
+  Eigen::MatrixXd Hess = Eigen::MatrixXd::Zero(restart + 1, restart);
+  Eigen::VectorXd cs(restart), sn(restart), g(restart + 1), w(size), z(size), Kx(size);
+  while (true) {
+    apply(x, Kx);
+    Eigen::VectorXd r = f - Kx;
+    const double beta = r.norm();
+    result.residual = beta;
+    result.converged = beta <= target;
+    if (result.converged || result.iterations >= max_iterations || !std::isfinite(beta)) return result;
+    V.col(0) = r / beta;
+    g.setZero();
+    g(0) = beta;
+    int k = 0;  // Krylov steps in this cycle
+    for (; k < restart && result.iterations < max_iterations; ++k) {
+      ++result.iterations;
+      precondition(V.col(k), z);
+      apply(z, w);
+      // Modified Gram-Schmidt (Alg. 6.2).
+      for (int i = 0; i <= k; ++i) {
+        Hess(i, k) = V.col(i).dot(w);
+        w -= Hess(i, k) * V.col(i);
+      }
+      Hess(k + 1, k) = w.norm();
+      if (Hess(k + 1, k) > 0) V.col(k + 1) = w / Hess(k + 1, k);
+      // Apply the previous rotations to the new column, then the one that zeroes Hess(k+1, k).
+      for (int i = 0; i < k; ++i) {
+        const double t = cs(i) * Hess(i, k) + sn(i) * Hess(i + 1, k);
+        Hess(i + 1, k) = -sn(i) * Hess(i, k) + cs(i) * Hess(i + 1, k);
+        Hess(i, k) = t;
+      }
+      const double d = std::hypot(Hess(k, k), Hess(k + 1, k));
+      cs(k) = d > 0 ? Hess(k, k) / d : 1.0;
+      sn(k) = d > 0 ? Hess(k + 1, k) / d : 0.0;
+      Hess(k, k) = d;
+      Hess(k + 1, k) = 0;
+      g(k + 1) = -sn(k) * g(k);
+      g(k) *= cs(k);
+      // |g(k+1)| is the residual norm of the least-squares iterate (exact arithmetic).
+      if (std::abs(g(k + 1)) <= target || Hess(k, k) == 0) {
+        ++k;
+        break;
+      }
+    }
+    // x += M⁻¹ V_k y with Hess_k y = g_k (upper triangular after the rotations).
+    const Eigen::VectorXd y =
+        Hess.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+    precondition(V.leftCols(k) * y, z);
+    x += z;
+  }
+}
+
+}  // namespace tetfsi::coupling::detail

@@ -1,0 +1,37 @@
+#pragma once
+/// @file gmres.hpp
+/// Private: restarted GMRES with right preconditioning (Saad, "Iterative Methods for Sparse
+/// Linear Systems", 2nd ed., Alg. 9.5, with Givens rotations as in Alg. 6.10), for operators
+/// given as functions.
+///
+/// Solves K x = f for a square (possibly unsymmetric) K given only as y = K v, with a
+/// preconditioner z = M⁻¹ v ≈ K⁻¹ v applied on the right: GMRES minimizes the true residual
+/// ‖f − K x‖₂ over x₀ + M⁻¹ 𝒦ₖ(K M⁻¹, r₀), so the norm it monitors is the one the caller asks for,
+/// whatever M is.
+///
+/// Written by hand because K is only available as an operator (the coupled matrix applied block
+/// by block): Eigen's unsupported GMRES needs a matrix type with Eigen's expression traits.
+#include <Eigen/Core>
+#include <functional>
+
+namespace tetfsi::coupling::detail {
+
+using LinearMap = std::function<void(const Eigen::VectorXd& in, Eigen::VectorXd& out)>;
+
+struct GmresResult {
+  int iterations = 0;     ///< matrix-vector products with K (one per Krylov step)
+  double residual = 0;    ///< ‖f − K x‖₂ at return, recomputed from scratch at each restart
+  bool converged = false;  ///< residual <= target
+};
+
+/// @param apply     y = K v
+/// @param precondition z = M⁻¹ v
+/// @param f         right-hand side
+/// @param x         initial guess in, solution out (same size as f)
+/// @param target    absolute residual ‖f − K x‖₂ to reach
+/// @param max_iterations  cap on Krylov steps over all restarts
+/// @param restart   Krylov subspace size before a restart (memory: restart + 1 vectors)
+GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& precondition, const Eigen::VectorXd& f,
+                                       Eigen::VectorXd& x, double target, int max_iterations, int restart = 40);
+
+}  // namespace tetfsi::coupling::detail

@@ -1,0 +1,72 @@
+#pragma once
+/// @file schur_state.hpp
+/// Private: what the fast path (SchurCGSolver) keeps between solves: the CHOLMOD factor of the
+/// solid block A, and, for the lagged solves, the preconditioner of Ŝ and the patterns it was
+/// built for (see coupled_solver.hpp).
+#include <Eigen/CholmodSupport>
+#include <Eigen/IterativeLinearSolvers>
+#include <algorithm>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "coupling/solvers/solver_impls.hpp"
+
+namespace tetfsi::coupling::detail {
+
+/// The sparsity pattern (outer and inner indices) of a compressed matrix, to tell whether a
+/// factorization or preconditioner built for one matrix still fits another.
+struct SparsityPattern {
+  std::vector<SparseMatrix::StorageIndex> outer, inner;
+
+  bool matches(const SparseMatrix& a) const {
+    return a.isCompressed() && outer.size() == static_cast<std::size_t>(a.outerSize() + 1) &&
+           inner.size() == static_cast<std::size_t>(a.nonZeros()) &&
+           std::equal(outer.begin(), outer.end(), a.outerIndexPtr()) &&
+           std::equal(inner.begin(), inner.end(), a.innerIndexPtr());
+  }
+  /// Records a's pattern (an uncompressed matrix records nothing, so it never matches).
+  void assign(const SparseMatrix& a) {
+    outer.clear(), inner.clear();
+    if (!a.isCompressed()) return;
+    outer.assign(a.outerIndexPtr(), a.outerIndexPtr() + a.outerSize() + 1);
+    inner.assign(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros());
+  }
+};
+
+/// Supernodal Cholesky of A = M/h + C + (h/2)K′ (SPD for a stable step). The fill-reducing
+/// ordering and symbolic factor (CHOLMOD's analysis) depend only on A's sparsity pattern, which
+/// stays the same from step to step while the solid meshes do (the remesher freezes them), so
+/// they are computed once and only the numeric factorization is redone.
+struct SchurCGSolver::Factor {
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  SparsityPattern pattern;  // of the A the analysis was made for
+  bool valid = false;       // llt holds the factor of an SPD matrix with that pattern
+
+  /// Factorizes A, re-analysing only when its pattern changed. Returns false if A is not SPD.
+  bool factorize(const SparseMatrix& A) {
+    if (!pattern.matches(A)) {
+      llt.analyzePattern(A);
+      pattern.assign(A);
+    }
+    llt.factorize(A);
+    valid = llt.info() == Eigen::Success;
+    return valid;
+  }
+};
+
+/// State of the lagged solves: Ŝ's preconditioner and the patterns of C and H it was set up
+/// for (Ŝ = C + H diag(A)⁻¹ Hᵀ has the pattern of C + H Hᵀ), and the iterations of the last
+/// fresh solve that decide when to rebuild.
+struct SchurCGSolver::Lag {
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>> ic;  // without a caller's preconditioner
+  std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)> precondition;     // z ≈ Ŝ⁻¹ r
+  std::string preconditioner_name;
+  SparsityPattern C_pattern, H_pattern;
+  int fresh_iterations = 0;  // CG iterations of the last fresh solve
+  int age = 0;               // solves since the last fresh one
+  int extra_iterations = 0;  // iterations of those solves beyond fresh_iterations, summed
+  bool refresh = true;       // rebuild both blocks at the next solve
+};
+
+}  // namespace tetfsi::coupling::detail
