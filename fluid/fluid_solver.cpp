@@ -15,8 +15,21 @@ FluidSolver::FluidSolver(FluidParams params) : params_(std::move(params)) {
   if (!(params_.density > 0.0)) throw std::invalid_argument("FluidSolver: density must be positive");
 }
 
+bool FluidSolver::built_from(const mesh::TetMesh& mesh) const {
+  return initialized_ && mesh.tets == source_tets_ && mesh.subdomain == source_subdomain_ &&
+         mesh.num_vertices() == static_cast<int>(mesh_.mesh_vertex_to_node.size());
+}
+
+void FluidSolver::set_mesh(const mesh::TetMesh& mesh, FluidMesh fluid_mesh, bool same_topology) {
+  mesh_ = std::move(fluid_mesh);
+  if (same_topology) return;
+  source_tets_ = mesh.tets;
+  source_subdomain_ = mesh.subdomain;
+}
+
 void FluidSolver::initialize(const mesh::TetMesh& mesh, FluidFields fields) {
-  mesh_ = build_fluid_mesh(mesh);
+  initialized_ = false;
+  set_mesh(mesh, build_fluid_mesh(mesh), false);
   const int n = mesh_.num_tets();
   if (fields.velocity.empty()) fields.velocity.assign(n, Eigen::Vector3d::Zero());
   if (fields.smoke.size() == 0) fields.smoke = Eigen::VectorXd::Zero(n);
@@ -56,13 +69,21 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   if (!(dt > 0.0)) throw std::invalid_argument("FluidSolver::step: dt must be positive");
   StepReport rep;
   double t0 = now();
-  FluidMesh new_mesh = build_fluid_mesh(mesh);
+  // A moved (not remeshed) mesh keeps its topology: only its geometry is recomputed.
+  const bool same_topology = built_from(mesh);
+  FluidMesh new_mesh;
+  if (same_topology) {
+    new_mesh = mesh_;
+    update_fluid_mesh_geometry(mesh, new_mesh);
+  } else {
+    new_mesh = build_fluid_mesh(mesh);
+  }
   rep.assemble_seconds += now() - t0;
   t0 = now();
   AdvectionReport adv;
   const BoundaryExits exits = boundary_exits(mesh_, bc);
   fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection, &exits);
-  mesh_ = std::move(new_mesh);
+  set_mesh(mesh, std::move(new_mesh), same_topology);
   advected_velocity_ = fields_.velocity;
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;

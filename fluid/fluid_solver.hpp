@@ -83,9 +83,16 @@ class FluidSolver {
  private:
   void apply_sources(const BoundaryConditions& bc);
   StepReport finish(const BoundaryConditions& bc, double dt, StepReport rep);
+  /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
+  /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
+  bool built_from(const mesh::TetMesh& mesh) const;
+  /// mesh_ = fluid_mesh, remembering the topology of `mesh` unless it is the same as before.
+  void set_mesh(const mesh::TetMesh& mesh, FluidMesh fluid_mesh, bool same_topology);
 
   FluidParams params_;
   FluidMesh mesh_;
+  std::vector<std::array<int, 4>> source_tets_;  // tets and labels of the TetMesh mesh_ was built from
+  std::vector<int> source_subdomain_;
   FluidFields fields_;
   TetVectors advected_velocity_;
   Eigen::VectorXd pressure_;

@@ -21,6 +21,48 @@ struct FaceRecord {
 /// out of a positively oriented tet.
 constexpr int kFaceVertices[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
+/// Volumes, centroids and hat-function gradients of every fluid tet from fm.nodes: with
+/// E = [x1-x0, x2-x0, x3-x0], the rows of E^-1 are grad(phi_1..3) and grad(phi_0) = -sum of the
+/// others (partition of unity). Throws on a tet of non-positive volume.
+void compute_tet_geometry(FluidMesh& fm) {
+  const int nf = fm.num_tets();
+  fm.volume.resize(nf);
+  fm.grad.resize(nf);
+  fm.centroids.resize(nf);
+  for (int t = 0; t < nf; ++t) {
+    const auto& v = fm.tets[t];
+    fm.centroids[t] = 0.25 * (fm.nodes[v[0]] + fm.nodes[v[1]] + fm.nodes[v[2]] + fm.nodes[v[3]]);
+    Eigen::Matrix3d e;
+    e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
+    e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];
+    e.col(2) = fm.nodes[v[3]] - fm.nodes[v[0]];
+    const double det = e.determinant();
+    if (!(det > 0.0))
+      throw std::invalid_argument("build_fluid_mesh: fluid tet " + std::to_string(fm.tet_to_mesh_tet[t]) +
+                                  " has non-positive volume " + std::to_string(det / 6.0));
+    fm.volume[t] = det / 6.0;
+    const Eigen::Matrix3d inv = e.inverse();
+    fm.grad[t][1] = inv.row(0).transpose();
+    fm.grad[t][2] = inv.row(1).transpose();
+    fm.grad[t][3] = inv.row(2).transpose();
+    fm.grad[t][0] = -(fm.grad[t][1] + fm.grad[t][2] + fm.grad[t][3]);
+  }
+}
+
+/// Area and unit outward normal of a boundary face from its nodes' positions.
+void set_face_geometry(const std::vector<Eigen::Vector3d>& nodes, BoundaryFace& f) {
+  const Eigen::Vector3d n = (nodes[f.nodes[1]] - nodes[f.nodes[0]]).cross(nodes[f.nodes[2]] - nodes[f.nodes[0]]);
+  f.area = 0.5 * n.norm();
+  f.normal = n.normalized();
+}
+
+/// Lumped node volumes sum_t V_t / 4, summed in tet order.
+void compute_dual_volumes(FluidMesh& fm) {
+  fm.dual_volume.assign(fm.num_nodes(), 0.0);
+  for (int t = 0; t < fm.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k) fm.dual_volume[fm.tets[t][k]] += 0.25 * fm.volume[t];
+}
+
 }  // namespace
 
 double FluidMesh::mean_edge_length() const {
@@ -64,30 +106,8 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh) {
   }
   if (fm.tets.empty()) throw std::invalid_argument("build_fluid_mesh: the mesh has no fluid tet (label 1)");
 
-  // Volumes and hat-function gradients: with E = [x1-x0, x2-x0, x3-x0], the rows of E^-1 are
-  // grad(phi_1..3) and grad(phi_0) = -sum of the others (partition of unity).
+  compute_tet_geometry(fm);
   const int nf = fm.num_tets();
-  fm.volume.resize(nf);
-  fm.grad.resize(nf);
-  fm.centroids.resize(nf);
-  for (int t = 0; t < nf; ++t) {
-    const auto& v = fm.tets[t];
-    fm.centroids[t] = 0.25 * (fm.nodes[v[0]] + fm.nodes[v[1]] + fm.nodes[v[2]] + fm.nodes[v[3]]);
-    Eigen::Matrix3d e;
-    e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
-    e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];
-    e.col(2) = fm.nodes[v[3]] - fm.nodes[v[0]];
-    const double det = e.determinant();
-    if (!(det > 0.0))
-      throw std::invalid_argument("build_fluid_mesh: fluid tet " + std::to_string(fm.tet_to_mesh_tet[t]) +
-                                  " has non-positive volume " + std::to_string(det / 6.0));
-    fm.volume[t] = det / 6.0;
-    const Eigen::Matrix3d inv = e.inverse();
-    fm.grad[t][1] = inv.row(0).transpose();
-    fm.grad[t][2] = inv.row(1).transpose();
-    fm.grad[t][3] = inv.row(2).transpose();
-    fm.grad[t][0] = -(fm.grad[t][1] + fm.grad[t][2] + fm.grad[t][3]);
-  }
 
   // Face matching over ALL tets (so that faces shared with a solid tet know the solid's label).
   std::vector<FaceRecord> faces;
@@ -110,10 +130,7 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh) {
     bf.tet = t;
     bf.local_face = f.local_face;
     for (int a = 0; a < 3; ++a) bf.nodes[a] = fm.tets[t][kFaceVertices[f.local_face][a]];
-    const Eigen::Vector3d n =
-        (fm.nodes[bf.nodes[1]] - fm.nodes[bf.nodes[0]]).cross(fm.nodes[bf.nodes[2]] - fm.nodes[bf.nodes[0]]);
-    bf.area = 0.5 * n.norm();
-    bf.normal = n.normalized();
+    set_face_geometry(fm.nodes, bf);
     bf.other_subdomain = other_label;
     fm.boundary_faces.push_back(bf);
   };
@@ -140,14 +157,18 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh) {
     i = j;
   }
 
-  fm.dual_volume.assign(fm.num_nodes(), 0.0);
   fm.node_tets.assign(fm.num_nodes(), {});
   for (int t = 0; t < nf; ++t)
-    for (int k = 0; k < 4; ++k) {
-      fm.dual_volume[fm.tets[t][k]] += 0.25 * fm.volume[t];
-      fm.node_tets[fm.tets[t][k]].push_back(t);
-    }
+    for (int k = 0; k < 4; ++k) fm.node_tets[fm.tets[t][k]].push_back(t);
+  compute_dual_volumes(fm);
   return fm;
+}
+
+void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm) {
+  for (int i = 0; i < fm.num_nodes(); ++i) fm.nodes[i] = mesh.vertices[fm.node_to_mesh_vertex[i]];
+  compute_tet_geometry(fm);
+  for (BoundaryFace& f : fm.boundary_faces) set_face_geometry(fm.nodes, f);
+  compute_dual_volumes(fm);
 }
 
 }  // namespace tetfsi::fluid

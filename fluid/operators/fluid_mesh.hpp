@@ -54,4 +54,11 @@ struct FluidMesh {
 ///         fluid tet has non-positive volume (the message names the tet)
 FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh);
 
+/// Re-reads the node positions of `fm` from `mesh` and recomputes its geometry (volumes,
+/// gradients, centroids, boundary normals and areas, dual volumes), keeping its topology: the
+/// same result as build_fluid_mesh(mesh), bit for bit, for a mesh whose tets and subdomain
+/// labels are those `fm` was built from (a moved, not remeshed, mesh), without matching faces.
+/// @throws std::invalid_argument if a fluid tet has non-positive volume (the message names it)
+void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm);
+
 }  // namespace tetfsi::fluid

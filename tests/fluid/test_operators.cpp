@@ -99,5 +99,43 @@ TEST(FluidOperators, RejectsInvertedTetAndMissingFluid) {
   EXPECT_THROW(build_fluid_mesh(solid), std::invalid_argument);
 }
 
+TEST(FluidOperators, GeometryUpdateOfAMovedMeshEqualsAFreshBuildBitForBit) {
+  // A box with a solid block inside (so that boundary faces toward a solid exist too), then the
+  // same tets with every interior vertex moved: updating the first fluid mesh's geometry must
+  // give exactly what building the moved mesh from scratch gives.
+  std::mt19937 rng(7);
+  mesh::TetMesh base = mesh::structured_box(kLo, kHi, 8, 6, 4);
+  for (int t = 0; t < base.num_tets(); ++t) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) c += 0.25 * base.vertices[base.tets[t][k]];
+    if ((c - Eigen::Vector3d(0.5, 0.375, 0.25)).cwiseAbs().maxCoeff() < 0.15) base.subdomain[t] = mesh::solid_subdomain(0);
+  }
+  FluidMesh updated = build_fluid_mesh(testing::jittered(base, kLo, kHi, 0.125, 0.1, rng));
+  const mesh::TetMesh moved = testing::jittered(base, kLo, kHi, 0.125, 0.1, rng);
+  update_fluid_mesh_geometry(moved, updated);
+  const FluidMesh fresh = build_fluid_mesh(moved);
+  ASSERT_EQ(updated.num_tets(), fresh.num_tets());
+  ASSERT_EQ(updated.boundary_faces.size(), fresh.boundary_faces.size());
+  int solid_faces = 0;
+  for (const BoundaryFace& f : fresh.boundary_faces) solid_faces += f.other_subdomain != 0;
+  EXPECT_GT(solid_faces, 0);
+  EXPECT_EQ(updated.nodes, fresh.nodes);
+  EXPECT_EQ(updated.volume, fresh.volume);
+  EXPECT_EQ(updated.centroids, fresh.centroids);
+  EXPECT_EQ(updated.dual_volume, fresh.dual_volume);
+  EXPECT_EQ(updated.neighbor, fresh.neighbor);
+  for (int t = 0; t < fresh.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(updated.grad[t][k], fresh.grad[t][k]) << t;
+  for (std::size_t f = 0; f < fresh.boundary_faces.size(); ++f) {
+    ASSERT_EQ(updated.boundary_faces[f].nodes, fresh.boundary_faces[f].nodes) << f;
+    ASSERT_EQ(updated.boundary_faces[f].normal, fresh.boundary_faces[f].normal) << f;
+    ASSERT_EQ(updated.boundary_faces[f].area, fresh.boundary_faces[f].area) << f;
+  }
+  // An update that inverts a tet is refused like a build.
+  mesh::TetMesh inverted = moved;
+  inverted.vertices[base.tets[0][3]] = inverted.vertices[base.tets[0][0]];
+  EXPECT_THROW(update_fluid_mesh_geometry(inverted, updated), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tetfsi::fluid
