@@ -8,23 +8,47 @@
 namespace tetfsi::coupling::detail {
 
 SchurCGSolver::SchurCGSolver(CoupledSolverOptions o)
-    : options_(std::move(o)), factor_(std::make_unique<Factor>()), lag_(std::make_unique<Lag>()) {}
+    : options_(std::move(o)),
+      factor_(std::make_unique<Factor>()),
+      spare_(std::make_unique<Factor>()),
+      lag_(std::make_unique<Lag>()) {}
 SchurCGSolver::~SchurCGSolver() = default;
+
+bool SchurCGSolver::refactor(const SparseMatrix& A) {
+  if (!spare_->factorize(A)) return false;
+  std::swap(factor_, spare_);
+  return true;
+}
 
 CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
   s.check_sizes();
-  const bool can_lag = options_.reuse_factorization && s.num_solid_dofs() > 0 && s.num_pressures() > 0 &&
-                       !lag_->refresh && factor_->valid && factor_->pattern.matches(s.A);
-  if (!can_lag) return solve_fresh(s, u, p);
+  const int n = s.num_solid_dofs();
+  const bool can_lag = options_.reuse_factorization && n > 0 && s.num_pressures() > 0 && factor_->valid &&
+                       factor_->pattern.matches(s.A);
   CoupledSolveReport lagged;
-  if (solve_lagged(s, u, p, lagged)) return lagged;
-  // GMRES missed its cap: the lagged blocks are too far from this system. Solve it fresh; the
-  // report counts the lagged iterations and time too.
-  CoupledSolveReport fresh = solve_fresh(s, u, p);
-  fresh.iterations += lagged.iterations;
-  fresh.setup_seconds += lagged.setup_seconds;
-  fresh.solve_seconds += lagged.solve_seconds;
-  return fresh;
+  const bool lag_first = can_lag && !lag_->refresh;
+  if (lag_first && solve_lagged(s, u, p, lagged)) return lagged;
+  Stopwatch factor_clock;
+  if (n == 0 || refactor(s.A)) {
+    const double factor_seconds = factor_clock.lap();
+    // A fresh solve: nothing to lag, a rebuild was due, or GMRES missed its cap (the lagged blocks
+    // were too far from this system; the report counts the lagged iterations and time too).
+    CoupledSolveReport fresh = solve_fresh(s, u, p);
+    fresh.iterations += lagged.iterations;
+    fresh.setup_seconds += factor_seconds + lagged.setup_seconds;
+    fresh.solve_seconds += lagged.solve_seconds;
+    return fresh;
+  }
+  // A is not positive definite: the Schur complement C + H A⁻¹ Hᵀ is then not SPD and CG is not
+  // defined, but GMRES on the whole system, preconditioned with the factor of an earlier SPD A,
+  // still is (a light pre-stressed solid whose geometric stiffness outweighs M/h: the bar scene).
+  if (can_lag && !lag_first && solve_lagged(s, u, p, lagged)) return lagged;
+  throw CoupledSolveError(
+      "schur_cg: the solid block A = M/h + C + (h/2)K' is not positive definite, so its Cholesky factorization "
+      "failed: the solid's tangent stiffness K' lost definiteness (strong compression or pre-stress) by more than "
+      "M/h makes up for" +
+      std::string(can_lag ? ", and GMRES preconditioned with the factor of an earlier step missed its cap" : "") +
+      ". Take a smaller dt, or use coupling.solver umfpack, which does not need A to be definite");
 }
 
 CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
@@ -32,13 +56,8 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   CoupledSolveReport report;
   Stopwatch clock;
 
-  // One numeric Cholesky of A per fresh solve, reused by every CG iteration (two triangular
-  // solves each) and by the lagged solves that follow.
-  if (n > 0 && !factor_->factorize(s.A))
-    throw CoupledSolveError("schur_cg: the solid block A = M/h + C + (h/2)K' is not positive definite, so its "
-                            "Cholesky factorization failed: the solid's tangent stiffness K' lost definiteness "
-                            "(strong compression or pre-stress) by more than M/h makes up for. Take a smaller dt, "
-                            "or use coupling.solver umfpack, which does not need A to be definite");
+  // factor_ holds the Cholesky factor of this A (refactor()), reused by every CG iteration (two
+  // triangular solves each) and by the lagged solves that follow.
   auto A_inv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
     return n > 0 ? Eigen::VectorXd(factor_->llt.solve(x)) : Eigen::VectorXd();
   };

@@ -46,13 +46,17 @@ class SchurCGSolver final : public CoupledSolver {
  private:
   struct Factor;  // CHOLMOD factor of A, its symbolic analysis kept while A's pattern stays
   struct Lag;     // what the lagged solves keep: Ŝ's pattern and preconditioner, iteration counts
-  /// Fresh Schur-complement CG: factorizes A and sets up Ŝ's preconditioner for this system.
+  /// Factorizes A into spare_ and, if it is SPD, makes that the current factor (swap with
+  /// factor_); otherwise returns false and leaves factor_ as it was.
+  bool refactor(const SparseMatrix& A);
+  /// Fresh Schur-complement CG with factor_ (A's factor, or none for n = 0); sets up Ŝ's
+  /// preconditioner for this system.
   CoupledSolveReport solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p);
   /// GMRES on the whole system with the lagged blocks; returns false (u, p untouched) if it
   /// missed its iteration cap.
   bool solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p, CoupledSolveReport& report);
   CoupledSolverOptions options_;
-  std::unique_ptr<Factor> factor_;
+  std::unique_ptr<Factor> factor_, spare_;  // the current factor; the one a refactor() tries
   std::unique_ptr<Lag> lag_;
 };
 

@@ -158,6 +158,35 @@ TEST(CoupledSolversReport, SchurCGLagsItsBlocksThenRebuildsThemWhenTheyDrift) {
   EXPECT_LE(reports[3].iterations, reports[0].iterations + 3);
 }
 
+TEST(CoupledSolversReport, SchurCGGoesOnWithGmresWhenTheSolidBlockLosesDefiniteness) {
+  // A with one negative diagonal entry (an uncoupled dof at the far end of the chain): no
+  // Cholesky exists and CG on the Schur complement is not defined, but GMRES preconditioned with
+  // the factor of the earlier SPD A solves the system. A solver that never saw an SPD A must
+  // refuse, naming the cause.
+  CoupledSolverOptions options;
+  options.tolerance = 1e-10;
+  const CoupledSystem first = make_system(30, 12);
+  CoupledSystem indefinite = first;
+  indefinite.A.coeffRef(0, 0) *= -0.1;
+  const Eigen::VectorXd ref = dense_reference(indefinite);
+  auto solver = make_coupled_solver(CoupledSolverKind::SchurCG, options);
+  Eigen::VectorXd u, p;
+  solver->solve(first, u, p);
+  for (int k = 1; k <= 2; ++k) {
+    const CoupledSolveReport report = solver->solve(indefinite, u, p);
+    EXPECT_EQ(report.solver, "block_gmres+ic");
+    EXPECT_EQ(report.factor_age, k);
+    EXPECT_LT((u - ref.head(u.size())).norm(), 1e-6 * ref.head(u.size()).norm());
+    EXPECT_LT((p - ref.tail(p.size())).norm(), 1e-6 * ref.tail(p.size()).norm());
+  }
+  try {
+    make_coupled_solver(CoupledSolverKind::SchurCG, options)->solve(indefinite, u, p);
+    ADD_FAILURE() << "an indefinite A with no earlier factor must throw";
+  } catch (const CoupledSolveError& e) {
+    EXPECT_NE(std::string(e.what()).find("not positive definite"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CoupledSolversReport, SchurCGWithoutReuseFactorizesEverySolve) {
   CoupledSolverOptions options;
   options.tolerance = 1e-10;
