@@ -3,6 +3,8 @@
 // with VTK; bad mpm keys exit with code 2 naming the key; every committed mpm scene validates.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -38,37 +40,67 @@ TEST(MpmRun, GasExpansionCiSettlesToPaperRadiusAndEnergyLoss) {
   const Csv probes = read_csv(out / "probes.csv");
   ASSERT_GT(probes.rows.size(), 2u);
   const std::size_t last = probes.rows.size() - 1;
-  EXPECT_NEAR(probes.at(last, "time"), 3.0, 1e-9);
+  const double t_end = 4.0;  // the window of the paper-resolution scene (data/scenes/gas_expansion.json)
+  EXPECT_NEAR(probes.at(last, "time"), t_end, 1e-9);
   EXPECT_NEAR(probes.at(0, "r_0deg"), 0.5, 1e-12);   // initial membrane: x = 0.5, y = 1
   EXPECT_NEAR(probes.at(0, "r_90deg"), 1.0, 1e-12);
   std::printf("[gas ci] r_0deg=%.4f r_90deg=%.4f\n", probes.at(last, "r_0deg"), probes.at(last, "r_90deg"));
   EXPECT_NEAR(probes.at(last, "r_0deg") / 0.96, 1.0, 0.02);
   EXPECT_NEAR(probes.at(last, "r_90deg") / 0.96, 1.0, 0.02);
 
+  // Settled time t_s: the first frame from which neither radius moves by more than 0.5% (a
+  // quarter of the 2% radius band) in any later frame. The paper reports the state once the
+  // membrane "is damped to a steady state" (section 7.3); at least one time unit of it is kept.
+  std::size_t settled = last;
+  for (std::size_t r = last + 1; r-- > 0;) {
+    bool still = true;
+    for (std::size_t k = r; k <= last && still; ++k)
+      for (const char* name : {"r_0deg", "r_90deg"})
+        still = still && std::abs(probes.at(k, name) / probes.at(r, name) - 1) < 0.005;
+    if (!still) break;
+    settled = r;
+  }
+  const double t_s = probes.at(settled, "time");
+  ASSERT_LE(t_s, t_end - 1.0) << "the membrane has not settled a time unit before the end";
+
   // Fig. 18: 3-7% of the initial energy E0 V0 = 25 x (0.45 x 0.95 x 0.1) (Table 2, quarter model)
-  // is lost by the end; the stats column agrees with the stored energy it is made of. One stats
-  // row per frame (stats_rows_per_frame 1), each covering thousands of coupled steps.
+  // is lost once settled; the stats column agrees with the stored energy it is made of. One stats
+  // row per frame (stats_rows_per_frame 1, rows at 0.25, 0.5, ...; probes also have t = 0), each
+  // covering thousands of coupled steps.
   const Csv stats = read_csv(out / "stats.csv");
-  ASSERT_EQ(stats.rows.size(), 12u);  // frames at 0.25, 0.5, ..., 3.0
+  ASSERT_EQ(stats.rows.size(), 16u);  // frames at 0.25, 0.5, ..., 4.0
   const std::size_t n = stats.rows.size() - 1;
   const double e0 = 25.0 * 0.45 * 0.95 * 0.1;
-  const double loss = 1 - stats.at(n, "stored_energy") / e0;
   double substeps = 0, worst_balance = 0;
   for (std::size_t r = 0; r <= n; ++r) {
     EXPECT_NEAR(stats.at(r, "time"), 0.25 * double(r + 1), 1e-9);
+    EXPECT_NEAR(stats.at(r, "energy_loss_fraction"), 1 - stats.at(r, "stored_energy") / e0, 1e-9);
     substeps += stats.at(r, "substeps");
     // Stored energy + contact dissipation (work of the contact forces on the particles and the FE
     // nodes) stays at E0: what the contact removes is booked, nothing else is lost.
     worst_balance = std::max(worst_balance, std::abs(stats.at(r, "energy_balance") / e0 - 1));
   }
-  std::printf("[gas ci] %.0f coupled steps in %zu rows, energy lost %.2f%%, worst |balance / E0 - 1| %.2e\n", substeps,
-              n + 1, 100 * loss, worst_balance);
+  ASSERT_GE(settled, 1u);
+  const std::size_t rs = settled - 1;  // stats row of t_s
+  ASSERT_NEAR(stats.at(rs, "time"), t_s, 1e-9);
+  const double loss_settled = stats.at(rs, "energy_loss_fraction"), loss_end = stats.at(n, "energy_loss_fraction");
+  // The loss keeps growing after settling (sustained contact removes a little relative velocity
+  // every step; first order in dt, see coupling/mpm/README.md). Bound on its rate: the paper gives
+  // one figure for the settled loss (about 5%, accepted 3-7%), so a drift is tolerable only if over
+  // the rest of the window it cannot move the loss by more than the band's half width (2 points):
+  // rate < 0.02 / (t_end - t_s). This follows from the acceptance band, not from the measured rate.
+  const double rate = (loss_end - loss_settled) / (t_end - t_s), rate_bound = 0.02 / (t_end - t_s);
+  std::printf("[gas ci] %.0f coupled steps in %zu rows; settled at t = %.2f with %.2f%% lost; %.2f%% at t = %.1f: "
+              "%.2f%% per time unit (bound %.2f%%); worst |balance / E0 - 1| %.2e\n",
+              substeps, n + 1, t_s, 100 * loss_settled, 100 * loss_end, t_end, 100 * rate, 100 * rate_bound,
+              worst_balance);
   EXPECT_GT(substeps, 1000 * (n + 1));
   EXPECT_LT(worst_balance, 5e-3);
   EXPECT_GT(stats.at(n, "contact_dissipation") / e0, 0.03);  // the loss is the contact's
-  EXPECT_NEAR(stats.at(n, "energy_loss_fraction"), loss, 1e-9);
-  EXPECT_GT(loss, 0.03);
-  EXPECT_LT(loss, 0.07);
+  EXPECT_GT(loss_settled, 0.03);
+  EXPECT_LT(loss_settled, 0.07);
+  EXPECT_GE(rate, 0.0);
+  EXPECT_LT(rate, rate_bound);
   const double particles = 9 * 19 * 2;  // lattice of spacing 0.05 in the 0.45 x 0.95 x 0.1 block
   EXPECT_EQ(stats.at(n, "particles"), particles);
   EXPECT_EQ(stats.at(n, "membrane_elements"), 15);  // 10 + 5 elements of size 0.1 along the quarter
@@ -77,7 +109,7 @@ TEST(MpmRun, GasExpansionCiSettlesToPaperRadiusAndEnergyLoss) {
   // Frames every 0.25 (frame_rate 4): VTK reads the particle point cloud and the membrane quads.
   const auto frames = lines(vtk_describe(out / "particles.pvd", &status));
   ASSERT_EQ(status, 0);
-  ASSERT_EQ(frames.size(), 13u);
+  ASSERT_EQ(frames.size(), 17u);
   for (std::size_t k = 0; k < frames.size(); ++k) {
     std::istringstream ss(frames[k]);
     double t;
@@ -89,9 +121,9 @@ TEST(MpmRun, GasExpansionCiSettlesToPaperRadiusAndEnergyLoss) {
   }
   const auto membrane = lines(vtk_describe(out / "membrane.pvd", &status));
   ASSERT_EQ(status, 0);
-  ASSERT_EQ(membrane.size(), 13u);
+  ASSERT_EQ(membrane.size(), 17u);
   EXPECT_NE(membrane.back().find(" 32 15 p:velocity:3 c:stress:9"), std::string::npos) << membrane.back();
-  const auto ply = read_ply(out / "surfaces" / "membrane_00012.ply");
+  const auto ply = read_ply(out / "surfaces" / "membrane_00016.ply");
   EXPECT_EQ(ply.positions.size(), 32u);
   EXPECT_EQ(ply.triangles.size(), 30u);
   // The last PLY frame is the final state: node 0 is the membrane node on y = 0 (radius at 0 deg).
