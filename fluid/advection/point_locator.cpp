@@ -36,6 +36,18 @@ PointLocator::PointLocator(const FluidMesh& mesh) : mesh_(mesh) {
       for (int j = ca[1]; j <= cb[1]; ++j)
         for (int i = ca[0]; i <= cb[0]; ++i) f(static_cast<size_t>(i) + dims_[0] * (j + static_cast<size_t>(dims_[1]) * k));
   };
+  box_lo_.resize(mesh.num_tets());
+  box_hi_.resize(mesh.num_tets());
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    Eigen::Vector3d a = mesh.nodes[mesh.tets[t][0]], b = a;
+    for (int k = 1; k < 4; ++k) {
+      a = a.cwiseMin(mesh.nodes[mesh.tets[t][k]]);
+      b = b.cwiseMax(mesh.nodes[mesh.tets[t][k]]);
+    }
+    const double margin = 1e-6 * (b - a).maxCoeff();
+    box_lo_[t] = a.array() - margin;
+    box_hi_[t] = b.array() + margin;
+  }
   for (int t = 0; t < mesh.num_tets(); ++t) for_cells(t, [&](size_t c) { ++count[c + 1]; });
   for (size_t c = 0; c < ncell; ++c) count[c + 1] += count[c];
   cell_start_ = count;
@@ -67,7 +79,9 @@ int PointLocator::grid_find(const Eigen::Vector3d& x) const {
   int best = -1;
   double best_min = -kInsideTolerance;
   for (int i = cell_start_[ci]; i < cell_start_[ci + 1]; ++i) {
-    const double m = barycentric(cell_tets_[i], x).minCoeff();
+    const int t = cell_tets_[i];
+    if ((x.array() < box_lo_[t].array()).any() || (x.array() > box_hi_[t].array()).any()) continue;
+    const double m = barycentric(t, x).minCoeff();
     if (m >= best_min) {  // the tet that contains x most robustly
       best_min = m;
       best = cell_tets_[i];
