@@ -201,14 +201,17 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
   // Fluid rows: C = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
   const double rho = fluid_.params().density;
   const Eigen::SparseMatrix<double> L = fluid::assemble_laplacian(fm);
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(L.nonZeros());
-  for (int k = 0; k < L.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(L, k); it; ++it)
-      if (blocks.unknown[it.row()] >= 0 && blocks.unknown[it.col()] >= 0)
-        t.emplace_back(blocks.unknown[it.row()], blocks.unknown[it.col()], (h / rho) * it.value());
+  // C is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
+  // L's (sorted, compressed) columns filtered in place are C's columns in order: no sort needed.
   sys.C.resize(m, m);
-  sys.C.setFromTriplets(t.begin(), t.end());
+  sys.C.reserve(L.nonZeros());
+  for (int k = 0; k < L.outerSize(); ++k) {
+    if (blocks.unknown[k] < 0) continue;
+    sys.C.startVec(blocks.unknown[k]);
+    for (Eigen::SparseMatrix<double>::InnerIterator it(L, k); it; ++it)
+      if (blocks.unknown[it.row()] >= 0) sys.C.insertBack(blocks.unknown[it.row()], blocks.unknown[k]) = (h / rho) * it.value();
+  }
+  sys.C.finalize();
   const Eigen::VectorXd div_star = fluid::gradient_transpose_volume(fm, fluid_.fields().velocity) - bc.flux;
   sys.r.resize(m);
   for (int i = 0; i < fm.num_nodes(); ++i)
