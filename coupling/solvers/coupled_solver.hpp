@@ -26,7 +26,11 @@
 ///                 iterations (beyond the last fresh solve's) add up to twice a fresh solve's, or
 ///                 when GMRES misses its cap (3x a fresh solve's iterations + 20), in which case the
 ///                 step is solved fresh; a new pattern of A rebuilds the factor, a remeshed fluid
-///                 (new C or H pattern) only Ŝ's preconditioner.
+///                 (new C or H pattern) only Ŝ's preconditioner. If the refactorization fails (A
+///                 indefinite), the last SPD factor is kept, Ŝ's preconditioner is rebuilt, GMRES
+///                 solves the step, and the next attempt waits for another two solves' worth of
+///                 extra iterations. The time-splitting baseline's separate solid (m = 0) and
+///                 fluid (n = 0) solves are always fresh.
 /// No solver falls back to another silently: each reports its name, iterations and residuals,
 /// and a solve that does not reach its tolerance throws CoupledSolveError.
 #include <Eigen/Core>

@@ -2,6 +2,7 @@
 #include "coupling/solvers/gmres.hpp"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace tetfsi::coupling::detail {
@@ -13,14 +14,25 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
   if (x.size() != size) x = Eigen::VectorXd::Zero(size);
   Eigen::MatrixXd V(size, restart + 1);  // Arnoldi basis of K M⁻¹
   Eigen::MatrixXd Hess = Eigen::MatrixXd::Zero(restart + 1, restart);
-  Eigen::VectorXd cs(restart), sn(restart), g(restart + 1), w(size), z(size), Kx(size);
+  Eigen::VectorXd cs(restart), sn(restart), g(restart + 1), w(size), z(size), Kx(size), x_before;
+  double beta_before = std::numeric_limits<double>::infinity();
   while (true) {
     apply(x, Kx);
     Eigen::VectorXd r = f - Kx;
     const double beta = r.norm();
+    if (!(beta < beta_before)) {
+      // The last cycle did not reduce the true residual (stagnation at the attainable accuracy,
+      // or a breakdown that rounding turned into a bad basis): keep the iterate before it.
+      if (x_before.size() == size) x = x_before;
+      result.residual = beta_before;
+      result.converged = beta_before <= target;
+      return result;
+    }
     result.residual = beta;
     result.converged = beta <= target;
-    if (result.converged || result.iterations >= max_iterations || !std::isfinite(beta)) return result;
+    if (result.converged || result.iterations >= max_iterations) return result;
+    x_before = x;
+    beta_before = beta;
     V.col(0) = r / beta;
     g.setZero();
     g(0) = beta;
@@ -29,13 +41,18 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
       ++result.iterations;
       precondition(V.col(k), z);
       apply(z, w);
+      const double w_norm = w.norm();
       // Modified Gram-Schmidt (Alg. 6.2).
       for (int i = 0; i <= k; ++i) {
         Hess(i, k) = V.col(i).dot(w);
         w -= Hess(i, k) * V.col(i);
       }
       Hess(k + 1, k) = w.norm();
-      if (Hess(k + 1, k) > 0) V.col(k + 1) = w / Hess(k + 1, k);
+      // Breakdown: K M⁻¹ V_k lies in span(V_k) up to rounding, so the least-squares iterate is the
+      // solution in this space; normalizing the rounding noise would give a non-orthogonal basis.
+      const bool breakdown = !(Hess(k + 1, k) > 1e-14 * w_norm);
+      if (breakdown) Hess(k + 1, k) = 0;
+      else V.col(k + 1) = w / Hess(k + 1, k);
       // Apply the previous rotations to the new column, then the one that zeroes Hess(k+1, k).
       for (int i = 0; i < k; ++i) {
         const double t = cs(i) * Hess(i, k) + sn(i) * Hess(i + 1, k);
@@ -49,12 +66,14 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
       Hess(k + 1, k) = 0;
       g(k + 1) = -sn(k) * g(k);
       g(k) *= cs(k);
+      if (Hess(k, k) == 0) break;  // singular least-squares problem: column k is not used
       // |g(k+1)| is the residual norm of the least-squares iterate (exact arithmetic).
-      if (std::abs(g(k + 1)) <= target || Hess(k, k) == 0) {
+      if (std::abs(g(k + 1)) <= target || breakdown) {
         ++k;
         break;
       }
     }
+    if (k == 0) return result;  // nothing to add (singular at the first step)
     // x += M⁻¹ V_k y with Hess_k y = g_k (upper triangular after the rotations).
     const Eigen::VectorXd y =
         Hess.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));

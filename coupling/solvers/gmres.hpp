@@ -19,8 +19,8 @@ namespace tetfsi::coupling::detail {
 using LinearMap = std::function<void(const Eigen::VectorXd& in, Eigen::VectorXd& out)>;
 
 struct GmresResult {
-  int iterations = 0;     ///< matrix-vector products with K (one per Krylov step)
-  double residual = 0;    ///< ‖f − K x‖₂ at return, recomputed from scratch at each restart
+  int iterations = 0;     ///< Krylov steps (each one K product; restarts add one K product each)
+  double residual = 0;    ///< ‖f − K x‖₂ of the returned x, recomputed from scratch
   bool converged = false;  ///< residual <= target
 };
 
@@ -31,6 +31,9 @@ struct GmresResult {
 /// @param target    absolute residual ‖f − K x‖₂ to reach
 /// @param max_iterations  cap on Krylov steps over all restarts
 /// @param restart   Krylov subspace size before a restart (memory: restart + 1 vectors)
+/// A cycle ends early at a breakdown (the new Krylov vector is rounding noise, below 1e-14 of its
+/// norm before orthogonalization); a cycle that does not reduce the true residual is undone and
+/// GMRES returns (stagnation), so the returned x is the best iterate seen at a cycle boundary.
 GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& precondition, const Eigen::VectorXd& f,
                                        Eigen::VectorXd& x, double target, int max_iterations, int restart = 40);
 

@@ -9,13 +9,13 @@
 namespace tetfsi::coupling::detail {
 
 bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p,
-                                 CoupledSolveReport& report) {
+                                 CoupledSolveReport& report, bool rebuild_preconditioner) {
   const int n = s.num_solid_dofs(), m = s.num_pressures();
   Lag& lag = *lag_;
   Stopwatch clock;
   // A remesh changes C and H (the solid's A keeps its pattern): Ŝ's preconditioner is rebuilt
   // for the new pressure unknowns, A's factor is kept.
-  if (!lag.C_pattern.matches(s.C) || !lag.H_pattern.matches(s.H)) {
+  if (rebuild_preconditioner || !lag.C_pattern.matches(s.C) || !lag.H_pattern.matches(s.H)) {
     const SparseMatrix S_hat = approximate_schur_complement(s);
     if (options_.preconditioner_apply) {
       if (options_.preconditioner_setup) options_.preconditioner_setup(S_hat);

@@ -24,13 +24,14 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   s.check_sizes();
   const int n = s.num_solid_dofs();
   const bool can_lag = options_.reuse_factorization && n > 0 && s.num_pressures() > 0 && factor_->valid &&
-                       factor_->pattern.matches(s.A);
+                       factor_->pattern.matches(s.A) && lag_->precondition;
   CoupledSolveReport lagged;
   const bool lag_first = can_lag && !lag_->refresh;
   if (lag_first && solve_lagged(s, u, p, lagged)) return lagged;
   Stopwatch factor_clock;
-  if (n == 0 || refactor(s.A)) {
-    const double factor_seconds = factor_clock.lap();
+  const bool factored = n == 0 || refactor(s.A);
+  const double factor_seconds = factor_clock.lap();
+  if (factored) {
     // A fresh solve: nothing to lag, a rebuild was due, or GMRES missed its cap (the lagged blocks
     // were too far from this system; the report counts the lagged iterations and time too).
     CoupledSolveReport fresh = solve_fresh(s, u, p);
@@ -42,12 +43,21 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   // A is not positive definite: the Schur complement C + H A⁻¹ Hᵀ is then not SPD and CG is not
   // defined, but GMRES on the whole system, preconditioned with the factor of an earlier SPD A,
   // still is (a light pre-stressed solid whose geometric stiffness outweighs M/h: the bar scene).
-  if (can_lag && !lag_first && solve_lagged(s, u, p, lagged)) return lagged;
+  // If the rebuild was due, Ŝ's preconditioner is rebuilt all the same, and the next attempt to
+  // refactorize waits until the extra iterations have again added up to two fresh solves.
+  if (can_lag && !lag_first) {
+    lag_->refresh = false;
+    lag_->extra_iterations = 0;
+    if (solve_lagged(s, u, p, lagged, /*rebuild_preconditioner=*/true)) {
+      lagged.setup_seconds += factor_seconds;
+      return lagged;
+    }
+  }
   throw CoupledSolveError(
       "schur_cg: the solid block A = M/h + C + (h/2)K' is not positive definite, so its Cholesky factorization "
       "failed: the solid's tangent stiffness K' lost definiteness (strong compression or pre-stress) by more than "
       "M/h makes up for" +
-      std::string(can_lag ? ", and GMRES preconditioned with the factor of an earlier step missed its cap" : "") +
+      std::string(can_lag ? ", and GMRES preconditioned with the factor of an earlier step did not converge" : "") +
       ". Take a smaller dt, or use coupling.solver umfpack, which does not need A to be definite");
 }
 
@@ -62,8 +72,14 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
     return n > 0 ? Eigen::VectorXd(factor_->llt.solve(x)) : Eigen::VectorXd();
   };
 
-  // Preconditioner for S = C + H A⁻¹ Hᵀ: the caller's (e.g. BoomerAMG) or IC of Ŝ.
+  // Preconditioner for S = C + H A⁻¹ Hᵀ: the caller's (e.g. BoomerAMG) or IC of Ŝ. Until this
+  // solve succeeds the lagged state is marked unusable, so that a caller catching an exception
+  // never lags on a half-built preconditioner.
   Lag& lag = *lag_;
+  lag.refresh = true;
+  lag.precondition = nullptr;
+  lag.C_pattern.assign(SparseMatrix());
+  lag.H_pattern.assign(SparseMatrix());
   const SparseMatrix S_hat = approximate_schur_complement(s);
   if (options_.preconditioner_apply) {
     if (options_.preconditioner_setup && m > 0) options_.preconditioner_setup(S_hat);
@@ -77,8 +93,6 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
     lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
     lag.preconditioner_name = "ic";
   }
-  lag.C_pattern.assign(s.C);
-  lag.H_pattern.assign(s.H);
   report.solver = "schur_cg+" + lag.preconditioner_name;
   report.setup_seconds = clock.lap();
 
@@ -123,12 +137,14 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   }
   report.iterations = it;
   report.solve_seconds = clock.lap();
+  if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");
+  require_converged(report, options_.tolerance);
+  lag.C_pattern.assign(s.C);
+  lag.H_pattern.assign(s.H);
   lag.fresh_iterations = it;
   lag.age = 0;
   lag.extra_iterations = 0;
   lag.refresh = false;
-  if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");
-  require_converged(report, options_.tolerance);
   return report;
 }
 

@@ -52,9 +52,11 @@ class SchurCGSolver final : public CoupledSolver {
   /// Fresh Schur-complement CG with factor_ (A's factor, or none for n = 0); sets up Ŝ's
   /// preconditioner for this system.
   CoupledSolveReport solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p);
-  /// GMRES on the whole system with the lagged blocks; returns false (u, p untouched) if it
-  /// missed its iteration cap.
-  bool solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p, CoupledSolveReport& report);
+  /// GMRES on the whole system with the lagged blocks (Ŝ's preconditioner rebuilt first if its
+  /// pattern changed or `rebuild_preconditioner`); returns false (u, p untouched) if it did not
+  /// converge within its iteration cap.
+  bool solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p, CoupledSolveReport& report,
+                    bool rebuild_preconditioner = false);
   CoupledSolverOptions options_;
   std::unique_ptr<Factor> factor_, spare_;  // the current factor; the one a refactor() tries
   std::unique_ptr<Lag> lag_;

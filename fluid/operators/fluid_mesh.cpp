@@ -38,7 +38,7 @@ void compute_tet_geometry(FluidMesh& fm) {
     e.col(2) = fm.nodes[v[3]] - fm.nodes[v[0]];
     const double det = e.determinant();
     if (!(det > 0.0))
-      throw std::invalid_argument("build_fluid_mesh: fluid tet " + std::to_string(fm.tet_to_mesh_tet[t]) +
+      throw std::invalid_argument("fluid mesh: fluid tet " + std::to_string(fm.tet_to_mesh_tet[t]) +
                                   " has non-positive volume " + std::to_string(det / 6.0));
     fm.volume[t] = det / 6.0;
     const Eigen::Matrix3d inv = e.inverse();

@@ -78,7 +78,8 @@ HYPRE_Solver make_boomeramg_preconditioner() {
   // the V-cycle stays symmetric for PCG, at half the sweeps of symmetric GS (type 6) on both legs.
   // bench_coupling 40 (3 runs each, load 2.2-2.9): one or two more iterations (13 -> 15 fluid-only,
   // 15 -> 16 coupled) but the lagged coupled solve 0.30-0.36 s -> 0.24-0.27 s and the fluid-only
-  // solve 0.19-0.26 s -> 0.16-0.19 s. The coarsest level keeps type 6.
+  // solve 0.19-0.26 s -> 0.16-0.19 s. The coarsest level is solved by Gaussian elimination (type 9, which
+  // SetRelaxType gives it).
   HYPRE_BoomerAMGSetRelaxType(amg, 6);
   HYPRE_BoomerAMGSetCycleRelaxType(amg, 3, 1);
   HYPRE_BoomerAMGSetCycleRelaxType(amg, 4, 2);

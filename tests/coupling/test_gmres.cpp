@@ -64,3 +64,31 @@ TEST(Gmres, ReportsAMissedCapWithItsTrueResidual) {
   EXPECT_NEAR(r.residual, (f - K * x).norm(), 1e-12);
   EXPECT_LT(r.residual, f.norm());  // but it did reduce the residual
 }
+
+TEST(Gmres, StopsAtBreakdownAndNeverReturnsAWorseIterate) {
+  // K = 3I: the first Krylov step already spans the solution (breakdown); with a target of 0
+  // GMRES must stop near round-off instead of iterating on rounding noise.
+  const int n = 20;
+  const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
+  auto identity = [](const Eigen::VectorXd& v, Eigen::VectorXd& z) { z = v; };
+  auto three = [](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y = 3.0 * v; };
+  Eigen::VectorXd x;
+  auto r = right_preconditioned_gmres(three, identity, f, x, 0.0, 100, 40);
+  EXPECT_LE(r.iterations, 5);
+  EXPECT_LE((f - 3.0 * x).norm(), 1e-15 * f.norm());
+  EXPECT_DOUBLE_EQ(r.residual, (f - 3.0 * x).norm());
+  // Singular K = diag(1, ..., 1, 0) with f not in its range: the residual cannot fall below
+  // |f_n| = 2; GMRES must end with it there, not grow it.
+  auto singular = [n](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+    y = v;
+    y[n - 1] = 0.0;
+  };
+  x.resize(0);
+  r = right_preconditioned_gmres(singular, identity, f, x, 0.0, 100, 40);
+  EXPECT_FALSE(r.converged);
+  EXPECT_TRUE(x.allFinite());
+  EXPECT_NEAR(r.residual, 2.0, 1e-12);
+  Eigen::VectorXd Kx;
+  singular(x, Kx);
+  EXPECT_NEAR((f - Kx).norm(), r.residual, 1e-12);
+}
