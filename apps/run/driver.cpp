@@ -113,10 +113,14 @@ class Driver {
                                      step + 1, t, dt_max));
         // A step that reaches the next frame (or the end) within round-off of its largest step
         // lands on it exactly: summing dt's otherwise leaves a remainder of ~1e-12 s, and a step
-        // that short is a different problem (e.g. A = M/h dominates the coupled solve).
+        // that short is a different problem (e.g. A = M/h dominates the coupled solve). Likewise,
+        // when a full step would leave less than half a step before the frame (a CFL step that
+        // does not divide the frame), the rest is taken in two equal steps instead of a full one
+        // and a sliver.
         const double target = std::min(next_frame, end);
-        const bool lands = target - t <= dt_max * (1 + 1e-9);
-        const double dt = lands ? target - t : dt_max;
+        const double remaining = target - t;
+        const bool lands = remaining <= dt_max * (1 + 1e-9);
+        const double dt = lands ? remaining : remaining < 1.5 * dt_max ? 0.5 * remaining : dt_max;
         StepReport r = sim->step(dt);
         t = lands && r.dt == dt ? target : t + r.dt;
         ++step;

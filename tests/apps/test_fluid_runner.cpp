@@ -78,6 +78,30 @@ TEST(FluidRunner, StillLiquidStaysStillWithHydrostaticPressure) {
   EXPECT_NE(read_text(out / "run.log").find("fluid runner"), std::string::npos);
 }
 
+TEST(FluidRunner, StepsThatDoNotDivideTheFrameEndOnItInTwoEqualSteps) {
+  // dt = 0.045 s against frames every 0.05 s: a full step would leave a 0.005 s sliver, so each
+  // frame is taken as two steps of 0.025 s, landing exactly on 0.05, 0.10, ... (apps/run/driver.cpp).
+  json scene = json::parse(R"({
+    "simulation": {"end_time": 0.2, "dt": 0.045, "frame_rate": 20, "gravity": [0, -9.81, 0]},
+    "domain": {"lo": [0, 0, 0], "hi": [0.4, 0.4, 0.4]},
+    "mesh": {"edge_length": 0.2},
+    "fluid": {"type": "liquid", "density": 1000}
+  })");
+  TempDir dir("fluid_frame_steps");
+  int status = -1;
+  std::string log;
+  const fs::path out = run_scene(dir, scene, &status, &log);
+  ASSERT_EQ(status, 0) << log;
+  const Csv stats = read_csv(out / "stats.csv");
+  ASSERT_EQ(stats.rows.size(), 8u);
+  for (std::size_t r = 0; r < stats.rows.size(); ++r) {
+    EXPECT_NEAR(stats.at(r, "dt"), 0.025, 1e-12) << "step " << r + 1;
+    if (r % 2 == 1) {
+      EXPECT_EQ(stats.at(r, "time"), 0.05 * double(r / 2 + 1)) << "step " << r + 1;
+    }
+  }
+}
+
 TEST(FluidRunner, SmokePlumeIsDivergenceFreeAndRises) {
   json scene = committed("smoke_plume.json");
   scene["simulation"]["end_time"] = 0.5;

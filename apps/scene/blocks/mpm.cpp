@@ -73,7 +73,8 @@ Field mpm() {
             .at_least(0.01).at_most(0.25).def(0.1),
         Field::number("particle_spacing", "", "Spacing of the gas particle lattice (paper: 0.025).")
             .greater(0).def(0.025),
-        Field::number("cfl", "", "Time step as a fraction of the membrane's critical step (paper: 0.9).")
+        Field::number("cfl", "", "Time step as a fraction of the membrane's critical step min(L_e / c) "
+                      "(eq. 48 has no safety factor; 0.9 is tetfsi's).")
             .greater(0).at_most(1).def(0.9),
         Field::number("gas_viscosity", "", "Shear viscosity of the gas (Table 2: 0.1).").at_least(0).def(0.1),
         Field::number("hourglass", "", "Flanagan-Belytschko hourglass coefficient of the membrane.")
