@@ -35,6 +35,15 @@ fs::path run_scene(const TempDir& dir, const json& scene, int* status, std::stri
   return out;
 }
 
+/// `tetfsi run` of `scene` in a temporary folder named `name`: exit status, log, output folder.
+struct SceneRun {
+  SceneRun(const std::string& name, const json& scene) : dir(name) { out = run_scene(dir, scene, &status, &log); }
+  TempDir dir;
+  int status = -1;
+  std::string log;
+  fs::path out;
+};
+
 json committed(const std::string& name) {
   std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / name);
   return json::parse(in);
@@ -56,11 +65,9 @@ TEST(FluidRunner, StillLiquidStaysStillWithHydrostaticPressure) {
       {"name": "speed_b", "kind": "fluid_point", "point": [0.3, 0.05, 0.1], "quantity": "speed"},
       {"name": "ke", "kind": "fluid_kinetic_energy"}]
   })");
-  TempDir dir("fluid_still");
-  int status = -1;
-  std::string log;
-  const fs::path out = run_scene(dir, scene, &status, &log);
-  ASSERT_EQ(status, 0) << log;
+  const SceneRun run("fluid_still", scene);
+  ASSERT_EQ(run.status, 0) << run.log;
+  const fs::path& out = run.out;
   const Csv stats = read_csv(out / "stats.csv"), probes = read_csv(out / "probes.csv");
   ASSERT_EQ(stats.rows.size(), 20u);
   ASSERT_EQ(probes.rows.size(), 21u);  // t = 0 and every step
@@ -87,11 +94,9 @@ TEST(FluidRunner, StepsThatDoNotDivideTheFrameEndOnItInTwoEqualSteps) {
     "mesh": {"edge_length": 0.2},
     "fluid": {"type": "liquid", "density": 1000}
   })");
-  TempDir dir("fluid_frame_steps");
-  int status = -1;
-  std::string log;
-  const fs::path out = run_scene(dir, scene, &status, &log);
-  ASSERT_EQ(status, 0) << log;
+  const SceneRun run("fluid_frame_steps", scene);
+  ASSERT_EQ(run.status, 0) << run.log;
+  const fs::path& out = run.out;
   const Csv stats = read_csv(out / "stats.csv");
   ASSERT_EQ(stats.rows.size(), 8u);
   for (std::size_t r = 0; r < stats.rows.size(); ++r) {
@@ -109,11 +114,9 @@ TEST(FluidRunner, SmokePlumeIsDivergenceFreeAndRises) {
     {"name": "smoke_axis", "kind": "fluid_point", "point": [0, 0.25, 0], "quantity": "smoke"},
     {"name": "smoke_side", "kind": "fluid_point", "point": [0.3, 0.25, 0.3], "quantity": "smoke"},
     {"name": "vy_axis", "kind": "fluid_point", "point": [0, 0.25, 0], "quantity": "velocity_y"}])");
-  TempDir dir("fluid_plume");
-  int status = -1;
-  std::string log;
-  const fs::path out = run_scene(dir, scene, &status, &log);
-  ASSERT_EQ(status, 0) << log;
+  const SceneRun run("fluid_plume", scene);
+  ASSERT_EQ(run.status, 0) << run.log;
+  const fs::path& out = run.out;
   const Csv stats = read_csv(out / "stats.csv"), probes = read_csv(out / "probes.csv");
   ASSERT_EQ(stats.rows.size(), 25u);
   // Velocity scale: the 0.5 m/s inflow; mesh size: the edge length at the sphere.
@@ -132,6 +135,7 @@ TEST(FluidRunner, SmokePlumeIsDivergenceFreeAndRises) {
   EXPECT_GT(probes.at(last, "vy_axis"), 0.0);
 
   // VTK reads back every fluid frame with the counts of stats.csv and the four fields.
+  int status = -1;
   const auto frames = lines(vtk_describe(out / "fluid.pvd", &status));
   ASSERT_EQ(status, 0);
   ASSERT_EQ(frames.size(), 6u);  // t = 0, 0.1, ..., 0.5
@@ -147,11 +151,9 @@ TEST(FluidRunner, PaddleRemeshesEveryStep) {
   json scene = committed("paddle.json");
   scene["simulation"]["end_time"] = 0.1;
   scene["simulation"]["frame_rate"] = 10;
-  TempDir dir("fluid_paddle");
-  int status = -1;
-  std::string log;
-  const fs::path out = run_scene(dir, scene, &status, &log);
-  ASSERT_EQ(status, 0) << log;
+  const SceneRun run("fluid_paddle", scene);
+  ASSERT_EQ(run.status, 0) << run.log;
+  const fs::path& out = run.out;
   const Csv stats = read_csv(out / "stats.csv");
   ASSERT_EQ(stats.rows.size(), 5u);
   const double omega = 2.0, U = omega * 0.2, h = scene["mesh"]["edge_length_near_solids"].get<double>();
