@@ -15,17 +15,9 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   Stopwatch clock;
   // A remesh changes C and H (the solid's A keeps its pattern): Ŝ's preconditioner is rebuilt
   // for the new pressure unknowns, A's factor is kept.
-  if (rebuild_preconditioner || !lag.C_pattern.matches(s.C) || !lag.H_pattern.matches(s.H)) {
-    const SparseMatrix S_hat = approximate_schur_complement(s);
-    if (options_.preconditioner_apply) {
-      if (options_.preconditioner_setup) options_.preconditioner_setup(S_hat);
-    } else {
-      lag.ic.compute(S_hat);
-      if (lag.ic.info() != Eigen::Success) return false;
-    }
-    lag.C_pattern.assign(s.C);
-    lag.H_pattern.assign(s.H);
-  }
+  if ((rebuild_preconditioner || !lag.C_pattern.matches(s.C) || !lag.H_pattern.matches(s.H)) &&
+      !build_schur_preconditioner(s))
+    return false;
   report.solver = "block_gmres+" + lag.preconditioner_name;
   report.factor_age = lag.age + 1;
   report.setup_seconds = clock.lap();

@@ -20,6 +20,32 @@ bool SchurCGSolver::refactor(const SparseMatrix& A) {
   return true;
 }
 
+bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
+  Lag& lag = *lag_;
+  lag.precondition = nullptr;
+  lag.C_pattern.assign(SparseMatrix());
+  lag.H_pattern.assign(SparseMatrix());
+  if (s.num_pressures() > 0) {
+    const SparseMatrix S_hat = approximate_schur_complement(s);
+    if (options_.preconditioner_apply) {
+      if (options_.preconditioner_setup) options_.preconditioner_setup(S_hat);
+    } else {
+      lag.ic.compute(S_hat);
+      if (lag.ic.info() != Eigen::Success) return false;
+    }
+  }
+  if (options_.preconditioner_apply) {
+    lag.precondition = options_.preconditioner_apply;
+    lag.preconditioner_name = options_.preconditioner_name.empty() ? "custom" : options_.preconditioner_name;
+  } else {
+    lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
+    lag.preconditioner_name = "ic";
+  }
+  lag.C_pattern.assign(s.C);
+  lag.H_pattern.assign(s.H);
+  return true;
+}
+
 CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
   s.check_sizes();
   const int n = s.num_solid_dofs();
@@ -72,27 +98,12 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
     return n > 0 ? Eigen::VectorXd(factor_->llt.solve(x)) : Eigen::VectorXd();
   };
 
-  // Preconditioner for S = C + H A⁻¹ Hᵀ: the caller's (e.g. BoomerAMG) or IC of Ŝ. Until this
-  // solve succeeds the lagged state is marked unusable, so that a caller catching an exception
-  // never lags on a half-built preconditioner.
+  // Until this solve succeeds the lagged state is marked unusable (refresh), so that a caller
+  // catching an exception never lags on blocks of a failed solve.
   Lag& lag = *lag_;
   lag.refresh = true;
-  lag.precondition = nullptr;
-  lag.C_pattern.assign(SparseMatrix());
-  lag.H_pattern.assign(SparseMatrix());
-  const SparseMatrix S_hat = approximate_schur_complement(s);
-  if (options_.preconditioner_apply) {
-    if (options_.preconditioner_setup && m > 0) options_.preconditioner_setup(S_hat);
-    lag.precondition = options_.preconditioner_apply;
-    lag.preconditioner_name = options_.preconditioner_name.empty() ? "custom" : options_.preconditioner_name;
-  } else {
-    if (m > 0) {
-      lag.ic.compute(S_hat);
-      if (lag.ic.info() != Eigen::Success) throw CoupledSolveError("schur_cg: incomplete Cholesky of the Schur approximation failed");
-    }
-    lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
-    lag.preconditioner_name = "ic";
-  }
+  if (!build_schur_preconditioner(s))
+    throw CoupledSolveError("schur_cg: incomplete Cholesky of the Schur approximation failed");
   report.solver = "schur_cg+" + lag.preconditioner_name;
   report.setup_seconds = clock.lap();
 
@@ -139,8 +150,6 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   report.solve_seconds = clock.lap();
   if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");
   require_converged(report, options_.tolerance);
-  lag.C_pattern.assign(s.C);
-  lag.H_pattern.assign(s.H);
   lag.fresh_iterations = it;
   lag.age = 0;
   lag.extra_iterations = 0;

@@ -1,5 +1,7 @@
 #include "fluid/advection/semi_lagrangian.hpp"
 
+#include <algorithm>
+
 #include <tbb/parallel_for.h>
 
 #include <atomic>
@@ -188,8 +190,12 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   const Packed f = pack(old_fields);
   const Packed f_nodal = to_nodes(old_mesh, f);
   const PointLocator old_locator(old_mesh);
+  // Which traces were cut at the boundary matters only where some face is open (apply_exits).
+  const bool any_open =
+      exits && std::find(exits->rule.begin(), exits->rule.end(), ExitRule::kOpen) != exits->rule.end();
   std::vector<char> cut;
-  const std::vector<Location> feet = trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep, &cut);
+  const std::vector<Location> feet =
+      trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep, any_open ? &cut : nullptr);
   Packed forward(new_mesh.num_tets());
   tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
     forward[t] = scheme == AdvectionScheme::kLinear ? interp_linear(old_mesh, f, f_nodal, feet[t])
@@ -225,7 +231,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
         if (v[c] >= lo[c] && v[c] <= hi[c]) forward[t][c] = v[c];
     });
   }
-  if (exits) apply_exits(old_mesh, *exits, feet, cut, forward, rep);
+  if (any_open) apply_exits(old_mesh, *exits, feet, cut, forward, rep);
   if (report) *report = rep;
   return unpack(forward);
 }
