@@ -242,11 +242,14 @@ TEST(CoupledSolversReport, SchurCGWithoutReuseFactorizesEverySolve) {
   options.reuse_factorization = false;
   auto solver = make_coupled_solver(CoupledSolverKind::SchurCG, options);
   const CoupledSystem s = make_system(30, 12);
+  const Eigen::VectorXd ref = dense_reference(s);
   for (int k = 0; k < 2; ++k) {
     Eigen::VectorXd u, p;
     const CoupledSolveReport report = solver->solve(s, u, p);
     EXPECT_EQ(report.solver, "schur_cg+ic");
     EXPECT_EQ(report.factor_age, 0);
+    EXPECT_LT((u - ref.head(u.size())).norm(), 1e-6 * ref.head(u.size()).norm());
+    EXPECT_LT((p - ref.tail(p.size())).norm(), 1e-6 * ref.tail(p.size()).norm());
   }
 }
 
