@@ -16,6 +16,7 @@ MpmMembraneCoupling::MpmMembraneCoupling(mpm::MpmSolver& mpm, membrane::Membrane
   nr_.assign(nn, Vec3::Zero());
   xr_.assign(nn, Vec3::Zero());
   ps_.assign(nn, Vec3::Zero());
+  grad_s_.assign(nn, Vec3::Zero());
   seen_.assign(nn, 0);
   gap_.assign(nn, std::numeric_limits<double>::quiet_NaN());
   fr_.assign(nn, Vec3::Zero());
@@ -71,26 +72,27 @@ ContactReport MpmMembraneCoupling::step(double dt) {
   // trial momentum is the one the particles carry (see the header).
   const auto& ms = mpm_.node_mass();
   const double eps = mpm_.mass_threshold();
-  const auto& grad_s = mpm_.node_mass_gradient();
   const double h = grid.h;
   shared_.clear();
   for (auto id : touched_)
     if (mr_[id] > 0 && ms[id] > eps && nr_[id].norm() > 0) shared_.push_back(id);
-  mpm_.particle_trial_momenta(shared_, ps_);
+  mpm_.particle_trial_momenta(shared_, ps_, &grad_s_);
   candidates_.clear();
   for (auto id : shared_) {
     const double mr = mr_[id], m_s = ms[id];
     Vec3 n = nr_[id].normalized();
     // Orient the (two-sided) membrane normal towards body s, i.e. against the outward normal
     // n^s = sum_p N_Ip,i m_p of body s (eq. 51).
-    if (n.dot(grad_s[id]) > 0) n = -n;
+    if (n.dot(grad_s_[id]) > 0) n = -n;
     const Vec3 approach = m_s * pr_[id] - mr * ps_[id];
     if (!(approach.dot(n) > 0)) continue;  // eq. (52)
     nr_[id] = n;
     candidates_.push_back(id);
   }
   compute_gaps();
-  // Steps 4c-4d.
+  // Steps 4c-4d. Forces act over dt^n of the current step (eqs. 53, 55, 59); the impulses
+  // dt^n f do not depend on it.
+  const double dtn = mpm_.momentum_step();
   for (auto id : candidates_) {
     const double g = gap_[id];
     gap_[id] = std::numeric_limits<double>::quiet_NaN();
@@ -99,7 +101,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     const Vec3 n = nr_[id];
     const Vec3 pr = pr_[id], p_s = ps_[id];
     const Vec3 approach = m_s * pr - mr * p_s;
-    Vec3 f = -approach / ((mr + m_s) * dt);  // eq. (55), force on r (see header for the sign)
+    Vec3 f = -approach / ((mr + m_s) * dtn);  // eq. (55), force on r (see header for the sign)
     if (opt_.mode == ContactOptions::Mode::Slip) {
       const double fn = f.dot(n);  // eq. (56), < 0: pushes r back
       const Vec3 ft = f - fn * n;  // eq. (57)
@@ -107,9 +109,9 @@ ContactReport MpmMembraneCoupling::step(double dt) {
       f = fn * n + (ft_norm > limit ? Vec3(ft * (limit / ft_norm)) : ft);  // eq. (58)
     }
     fr_[id] = f;
-    mpm_.add_node_impulse(id, -dt * f);  // eq. (53) with f^s = -f^r
-    rep.impulse_on_mpm -= dt * f;
-    rep.impulse_on_membrane += dt * f;
+    mpm_.add_node_impulse(id, -dtn * f);  // eq. (53) with f^s = -f^r
+    rep.impulse_on_mpm -= dtn * f;
+    rep.impulse_on_membrane += dtn * f;
     ++rep.contact_nodes;
   }
 
@@ -127,12 +129,12 @@ ContactReport MpmMembraneCoupling::step(double dt) {
         if (mr_[id] > 0) dv += st.N[c] * fr_[id] / mr_[id];
       }
       const Vec3 v_trial = Vm[k];
-      Vm[k] += dt * dv;
+      Vm[k] += dtn * dv;
       for (int a = 0; a < 3; ++a)
         if (fixed[k][a]) Vm[k][a] = 0;
       // Work of the contact force over the step with the mid-step velocity (v^{n-1/2} +
       // v^{n+1/2}) / 2, as for the membrane's external loads.
-      const Vec3 v_old = v_trial - dt * mem_.forces()[k] / M[k];
+      const Vec3 v_old = v_trial - mem_.velocity_step() * mem_.forces()[k] / M[k];
       work_membrane += M[k] * (Vm[k] - v_trial).dot(0.5 * (v_old + Vm[k]));
     }
   }

@@ -105,6 +105,7 @@ class MpmMembraneCoupling {
   std::vector<double> mr_;
   std::vector<Vec3> pr_, nr_, xr_, fr_;
   std::vector<Vec3> ps_;  // particle-side trial momentum at candidate nodes
+  std::vector<Vec3> grad_s_;  // particle-body mass gradient n^s (eq. 51) at the shared nodes
   std::vector<std::uint8_t> seen_;  // node flags: in touched_
   std::vector<std::int64_t> touched_, shared_, candidates_;
   // Per-step membrane buffers (kept to avoid allocations).

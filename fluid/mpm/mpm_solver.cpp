@@ -71,6 +71,7 @@ void MpmSolver::cell_gradients() {
   const auto& hi = bins_.hi();
   const int ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1, ez = hi[2] - lo[2] + 1;
   cell_grad_.resize(std::size_t(ex) * ey * ez);
+  cell_open_.resize(cell_grad_.size());
   const double inv = 1.0 / grid_.h;
   const std::int64_t sx = grid_.cells[0] + 1, sxy = sx * (grid_.cells[1] + 1);
   // One row of cells along x per call; each cell writes only its own coefficients.
@@ -80,7 +81,11 @@ void MpmSolver::cell_gradients() {
       const std::int64_t n0 = grid_.node_index(lo[0] + i, lo[1] + j, lo[2] + k);
       // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
       auto v = [&](int a, int b, int c) -> const Vec3& { return vel_[n0 + a + b * sx + c * sxy]; };
-      auto& G = cell_grad_[std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k)];
+      const std::size_t cell = std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k);
+      auto& G = cell_grad_[cell];
+      bool open = false;
+      for (int c = 0; c < 8; ++c) open = open || !(mass_[n0 + (c & 1) + ((c >> 1) & 1) * sx + (c >> 2) * sxy] > mass_eps_);
+      cell_open_[cell] = open;
       for (int r = 0; r < 3; ++r) {
         // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
         const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
@@ -110,11 +115,26 @@ void MpmSolver::cell_gradients() {
   });
 }
 
-Mat3 MpmSolver::velocity_gradient(const Stencil& st) const {
-  const auto& lo = bins_.lo();
-  const auto& hi = bins_.hi();
-  const std::size_t ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1;
-  const auto& G = cell_grad_[std::size_t(st.cell[0] - lo[0]) + ex * ((st.cell[1] - lo[1]) + ey * (st.cell[2] - lo[2]))];
+void MpmSolver::close_stencil(Stencil& st) const {
+  // A particle on a face of its cell has N_J = 0 at the far corners J but N_J,j != 0; if such a
+  // corner has no mass its velocity is undefined (v_J = 0 by convention) and its force would be
+  // lost. Its velocity is taken as the particle's interpolated grid velocity sum_I N_I v_I, i.e.
+  // the gradients become N~_I,j = N_I,j + N_I sum_J N_J,j on the corners with mass and 0 on the
+  // empty ones. They still sum to zero (sum_I N_I = 1 over the corners with mass), so a rigid
+  // translation has L = 0 and the nodal forces -V sigma N~_I,j sum to zero (momentum kept), and
+  // sum_I f_I . v_I = -V sigma : L (the stress power is the grid's).
+  Vec3 g_empty = Vec3::Zero();
+  for (int c = 0; c < 8; ++c)
+    if (!(mass_[st.node[c]] > mass_eps_)) {
+      g_empty += st.dN[c];
+      st.dN[c].setZero();
+    }
+  for (int c = 0; c < 8; ++c)
+    if (mass_[st.node[c]] > mass_eps_) st.dN[c] += st.N[c] * g_empty;
+}
+
+Mat3 MpmSolver::velocity_gradient(const Stencil& st, std::size_t cell) const {
+  const auto& G = cell_grad_[cell];
   const double fx = st.frac[0], fy = st.frac[1], fz = st.frac[2];
   const double pa[3] = {fy, fx, fx}, pb[3] = {fz, fz, fy};
   Mat3 L;
@@ -188,7 +208,7 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
   mask_ = grid_.build_constraint_mask();
   const auto nn = static_cast<std::size_t>(grid_.num_nodes());
   mass_.assign(nn, 0.0);
-  for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_, &impulse_, &vel_, &dvel_, &dvel_imp_})
+  for (auto* f : {&mom_old_, &mom_new_, &force_, &impulse_, &vel_, &dvel_, &dvel_imp_})
     f->assign(nn, Vec3::Zero());
   mass_eps_ = n ? 1e-12 * total_mass / double(n) : 0.0;
   critical_dt_ = std::numeric_limits<double>::infinity();
@@ -227,7 +247,7 @@ void MpmSolver::trial_step(double dt) {
   // non-zero only at impulse_nodes_.
   for_each_box_node([&](std::int64_t id) {
     mass_[id] = 0;
-    for (auto* f : {&mom_old_, &mom_new_, &force_, &mass_grad_}) (*f)[id].setZero();
+    for (auto* f : {&mom_old_, &mom_new_, &force_}) (*f)[id].setZero();
   });
   for (auto id : impulse_nodes_) impulse_[id].setZero();
   impulse_nodes_.clear();
@@ -244,7 +264,8 @@ void MpmSolver::trial_step(double dt) {
     box_hi_[a] = bins_.hi()[a] + 1;
   }
 
-  // Step 2a (eqs. 60, 61, 51): coloured parallel scatter.
+  // Step 2a (eqs. 60, 61): coloured parallel scatter (eq. 51 only where contact asks for it:
+  // particle_trial_momenta).
   bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
     Stencil local;
     Stencil& st = stencils_.empty() ? local : stencils_[q];
@@ -255,7 +276,6 @@ void MpmSolver::trial_step(double dt) {
       const auto id = st.node[c];
       mass_[id] += m * st.N[c];
       mom_old_[id] += st.N[c] * mv;
-      mass_grad_[id] += m * st.dN[c];
     }
   });
   // Step 2b: essential conditions on p^{n-1/2}; grid velocities v_I = p_I / m_I (0 if empty).
@@ -265,13 +285,34 @@ void MpmSolver::trial_step(double dt) {
     vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
   });
   cell_gradients();
+  // Variable steps (section 3.2, Fig. 2): the velocities v^{n-1/2} act over the last step
+  // dt^{n-1/2}, and momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eqs. 16, 64).
+  // The strain increment of eq. (62) is printed with dt^n; it is taken over dt^{n-1/2}, the interval
+  // over which those velocities moved the particles, so that with a varying step an elastic body's
+  // stress keeps following its displacement (with dt^n it does not: a step pattern that lands on
+  // output times, 57 steps then two shorter ones, pumped energy into the sphere-on-membrane example
+  // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
+  const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
+  dt_n_ = 0.5 * (dt_strain + dt);
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17, 18): stress update, then the particle's nodal
   // forces, in the same coloured pass.
   const bool gravity = !options_.gravity.isZero(0.0);
   bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
-    Stencil local;
-    const Stencil& st = binned_stencil(q, local);
-    const double V = update_particle_stress(p, dt, st);
+    Stencil local, closed;
+    const Stencil* stp = &binned_stencil(q, local);
+    Mat3 L;  // velocity gradient L_ij = sum_I v_iI N_I,j (eqs. 62, 63)
+    const std::size_t cell = box_cell(*stp);
+    if (!cell_open_[cell]) {
+      L = velocity_gradient(*stp, cell);
+    } else {  // a particle on a cell face next to empty corners (rare): 8-node gather
+      closed = *stp;
+      close_stencil(closed);
+      stp = &closed;
+      L.setZero();
+      for (int c = 0; c < 8; ++c) L += vel_[closed.node[c]] * closed.dN[c].transpose();
+    }
+    const Stencil& st = *stp;
+    const double V = update_particle_stress(p, dt_strain, L);
     const Vec3 body = P.mass[p] * options_.gravity;
     if (gravity)
       nodal_forces<true>(st, -V, P.stress[p], body, force_);
@@ -282,14 +323,13 @@ void MpmSolver::trial_step(double dt) {
   for_each_box_node([&](std::int64_t id) {
     for (int a = 0; a < 3; ++a)
       if (mask_[id][a]) force_[id][a] = 0.0;
-    mom_new_[id] = mom_old_[id] + dt * force_[id];
+    mom_new_[id] = mom_old_[id] + dt_n_ * force_[id];
   });
 }
 
-double MpmSolver::update_particle_stress(std::size_t p, double dt, const Stencil& st) {
+double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L) {
   auto& P = particles_;
-  // Velocity gradient L_ij = sum_I v_iI N_I,j; D = sym L (eq. 23), W = skew L (eq. 24).
-  const Mat3 L = velocity_gradient(st);
+  // D = sym L (eq. 23), W = skew L (eq. 24).
   const Mat3 D = 0.5 * (L + L.transpose());
   const double trD = D.trace();
   const auto& mat = materials_[P.material[p]];
@@ -377,11 +417,13 @@ const std::vector<std::array<int, 3>>& MpmSolver::cells_around(const std::vector
   return around_;
 }
 
-void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out) {
+void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out,
+                                       std::vector<Vec3>* mass_gradient) {
   if (marked_.size() != mass_.size()) marked_.assign(mass_.size(), 0);
   for (auto node : nodes) {
     marked_[node] = 1;
     out[node].setZero();
+    if (mass_gradient) (*mass_gradient)[node].setZero();
   }
   // The particles of the cells around the nodes, cell by cell in ascending index.
   for (const auto& c : cells_around(nodes)) {
@@ -396,7 +438,10 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
         if (mass_[id] > mass_eps_) v += st.N[c] * (mom_new_[id] - mom_old_[id]) / mass_[id];
       }
       for (int c = 0; c < 8; ++c)
-        if (marked_[st.node[c]]) out[st.node[c]] += (particles_.mass[p] * st.N[c]) * v;
+        if (marked_[st.node[c]]) {
+          out[st.node[c]] += (particles_.mass[p] * st.N[c]) * v;
+          if (mass_gradient) (*mass_gradient)[st.node[c]] += particles_.mass[p] * st.dN[c];
+        }
     }
   }
   for (auto node : nodes) marked_[node] = 0;
@@ -473,6 +518,7 @@ void MpmSolver::finish_step(double dt) {
                                    [](double a, double b) { return a + b; });
   critical_dt_ = options_.cfl * std::min(sound_bound(acc.c_max, h), acc.dt);
   if (acc.bad < n) check_particles(dt);
+  dt_prev_ = dt;
   time_ += dt;
   ++steps_;
 }

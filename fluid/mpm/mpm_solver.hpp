@@ -9,11 +9,16 @@
 ///   (65) particle velocity v += dt sum_I (f_I + f^c_I) N_Ip / m_I, written as
 ///        sum_I N_Ip (p_I^{n+1/2} - p_I^{n-1/2}) / m_I so grid conditions and contact enter alike;
 ///   (19) particle position x += dt sum_I N_Ip p_I^{n+1/2} / m_I.
-/// Momentum is conserved to round-off except when a particle sits exactly on a node plane: a node of
-/// zero mass then receives a force (through N_I,j != 0 while N_I = 0) that no particle takes back.
-/// A single dt per step is used for Delta t^n and Delta t^{n+1/2}.
+/// Momentum is conserved to round-off, also when a particle sits exactly on a node plane: the
+/// corners beyond it then have N_I = 0 but N_I,j != 0, and if they have no mass the particle's
+/// stencil is closed (close_stencil: their gradients moved onto the corners with mass) so that no
+/// force goes to a node no particle takes it back from and an empty node's zero velocity is not
+/// read as strain.
+/// Variable steps as in section 3.2: dt^{n+1/2} is the step being taken (positions, eq. 19),
+/// momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eq. 64), and the strain increment of
+/// eq. (62) uses dt^{n-1/2} (see mpm_solver.cpp). The first step takes dt^{-1/2} = dt^{1/2}.
 ///
-/// Parallelism and determinism: the particle-to-grid scatters (eqs. 60, 61, 51 and 17, 18) run in
+/// Parallelism and determinism: the particle-to-grid scatters (eqs. 60, 61 and 17, 18) run in
 /// parallel over slabs of cells coloured so that no two concurrent tasks write the same node
 /// (CellBins); every node receives its contributions in a fixed order, so results are
 /// bit-identical whatever the number of threads. Node loops cover only the box of occupied cells.
@@ -58,8 +63,12 @@ class MpmSolver {
   /// end of each step, within the particle update).
   double critical_time_step() const { return critical_dt_; }
 
-  /// Steps (60)-(64): trial grid momentum. After this call node_momentum() holds p^{n+1/2}.
+  /// Steps (60)-(64) for the step dt = dt^{n+1/2}: trial grid momentum. After this call
+  /// node_momentum() holds p^{n+1/2}.
   void trial_step(double dt);
+  /// dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 of the current step (valid after trial_step): the factor
+  /// between a nodal force and its momentum change (eqs. 53, 64, 65).
+  double momentum_step() const { return dt_n_; }
   /// Adds a contact impulse dp [N s] to the trial momentum p^{n+1/2} of `node` (eq. 53); the
   /// components held by the grid conditions are dropped. Between trial_step and finish_step.
   void add_node_impulse(std::int64_t node, const Vec3& dp);
@@ -74,8 +83,6 @@ class MpmSolver {
   /// Trial momentum p^{n+1/2} of eq. (64), without the impulses.
   const std::vector<Vec3>& node_momentum() const { return mom_new_; }
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
-  /// n_I^s = sum_p N_Ip,i m_p (eq. 51): the (unnormalised) outward normal of the particle body.
-  const std::vector<Vec3>& node_mass_gradient() const { return mass_grad_; }
   /// Shape functions, at the start of the current step, of the particle at binned position q, i.e.
   /// of particle bins().order()[q] (valid after trial_step until finish_step). Small bodies keep
   /// them from the mass scatter (in binned order, the order of the particle passes); otherwise
@@ -93,8 +100,12 @@ class MpmSolver {
   /// from the grid trial momentum p_I^{n+1/2} by the consistent-versus-lumped mass difference of
   /// the FLIP update (65); an impulse computed from p~ changes the particles' kinetic energy by at
   /// most what it changes the grid's (see coupling/mpm/grid_contact.hpp). Visits only the
-  /// particles of the cells around the nodes.
-  void particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out);
+  /// particles of the cells around the nodes. If `mass_gradient` is given, it also receives
+  /// n_I^s = sum_p N_Ip,i m_p (eq. 51), the (unnormalised) outward normal of the particle body, at
+  /// the same nodes (computed here, where contact needs it, rather than scattered by every
+  /// particle in the mass pass).
+  void particle_trial_momenta(const std::vector<std::int64_t>& nodes, std::vector<Vec3>& out,
+                              std::vector<Vec3>* mass_gradient = nullptr);
   /// The occupied cells around `nodes` (each node lies in up to 8 cells) as (i, j, k), unique and in
   /// ascending global cell index (valid after trial_step, until the next call).
   const std::vector<std::array<int, 3>>& cells_around(const std::vector<std::int64_t>& nodes);
@@ -116,10 +127,22 @@ class MpmSolver {
   /// Per cell of the occupied box, the velocity gradient of the trilinear field as a bilinear
   /// function of the position in the cell (from vel_; see mpm_solver.cpp).
   void cell_gradients();
-  /// L_ij = sum_I v_iI N_I,j of a particle from its cell's coefficients.
-  Mat3 velocity_gradient(const Stencil& st) const;
-  /// Stress, density and energy update of particle p (eqs. 22-26); returns its new volume m / rho.
-  double update_particle_stress(std::size_t p, double dt, const Stencil& st);
+  /// L_ij = sum_I v_iI N_I,j of a particle from the coefficients of its cell (box index `cell`).
+  Mat3 velocity_gradient(const Stencil& st, std::size_t cell) const;
+  /// Index in the box of occupied cells of the stencil's cell (valid after trial_step's binning).
+  std::size_t box_cell(const Stencil& st) const {
+    const auto& lo = bins_.lo();
+    const auto& hi = bins_.hi();
+    const std::size_t ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1;
+    return std::size_t(st.cell[0] - lo[0]) + ex * ((st.cell[1] - lo[1]) + ey * (st.cell[2] - lo[2]));
+  }
+  /// Replaces the gradients of a stencil whose far corners have no mass (particle on a cell face)
+  /// by N_I,j + N_I sum_{J empty} N_J,j on the corners with mass and 0 on the empty ones (see
+  /// mpm_solver.cpp). Needs this step's node masses.
+  void close_stencil(Stencil& st) const;
+  /// Stress, density and energy update of particle p (eqs. 22-26) with its velocity gradient L;
+  /// returns its new volume m / rho.
+  double update_particle_stress(std::size_t p, double dt, const Mat3& L);
   /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
   template <class F>
   void for_each_box_node(F&& f) const;
@@ -135,11 +158,12 @@ class MpmSolver {
   CellBins bins_;
   std::array<int, 3> box_lo_{0, 0, 0}, box_hi_{-1, -1, -1};  // node box of the current step
   std::vector<double> mass_;
-  std::vector<Vec3> mom_old_, mom_new_, force_, mass_grad_, impulse_;
+  std::vector<Vec3> mom_old_, mom_new_, force_, impulse_;
   std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
   std::vector<Stencil> stencils_;            // per binned position, at the start of the current step
   std::vector<double> work_;                 // per particle: impulse work of the last finish_step
   std::vector<std::array<double, 36>> cell_grad_;  // per cell of the box: see cell_gradients()
+  std::vector<std::uint8_t> cell_open_;  // per cell of the box: some corner has no mass
   std::vector<std::int64_t> impulse_nodes_;
   std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around
   std::vector<std::array<int, 3>> around_;     // result of cells_around
@@ -147,6 +171,8 @@ class MpmSolver {
   double mass_eps_ = 0;
   double critical_dt_ = 0;
   double impulse_work_ = 0;
+  double dt_prev_ = 0;  // dt^{n-1/2}: the last step taken (0 before the first)
+  double dt_n_ = 0;     // dt^n of the current step
   double time_ = 0;
   long steps_ = 0;
 };

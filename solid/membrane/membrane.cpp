@@ -102,6 +102,11 @@ double Membrane::critical_time_step(double cfl) const {
 
 void Membrane::compute_forces(double dt) {
   const int n = num_nodes();
+  // Variable steps (section 3.2): v^{n-1/2} moved the nodes over the last step dt^{n-1/2}, so the
+  // strain and hourglass increments and the mid-step geometry use it; eq. (46) then advances the
+  // velocities by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2. Equal steps: all three are dt, bit for bit.
+  const double dt_last = dt_prev_ > 0 ? dt_prev_ : dt;
+  dt_n_ = 0.5 * (dt_last + dt);
   const double C11 = mat_.plate_modulus(), C12 = mat_.poisson * C11, C33 = 0.5 * (1 - mat_.poisson) * C11;
   // Per element, in parallel (each task writes only its elements' state and corner forces).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, quads_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -109,9 +114,9 @@ void Membrane::compute_forces(double dt) {
       const auto& ids = quads_[e];
       const QuadFrame fr = quad_frame(corners(x_, ids));
       // Eq. (41): local nodal velocities; eq. (40): centre strain rate. v^{n-1/2} is evaluated on
-      // the mid-step geometry x^{n-1/2} = x^n - dt/2 v^{n-1/2} (second-order consistent rate).
+      // the mid-step geometry x^{n-1/2} = x^n - dt^{n-1/2}/2 v^{n-1/2} (second-order consistent rate).
       std::array<Vec3, 4> xh;
-      for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * dt * v_[ids[k]];
+      for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * dt_last * v_[ids[k]];
       const QuadFrame frh = quad_frame(xh);
       std::array<Vec3, 4> vl;
       for (int k = 0; k < 4; ++k) vl[k] = frh.q.transpose() * v_[ids[k]];
@@ -125,15 +130,15 @@ void Membrane::compute_forces(double dt) {
       }
       // Plane-stress elastic law in the co-rotational frame (no objective rate needed there).
       auto& s = stress_[e];
-      s[0] += dt * (C11 * dxx + C12 * dyy);
-      s[1] += dt * (C12 * dxx + C11 * dyy);
-      s[2] += dt * (C33 * gxy);
+      s[0] += dt_last * (C11 * dxx + C12 * dyy);
+      s[1] += dt_last * (C12 * dxx + C11 * dyy);
+      s[2] += dt_last * (C33 * gxy);
       // Flanagan-Belytschko stiffness hourglass forces, accumulated in the element frame.
       const double k = mat_.hourglass * hg_k_[e], kn = mat_.hourglass_normal * hg_k_[e];
       Vec3& Q = hg_force_[e];
-      Q[0] += dt * k * qdot[0];
-      Q[1] += dt * k * qdot[1];
-      Q[2] += dt * kn * qdot[2];
+      Q[0] += dt_last * k * qdot[0];
+      Q[1] += dt_last * k * qdot[1];
+      Q[2] += dt_last * kn * qdot[2];
       // Eqs. (42)-(45): f_int = -q f_hat with f_hat = V (B sigma), plus hourglass -Q gamma_K.
       const double V = fr.area * mat_.thickness;
       for (int kk = 0; kk < 4; ++kk) {
@@ -163,7 +168,8 @@ void Membrane::compute_forces(double dt) {
   });
 }
 
-void Membrane::trial_velocities(double dt) {
+void Membrane::trial_velocities(double /*dt*/) {
+  const double dt = dt_n_;  // dt^n of eq. (46), set by compute_forces
   for (int i = 0; i < num_nodes(); ++i) {
     const Vec3 v_old = v_[i];
     v_[i] += dt * f_[i] / mass_[i];  // eq. (46)
@@ -186,6 +192,7 @@ void Membrane::update_positions(double dt) {
       throw std::runtime_error(msg.str());
     }
   }
+  dt_prev_ = dt;
 }
 
 void Membrane::step(double dt) {

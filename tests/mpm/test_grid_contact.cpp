@@ -322,3 +322,29 @@ TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(differ_2_2, 0);
   EXPECT_EQ(differ_2_1, 0);
 }
+
+TEST(GasExpansion, StepAboveTheCriticalStepIsCaughtByTheEnergyBalance) {
+  // Four times the critical step: the explicit scheme grows exponentially. The energy-growth check
+  // that the runner makes after every row (ExampleModel::check_energy_growth) must stop the run
+  // while every value is still finite, before a non-finite state would.
+  mpm_contact::GasExpansionParams prm;
+  prm.particle_spacing = 0.05;
+  auto model = mpm_contact::make_gas_expansion(prm);
+  EXPECT_NO_THROW(model->check_energy_growth());
+  const double dt = 4 * model->max_dt();
+  std::string caught;
+  int steps = 0;
+  try {
+    for (; steps < 2000; ++steps) {
+      model->step(dt);
+      model->check_energy_growth();
+    }
+  } catch (const std::runtime_error& e) {
+    caught = e.what();
+  }
+  std::printf("[gas, 4 x critical step] stopped after %d steps: %s\n", steps, caught.c_str());
+  EXPECT_NE(caught.find("energy balance grew"), std::string::npos) << caught;
+  double vmax = 0;
+  for (const auto& v : model->mpm().particles().v) vmax = std::max(vmax, v.norm());
+  EXPECT_TRUE(std::isfinite(vmax));
+}

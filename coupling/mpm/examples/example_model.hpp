@@ -26,7 +26,7 @@ class ExampleModel {
   /// @param dt_factor the step is dt_factor x the coupled critical step (section 4.4)
   ExampleModel(mpm::MpmSolver mpm, membrane::Membrane membrane, ContactOptions contact, double dt_factor)
       : mpm_(std::move(mpm)), membrane_(std::move(membrane)), coupling_(mpm_, membrane_, contact),
-        dt_factor_(dt_factor) {}
+        dt_factor_(dt_factor), stored0_(stored_energy()), balance0_(coupling_.energies().balance()) {}
   ExampleModel(const ExampleModel&) = delete;
   ExampleModel& operator=(const ExampleModel&) = delete;
 
@@ -45,6 +45,12 @@ class ExampleModel {
     const auto e = coupling_.energies();
     return e.mpm.total() + e.membrane.kinetic + e.membrane.strain + e.membrane.hourglass;
   }
+  /// Divergence check for a state that is still finite: an explicit step past its stable limit
+  /// grows exponentially, so the energy balance (CoupledEnergies::balance, constant for an exact
+  /// scheme; the contact only removes energy) soon exceeds all the energy ever put in.
+  /// @throws std::runtime_error if balance - balance(t = 0) > |stored energy at t = 0| + |work of
+  ///         the membrane's external loads|, naming the time and both figures
+  void check_energy_growth() const;
   /// A StepRecord of the current state (bodies valid while this model lives).
   StepRecord record(long step, double time, double dt, int contact_nodes) const;
 
@@ -55,6 +61,7 @@ class ExampleModel {
   membrane::Membrane membrane_;
   MpmMembraneCoupling coupling_;
   double dt_factor_;
+  double stored0_, balance0_;  // at construction (t = 0)
   std::function<Probes()> probes_;
 };
 

@@ -30,15 +30,28 @@ std::unique_ptr<ExampleModel> make_sphere_membrane(const SphereMembraneParams& p
 
   // Grid: the membrane square plus a margin; z range around the action.
   const double margin = 2 * prm.cell;
-  const Vec3 lo(-half - margin, -half - margin, drop_membrane ? 0.0 : -25 * mm);
+  Vec3 lo(-half - margin, -half - margin, drop_membrane ? 0.0 : -25 * mm);
   const Vec3 hi(half + margin, half + margin, drop_membrane ? 40 * mm : centre[2] + R + 4 * prm.cell);
-  // Offset the grid by a fraction of a cell so membrane nodes do not sit on grid planes.
+  // The particle lattice (points centre - R + spacing (k + 1/2)) must lie at in-cell positions,
+  // never on a node plane: there a particle's far corners get no mass, and a lattice on the
+  // planes (cell 2 mm, spacing 1 mm: every other layer) blew up in contact, the particles on the
+  // planes jittering across them from step to step (cell-crossing noise). So the grid is moved
+  // down by the part of a spacing that puts the lattice origin on a multiple of the spacing from
+  // the grid origin: with a whole number of particles per cell they then sit at the usual
+  // positions (i + 1/2) / n of their cells. At the paper's sizes the grid does not move, and the
+  // lattice stays centred on the sphere in every case.
+  const double dx = prm.particle_spacing;
+  const Vec3 box_lo = centre - Vec3(R, R, R);
+  for (int a = 0; a < 3; ++a) {
+    if (drop_membrane && a == 2) continue;  // the grid floor is the sphere's fixed bottom
+    const double s = (box_lo[a] - lo[a]) / dx, r = s - std::floor(s);
+    if (r > 1e-9 && r < 1 - 1e-9) lo[a] -= (1 - r) * dx;
+  }
   mpm::Grid grid = mpm::Grid::covering(lo, hi, prm.cell);
   if (drop_membrane) grid.faces[4] = mpm::FaceBc::Fixed;  // sphere bottom fixed
   mpm::Particles P;
   const Vec3 v0 = drop_membrane ? Vec3::Zero() : Vec3(0, 0, -10.0);
-  const Vec3 box_lo = centre - Vec3(R, R, R);
-  mpm::sample_lattice(P, box_lo, centre + Vec3(R, R, R), prm.particle_spacing, sphere_mat.rho0, 0.0, v0, 0,
+  mpm::sample_lattice(P, box_lo, centre + Vec3(R, R, R), dx, sphere_mat.rho0, 0.0, v0, 0,
                       [&](const Vec3& x) { return (x - centre).norm() < R; });
   mpm::MpmOptions mopt;
   mopt.cfl = prm.mpm_cfl;
