@@ -1,6 +1,7 @@
 #include "coupling/mpm/grid_contact.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -29,10 +30,15 @@ double MpmMembraneCoupling::critical_time_step() const {
 ContactReport MpmMembraneCoupling::step(double dt) {
   ContactReport rep;
   const auto& grid = mpm_.grid();
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  const auto t0 = Clock::now();
   // Steps 2 and 3: trial solutions.
   mpm_.trial_step(dt);
+  const auto t1 = Clock::now();
   mem_.compute_forces(dt);
   mem_.trial_velocities(dt);
+  const auto t2 = Clock::now();
 
   // Step 4a: membrane mass, momentum, normals and mass-weighted positions on the grid.
   for (auto id : touched_) {
@@ -138,8 +144,15 @@ ContactReport MpmMembraneCoupling::step(double dt) {
       work_membrane += M[k] * (Vm[k] - v_trial).dot(0.5 * (v_old + Vm[k]));
     }
   }
+  const auto t3 = Clock::now();
   mem_.update_positions(dt);
+  const auto t4 = Clock::now();
   mpm_.finish_step(dt);
+  const auto t5 = Clock::now();
+  rep.seconds_particle_trial = seconds(t0, t1);
+  rep.seconds_membrane = seconds(t1, t2) + seconds(t3, t4);
+  rep.seconds_contact = seconds(t2, t3);
+  rep.seconds_particle_update = seconds(t4, t5);
   // Work of the contact forces on both bodies, each measured where its kinetic energy lives
   // (FE nodes, particles); the loss is minus their sum.
   if (rep.contact_nodes > 0) {

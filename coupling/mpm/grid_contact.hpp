@@ -66,6 +66,10 @@ struct ContactReport {
   double dissipated = 0;
   double work_on_membrane = 0;  ///< work of the contact forces on the FE nodes (eq. 59) [J]
   double work_on_mpm = 0;       ///< work of the contact impulses on the particles [J]
+  // Wall time of the step's parts [s]: the particles' trial step (section 6 step 2: scatter,
+  // stress, nodal forces), the membrane (step 3 and eq. 47), the contact (step 4), the particles'
+  // update (step 5: grid to particles, eqs. 65, 19).
+  double seconds_particle_trial = 0, seconds_membrane = 0, seconds_contact = 0, seconds_particle_update = 0;
 };
 
 /// Energies of the coupled system [J].
