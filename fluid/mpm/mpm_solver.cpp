@@ -241,6 +241,8 @@ void MpmSolver::for_each_box_node(F&& f) const {
 void MpmSolver::trial_step(double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("MpmSolver: time step must be positive");
   auto& P = particles_;
+  dt_step_ = dt;
+  dt_n_ = 0.5 * ((dt_prev_ > 0 ? dt_prev_ : dt) + dt);  // dt^n (see below)
   // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step): the
   // accumulated fields, and p^{n+1/2} (zero outside the box for callers). The per-phase velocities
   // vel_, dvel_, dvel_imp_ are overwritten on the whole new box before they are read; impulses are
@@ -293,7 +295,6 @@ void MpmSolver::trial_step(double dt) {
   // output times, 57 steps then two shorter ones, pumped energy into the sphere-on-membrane example
   // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
   const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
-  dt_n_ = 0.5 * (dt_strain + dt);
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17, 18): stress update, then the particle's nodal
   // forces, in the same coloured pass.
   const bool gravity = !options_.gravity.isZero(0.0);
@@ -448,6 +449,7 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
 }
 
 void MpmSolver::finish_step(double dt) {
+  if (dt != dt_step_) throw std::invalid_argument("MpmSolver: finish_step got another step than trial_step");
   auto& P = particles_;
   const std::size_t n = P.size();
   const bool impulses = !impulse_nodes_.empty();

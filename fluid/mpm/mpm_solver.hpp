@@ -73,7 +73,8 @@ class MpmSolver {
   /// components held by the grid conditions are dropped. Between trial_step and finish_step.
   void add_node_impulse(std::int64_t node, const Vec3& dp);
   /// Steps (65) and (19) with the grid momentum p^{n+1/2} plus the impulses.
-  /// @throws std::runtime_error if a particle state becomes non-finite or leaves the grid
+  /// @throws std::runtime_error if a particle state becomes non-finite or leaves the grid,
+  ///         std::invalid_argument if dt is not the step passed to trial_step
   void finish_step(double dt);
   /// trial_step + finish_step.
   void step(double dt);
@@ -173,6 +174,7 @@ class MpmSolver {
   double impulse_work_ = 0;
   double dt_prev_ = 0;  // dt^{n-1/2}: the last step taken (0 before the first)
   double dt_n_ = 0;     // dt^n of the current step
+  double dt_step_ = 0;  // dt^{n+1/2} passed to trial_step
   double time_ = 0;
   long steps_ = 0;
 };

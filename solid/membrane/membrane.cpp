@@ -107,6 +107,7 @@ void Membrane::compute_forces(double dt) {
   // velocities by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2. Equal steps: all three are dt, bit for bit.
   const double dt_last = dt_prev_ > 0 ? dt_prev_ : dt;
   dt_n_ = 0.5 * (dt_last + dt);
+  dt_step_ = dt;
   const double C11 = mat_.plate_modulus(), C12 = mat_.poisson * C11, C33 = 0.5 * (1 - mat_.poisson) * C11;
   // Per element, in parallel (each task writes only its elements' state and corner forces).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, quads_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -168,7 +169,8 @@ void Membrane::compute_forces(double dt) {
   });
 }
 
-void Membrane::trial_velocities(double /*dt*/) {
+void Membrane::trial_velocities(double dt_step) {
+  if (dt_step != dt_step_) throw std::invalid_argument("membrane: trial_velocities got another step than compute_forces");
   const double dt = dt_n_;  // dt^n of eq. (46), set by compute_forces
   for (int i = 0; i < num_nodes(); ++i) {
     const Vec3 v_old = v_[i];
@@ -184,6 +186,7 @@ void Membrane::trial_velocities(double /*dt*/) {
 }
 
 void Membrane::update_positions(double dt) {
+  if (dt != dt_step_) throw std::invalid_argument("membrane: update_positions got another step than compute_forces");
   for (int i = 0; i < num_nodes(); ++i) {
     x_[i] += dt * v_[i];  // eq. (47)
     if (!x_[i].allFinite() || !v_[i].allFinite()) {

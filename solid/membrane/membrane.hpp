@@ -100,6 +100,8 @@ class Membrane {
   /// The same into `out` (resized; no allocation once it has the size).
   void node_normals(std::vector<Vec3>& out) const;
   MembraneEnergies energies() const;
+  /// Work of the external loads (pressure, gravity) so far [J] (MembraneEnergies::external_work).
+  double external_work() const { return ext_work_; }
   Vec3 total_momentum() const;
 
  private:
@@ -116,6 +118,7 @@ class Membrane {
   double ext_work_ = 0, damp_loss_ = 0;
   double dt_prev_ = 0;  // dt^{n-1/2}: the last step taken (0 before the first)
   double dt_n_ = 0;     // dt^n of the current step
+  double dt_step_ = 0;  // dt^{n+1/2} passed to compute_forces
   std::vector<Vec3> f_ext_;  // external + damping part of f^n, for the work bookkeeping
   // Element corner forces of compute_forces and the node -> corner map that gathers them.
   std::vector<Vec3> corner_force_, pressure_force_;

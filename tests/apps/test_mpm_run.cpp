@@ -223,7 +223,9 @@ TEST(MpmRun, CoarseSphereOnMembraneBouncesWithoutGainingEnergy) {
   // the lattice at in-cell positions), and at 0.3 ms in contact, because the runner landed each
   // row with two shorter steps and the membrane took dt^{n+1/2} for dt^n (eq. 46). Now the sphere
   // presses the membrane down and rebounds, the contact only removes energy, and the energy
-  // balance (stored + contact losses) stays at its start value.
+  // balance (stored + contact losses) stays at its start value. (The runner now takes equal steps
+  // within a row, so this run no longer exercises varying steps: the membrane and MPM unit tests
+  // with step patterns do. It fails without close_stencil: drift 7.6e-3 E0.)
   TempDir dir("mpm_coarse_sphere");
   const fs::path scene = dir.path() / "sphere.json", out = dir.path() / "out";
   std::ofstream(scene) << R"({"simulation": {"end_time": 4e-4, "frame_rate": 2e5},
@@ -248,7 +250,7 @@ TEST(MpmRun, CoarseSphereOnMembraneBouncesWithoutGainingEnergy) {
               "top from %.3f to %.3f to %.3f mm\n",
               worst_balance / e0, most_stored / e0, lowest_centre * 1e3, stats.at(0, "sphere_top_z") * 1e3, lowest_top * 1e3,
               stats.at(n, "sphere_top_z") * 1e3);
-  // Energy: the balance within 0.2% of E0 (measured 6e-4); the stored energy never above its start.
+  // Energy: the balance within 0.2% of E0 (measured 8.8e-4); the stored energy never above its start.
   EXPECT_LT(worst_balance, 2e-3 * e0);
   EXPECT_LE(most_stored, e0 * (1 + 1e-6));
   // Contact happened (the membrane is pushed down by about a millimetre) and the sphere rebounds.

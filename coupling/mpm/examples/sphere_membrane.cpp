@@ -40,9 +40,11 @@ std::unique_ptr<ExampleModel> make_sphere_membrane(const SphereMembraneParams& p
   // the grid origin: with a whole number of particles per cell they then sit at the usual
   // positions (i + 1/2) / n of their cells. At the paper's sizes the grid does not move, and the
   // lattice stays centred on the sphere in every case.
-  const double dx = prm.particle_spacing;
+  // This holds at t = 0; layers that reach a plane later are handled by MpmSolver (close_stencil).
+  const double dx = prm.particle_spacing, per_cell = prm.cell / dx;
   const Vec3 box_lo = centre - Vec3(R, R, R);
-  for (int a = 0; a < 3; ++a) {
+  const bool whole = std::abs(per_cell - std::round(per_cell)) < 1e-9 * per_cell;  // else no shift helps
+  for (int a = 0; a < 3 && whole; ++a) {
     if (drop_membrane && a == 2) continue;  // the grid floor is the sphere's fixed bottom
     const double s = (box_lo[a] - lo[a]) / dx, r = s - std::floor(s);
     if (r > 1e-9 && r < 1 - 1e-9) lo[a] -= (1 - r) * dx;
