@@ -29,12 +29,32 @@ using CellAcc = std::array<double, 36>;
 
 /// Corners c = dx + 2 dy + 4 dz of a cell, as in Stencil. The layouts below keep the values that
 /// one particle scales by the same factor contiguous, so that the sums vectorise.
+/// N_c = w_dx(fx) w_dy(fy) w_dz(fz) of the 8 corners (the values of Grid::fill_stencil).
+inline void corner_weights(const double f[3], double N[8]) {
+  const double wx[2] = {1.0 - f[0], f[0]}, wy[2] = {1.0 - f[1], f[1]}, wz[2] = {1.0 - f[2], f[2]};
+  for (int c = 0; c < 8; ++c) N[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+}
+
+/// grad N_c of corner c (the value of Grid::fill_stencil), inv_h = 1 / h.
+inline Vec3 corner_gradient(const double f[3], int c, double inv_h) {
+  const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+  const double w[3] = {dx ? f[0] : 1.0 - f[0], dy ? f[1] : 1.0 - f[1], dz ? f[2] : 1.0 - f[2]};
+  const double g[3] = {dx ? inv_h : -inv_h, dy ? inv_h : -inv_h, dz ? inv_h : -inv_h};
+  return Vec3(g[0] * w[1] * w[2], w[0] * g[1] * w[2], w[0] * w[1] * g[2]);
+}
+
+/// The 8 node ids of cell (i, j, k), corner order c = dx + 2 dy + 4 dz.
+inline void corner_nodes(const Grid& grid, const std::array<int, 3>& cell, std::int64_t id[8]) {
+  const std::int64_t sx = grid.cells[0] + 1, sxy = sx * (grid.cells[1] + 1);
+  const std::int64_t n0 = grid.node_index(cell[0], cell[1], cell[2]);
+  for (int c = 0; c < 8; ++c) id[c] = n0 + (c & 1) + ((c >> 1) & 1) * sx + (c >> 2) * sxy;
+}
+
 /// Adds m N_c and m v N_c of one particle (in-cell position f) to a cell's mass moments:
 /// acc[c] = m_c, acc[8 (1 + r) + c] = P_c,r.
 inline void add_mass_moments(const double f[3], double m, const Vec3& v, CellAcc& acc) {
-  const double wx[2] = {1.0 - f[0], f[0]}, wy[2] = {1.0 - f[1], f[1]}, wz[2] = {1.0 - f[2], f[2]};
   double N[8];
-  for (int c = 0; c < 8; ++c) N[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+  corner_weights(f, N);
   const double mv[4] = {m, m * v[0], m * v[1], m * v[2]};
   for (int k = 0; k < 4; ++k)
     for (int c = 0; c < 8; ++c) acc[8 * k + c] += mv[k] * N[c];

@@ -282,8 +282,8 @@ void MpmSolver::trial_step(double dt) {
   dt_n_ = 0.5 * (dt_strain + dt);
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17): stress update, then the particle's stress moments
   // (cell_moments.hpp), in the same pass over the cells. A cell with a corner without mass holds
-  // only particles on its faces (rare): their stencils are closed (close_stencil) and their
-  // velocity gradients and corner forces taken from the full 8-node stencils.
+  // in practice only particles on its faces (rare): their stencils are closed (close_stencil) and
+  // their velocity gradients and corner forces taken from the full 8-node stencils.
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     const std::size_t cell = box_cell(c);
     CellAcc acc{};  // local: no aliasing with the particle arrays
@@ -434,22 +434,28 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
     out[node].setZero();
     if (mass_gradient) (*mass_gradient)[node].setZero();
   }
-  // The particles of the cells around the nodes, cell by cell in ascending index.
+  // The particles of the cells around the nodes, cell by cell in ascending index; per cell the
+  // corner velocity changes (p^{n+1/2} - p^{n-1/2}) / m (0 at empty corners) are formed once.
+  const double inv_h = 1.0 / grid_.h;
   for (const auto& c : cells_around(nodes)) {
     const auto [b, e] = bins_.cell(c[0], c[1], c[2]);
+    if (b == e) continue;
+    std::int64_t id[8];
+    corner_nodes(grid_, c, id);
+    Vec3 dvc[8];
+    for (int q = 0; q < 8; ++q)
+      dvc[q] = mass_[id[q]] > mass_eps_ ? Vec3((mom_new_[id[q]] - mom_old_[id[q]]) / mass_[id[q]]) : Vec3::Zero();
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
-      Stencil local;
-      const Stencil& st = binned_stencil(bins_.position(it), local);
+      double f[3], N[8];
+      grid_.fractions(particles_.x[p], c, f);
+      corner_weights(f, N);
       Vec3 v = particles_.v[p];
-      for (int c = 0; c < 8; ++c) {
-        const auto id = st.node[c];
-        if (mass_[id] > mass_eps_) v += st.N[c] * (mom_new_[id] - mom_old_[id]) / mass_[id];
-      }
-      for (int c = 0; c < 8; ++c)
-        if (marked_[st.node[c]]) {
-          out[st.node[c]] += (particles_.mass[p] * st.N[c]) * v;
-          if (mass_gradient) (*mass_gradient)[st.node[c]] += particles_.mass[p] * st.dN[c];
+      for (int q = 0; q < 8; ++q) v += N[q] * dvc[q];
+      for (int q = 0; q < 8; ++q)
+        if (marked_[id[q]]) {
+          out[id[q]] += (particles_.mass[p] * N[q]) * v;
+          if (mass_gradient) (*mass_gradient)[id[q]] += particles_.mass[p] * corner_gradient(f, q, inv_h);
         }
     }
   }
@@ -476,29 +482,26 @@ void MpmSolver::finish_step(double dt) {
   const double h = grid_.h;
   bool viscous = false;
   for (const auto& m : materials_) viscous = viscous || viscous_bound(m, 1.0, h) < std::numeric_limits<double>::infinity();
-  const std::int64_t sx = grid_.cells[0] + 1, sxy = sx * (grid_.cells[1] + 1);
   cell_bounds_.resize(cell_acc_.size());
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     StepBounds a;
     if (b != e) {
-      const std::int64_t n0 = grid_.node_index(c[0], c[1], c[2]);
+      std::int64_t id[8];
+      corner_nodes(grid_, c, id);
       // Corner values in rows (dv_I, v_I) and dv^imp_I (packed: the sums below vectorise).
       double dvv[8][6], dvi_c[8][3];
-      for (int q = 0; q < 8; ++q) {
-        const std::int64_t id = n0 + (q & 1) + ((q >> 1) & 1) * sx + (q >> 2) * sxy;
+      for (int q = 0; q < 8; ++q)
         for (int r = 0; r < 3; ++r) {
-          dvv[q][r] = dvel_[id][r];
-          dvv[q][3 + r] = vel_[id][r];
-          dvi_c[q][r] = dvel_imp_[id][r];
+          dvv[q][r] = dvel_[id[q]][r];
+          dvv[q][3 + r] = vel_[id[q]][r];
+          dvi_c[q][r] = dvel_imp_[id[q]][r];
         }
-      }
       for (auto it = b; it != e; ++it) {
         const std::size_t p = *it;
         double f[3];
         grid_.fractions(P.x[p], c, f);
-        const double wx[2] = {1.0 - f[0], f[0]}, wy[2] = {1.0 - f[1], f[1]}, wz[2] = {1.0 - f[2], f[2]};
         double N[8];
-        for (int q = 0; q < 8; ++q) N[q] = wx[q & 1] * wy[(q >> 1) & 1] * wz[q >> 2];
+        corner_weights(f, N);
         double s6[6] = {0, 0, 0, 0, 0, 0};  // sum_I N_Ip dv_I, sum_I N_Ip v_I
         for (int q = 0; q < 8; ++q)
           for (int r = 0; r < 6; ++r) s6[r] += N[q] * dvv[q][r];

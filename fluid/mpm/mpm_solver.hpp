@@ -21,9 +21,9 @@
 /// Parallelism and determinism: the particle-to-grid sums (eqs. 60, 61 and 17) are taken per cell
 /// (cell_moments.hpp), cells in parallel, each cell's particles in bin order; each node then sums
 /// its cells' corner values in a fixed order, so results are bit-identical whatever the number of
-/// threads. Node loops cover only the box of occupied cells.
-/// The grid-to-particle update and the reductions (critical step, contact work, energies) use
-/// tbb::parallel_deterministic_reduce with a fixed grain.
+/// threads. The grid-to-particle update (eqs. 65, 19) also runs cell by cell (its reductions are
+/// exact max / min). Node loops cover only the box of occupied cells. The other reductions (contact
+/// work, energies) use tbb::parallel_deterministic_reduce with a fixed grain.
 #include <limits>
 #include <vector>
 
@@ -85,13 +85,6 @@ class MpmSolver {
   /// Trial momentum p^{n+1/2} of eq. (64), without the impulses.
   const std::vector<Vec3>& node_momentum() const { return mom_new_; }
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
-  /// Shape functions, at the start of the current step, of the particle at binned position q, i.e.
-  /// of particle bins().order()[q] (valid after trial_step until finish_step), computed into
-  /// `local` (the solver's own passes need no stencils; see cell_moments.hpp). Returns `local`.
-  const Stencil& binned_stencil(std::size_t q, Stencil& local) const {
-    grid_.fill_stencil(particles_.x[bins_.order()[q]], local);
-    return local;
-  }
   /// The particles binned by cell at the start of the current step (valid until finish_step).
   const CellBins& bins() const { return bins_; }
   /// Momentum the particles would carry to each of `nodes` after the trial update without
