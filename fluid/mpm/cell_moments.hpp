@@ -93,7 +93,8 @@ inline void add_corner_forces(const Stencil& st, const double A[3][3], CellAcc& 
     for (int r = 0; r < 3; ++r) acc[3 * c + r] += (A[r][0] * st.dN[c][0] + A[r][1] * st.dN[c][1]) + A[r][2] * st.dN[c][2];
 }
 
-/// Force on corner c = dx + 2 dy + 4 dz from a cell's stress moments, without the factor 1 / h.
+/// Force on corner c = dx + 2 dy + 4 dz from a cell's stress moments (the solver has multiplied
+/// them by 1 / h once per cell).
 inline Vec3 corner_force_moment(const CellAcc& acc, int c) {
   const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
   const double* sx = acc.data() + dy + 2 * dz;

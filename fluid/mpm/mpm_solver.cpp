@@ -9,7 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
-#include <type_traits>
 #include <stdexcept>
 
 namespace tetfsi::mpm {
@@ -181,38 +180,45 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
 }
 
 template <class F>
-void MpmSolver::for_each_box_node(F&& f) const {
-  const int nx = box_hi_[0] - box_lo_[0] + 1, ny = box_hi_[1] - box_lo_[1] + 1, nz = box_hi_[2] - box_lo_[2] + 1;
-  if (nx <= 0 || ny <= 0 || nz <= 0) return;
+void MpmSolver::for_each_box_row(F&& f) const {
+  const int ny = box_hi_[1] - box_lo_[1] + 1, nz = box_hi_[2] - box_lo_[2] + 1;
+  if (box_hi_[0] < box_lo_[0] || ny <= 0 || nz <= 0) return;
   auto rows = [&](int first_row, int last_row) {
     for (int row = first_row; row < last_row; ++row) {
       const int j = box_lo_[1] + row % ny, k = box_lo_[2] + row / ny;
-      const std::int64_t first = grid_.node_index(box_lo_[0], j, k);
-      for (int i = 0; i < nx; ++i) {
-        if constexpr (std::is_invocable_v<F&, std::int64_t, int, int, int>)
-          f(first + i, box_lo_[0] + i, j, k);
-        else
-          f(first + i);
-      }
+      f(grid_.node_index(box_lo_[0], j, k), j, k);
     }
   };
+  const int nx = box_hi_[0] - box_lo_[0] + 1;
   if (std::int64_t(nx) * ny * nz < 8192) return rows(0, ny * nz);  // small box: task overhead dominates
   tbb::parallel_for(tbb::blocked_range<int>(0, ny * nz, 16),
                     [&](const tbb::blocked_range<int>& r) { rows(r.begin(), r.end()); });
 }
 
-template <class T, class F>
-void MpmSolver::sum_cell_corners(int i, int j, int k, T& sum, F&& f) const {
-  // Node (i, j, k) is corner d = (dx, dy, dz) of cell (i - dx, j - dy, k - dz).
+template <class F>
+void MpmSolver::for_each_box_node(F&& f) const {
+  const int nx = box_hi_[0] - box_lo_[0] + 1;
+  for_each_box_row([&](std::int64_t first, int, int) {
+    for (std::int64_t id = first; id < first + nx; ++id) f(id);
+  });
+}
+
+template <class F>
+void MpmSolver::add_cell_corners(int j, int k, std::int64_t first, F&& f) const {
+  // Node (i, j, k) is corner d = (dx, dy, dz) of cell (i - dx, j - dy, k - dz). Per node the cells
+  // come in the order (dz, dy, dx) = (1, 1, 1), (1, 1, 0), (1, 0, 1), ..., (0, 0, 0).
   const auto& lo = bins_.lo();
   const auto& hi = bins_.hi();
+  const int ex = hi[0] - lo[0] + 1;
   for (int dz = 1; dz >= 0; --dz) {
     if (k - dz < lo[2] || k - dz > hi[2]) continue;
     for (int dy = 1; dy >= 0; --dy) {
       if (j - dy < lo[1] || j - dy > hi[1]) continue;
-      for (int dx = 1; dx >= 0; --dx) {
-        if (i - dx < lo[0] || i - dx > hi[0]) continue;
-        f(sum, box_cell({i - dx, j - dy, k - dz}), dx + 2 * dy + 4 * dz);
+      const std::size_t c0 = box_cell({lo[0], j - dy, k - dz});
+      const int corner = 2 * dy + 4 * dz;
+      for (int ci = 0; ci < ex; ++ci) {
+        f(first + ci + 1, c0 + ci, corner + 1);  // the cell's corner dx = 1
+        f(first + ci, c0 + ci, corner);          // dx = 0
       }
     }
   }
@@ -258,17 +264,22 @@ void MpmSolver::trial_step(double dt) {
     cell_acc_[box_cell(c)] = acc;
   });
   // Step 2b: essential conditions on p^{n-1/2}; grid velocities v_I = p_I / m_I (0 if empty).
-  for_each_box_node([&](std::int64_t id, int i, int j, int k) {
-    double mp[4] = {0, 0, 0, 0};  // m_I, p_I
-    sum_cell_corners(i, j, k, mp, [&](double* m, std::size_t cell, int corner) {
+  const int nx = box_hi_[0] - box_lo_[0] + 1;
+  for_each_box_row([&](std::int64_t first, int j, int k) {
+    for (std::int64_t id = first; id < first + nx; ++id) {
+      mass_[id] = 0;
+      mom_old_[id].setZero();
+    }
+    add_cell_corners(j, k, first, [&](std::int64_t id, std::size_t cell, int corner) {
       const CellAcc& acc = cell_acc_[cell];
-      for (int k = 0; k < 4; ++k) m[k] += acc[8 * k + corner];
+      mass_[id] += acc[corner];
+      for (int r = 0; r < 3; ++r) mom_old_[id][r] += acc[8 * (1 + r) + corner];
     });
-    mass_[id] = mp[0];
-    mom_old_[id] = Vec3(mp[1], mp[2], mp[3]);
-    for (int a = 0; a < 3; ++a)
-      if (mask_[id][a]) mom_old_[id][a] = 0.0;
-    vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
+    for (std::int64_t id = first; id < first + nx; ++id) {
+      for (int a = 0; a < 3; ++a)
+        if (mask_[id][a]) mom_old_[id][a] = 0.0;
+      vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
+    }
   });
   cell_gradients();
   // Variable steps (section 3.2, Fig. 2): the velocities v^{n-1/2} act over the last step
@@ -280,6 +291,7 @@ void MpmSolver::trial_step(double dt) {
   // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
   const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
   dt_n_ = 0.5 * (dt_strain + dt);
+  const double inv_h = 1.0 / grid_.h;
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17): stress update, then the particle's stress moments
   // (cell_moments.hpp), in the same pass over the cells. A cell with a corner without mass holds
   // in practice only particles on its faces (rare): their stencils are closed (close_stencil) and
@@ -314,25 +326,28 @@ void MpmSolver::trial_step(double dt) {
         add_corner_forces(st, A, acc);
       }
     }
+    if (!open)
+      for (auto& a : acc) a *= inv_h;  // the 1 / h of dN/dx (cell_moments.hpp)
     cell_acc_[cell] = acc;
   });
   // Step 2e: nodal forces (eq. 17 from the cells, eq. 18 as m_I g), grid conditions on f, trial
   // momentum p^{n+1/2} (eq. 64).
-  const double inv_h = 1.0 / grid_.h;
   const Vec3 g = options_.gravity;
-  for_each_box_node([&](std::int64_t id, int i, int j, int k) {
-    Vec3 fs[2] = {Vec3::Zero(), Vec3::Zero()};  // from stress moments (times h), from open cells
-    sum_cell_corners(i, j, k, fs, [&](Vec3* f, std::size_t cell, int corner) {
+  for_each_box_row([&](std::int64_t first, int j, int k) {
+    for (std::int64_t id = first; id < first + nx; ++id) force_[id].setZero();
+    add_cell_corners(j, k, first, [&](std::int64_t id, std::size_t cell, int corner) {
       const CellAcc& acc = cell_acc_[cell];
       if (cell_open_[cell])
-        f[1] += Vec3(acc[3 * corner], acc[3 * corner + 1], acc[3 * corner + 2]);
+        force_[id] += Vec3(acc[3 * corner], acc[3 * corner + 1], acc[3 * corner + 2]);
       else
-        f[0] += corner_force_moment(acc, corner);
+        force_[id] += corner_force_moment(acc, corner);
     });
-    force_[id] = (inv_h * fs[0] + fs[1]) + mass_[id] * g;
-    for (int a = 0; a < 3; ++a)
-      if (mask_[id][a]) force_[id][a] = 0.0;
-    mom_new_[id] = mom_old_[id] + dt_n_ * force_[id];
+    for (std::int64_t id = first; id < first + nx; ++id) {
+      force_[id] += mass_[id] * g;
+      for (int a = 0; a < 3; ++a)
+        if (mask_[id][a]) force_[id][a] = 0.0;
+      mom_new_[id] = mom_old_[id] + dt_n_ * force_[id];
+    }
   });
 }
 

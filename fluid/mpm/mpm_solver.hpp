@@ -130,10 +130,11 @@ class MpmSolver {
     const std::size_t ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1;
     return std::size_t(c[0] - lo[0]) + ex * ((c[1] - lo[1]) + ey * (c[2] - lo[2]));
   }
-  /// Per node of the box, sum over its (up to 8) occupied cells, in a fixed order, of
-  /// f(box cell, corner of the node in that cell) (accumulated into `sum`).
-  template <class T, class F>
-  void sum_cell_corners(int i, int j, int k, T& sum, F&& f) const;
+  /// For the nodes (i, j, k), i in the box, of one row of the node box (`first`: node id of its
+  /// first node), calls f(node id, box cell, corner of the node in that cell) for each of their
+  /// (up to 8) occupied cells, in a fixed order per node.
+  template <class F>
+  void add_cell_corners(int j, int k, std::int64_t first, F&& f) const;
   /// Replaces the gradients of a stencil whose far corners have no mass (particle on a cell face)
   /// by N_I,j + N_I sum_{J empty} N_J,j on the corners with mass and 0 on the empty ones (see
   /// mpm_solver.cpp). Needs this step's node masses.
@@ -141,8 +142,11 @@ class MpmSolver {
   /// Stress, density and energy update of particle p (eqs. 22-26) with its velocity gradient L;
   /// returns its new volume m / rho.
   double update_particle_stress(std::size_t p, double dt, const Mat3& L);
-  /// Calls f(id, i, j, k) for every node (i, j, k) of the box of occupied cells (in parallel, one
-  /// writer per node).
+  /// Calls f(first, j, k) for every row (j, k) of the node box (first: id of its first node), rows
+  /// in parallel (one writer per row).
+  template <class F>
+  void for_each_box_row(F&& f) const;
+  /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
   template <class F>
   void for_each_box_node(F&& f) const;
   void check_particles(double dt) const;
