@@ -533,8 +533,9 @@ void MpmSolver::finish_step(double dt) {
         const auto mat = P.material[p];
         a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
         if (viscous) a.dt = std::min(a.dt, viscous_bound(materials_[mat], P.rho[p], h));
-        const bool ok = P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
-                        std::isfinite(P.rho[p]) && grid_.contains(P.x[p]);
+        // contains() is false for a non-finite position as well.
+        const bool ok = grid_.contains(P.x[p]) && P.v[p].allFinite() && P.stress[p].allFinite() &&
+                        std::isfinite(P.rho[p]);
         if (!ok) a.bad = std::min(a.bad, p);
       }
     }
