@@ -174,13 +174,16 @@ void MpmMembraneCoupling::compute_gaps() {
   for (auto id : candidates_) gap_[id] = std::numeric_limits<double>::infinity();
   for (const auto& c : mpm_.cells_around(candidates_)) {
     const auto [b, e] = bins.cell(c[0], c[1], c[2]);
+    std::int64_t ids[8];
+    mpm::corner_nodes(mpm_.grid(), c, ids);
     for (auto it = b; it != e; ++it) {
-      mpm::Stencil local;
-      const auto& st = mpm_.binned_stencil(bins.position(it), local);
+      double f[3], N[8];
+      mpm_.grid().fractions(P.x[*it], c, f);
+      mpm::corner_weights(f, N);
       const double radius = 0.5 * std::cbrt(P.volume(*it));
       for (int q = 0; q < 8; ++q) {
-        const auto id = st.node[q];
-        if (std::isnan(gap_[id]) || !(st.N[q] > 0)) continue;  // not a candidate / outside the support
+        const auto id = ids[q];
+        if (std::isnan(gap_[id]) || !(N[q] > 0)) continue;  // not a candidate / outside the support
         gap_[id] = std::min(gap_[id], (P.x[*it] - xr_[id] / mr_[id]).dot(nr_[id]) - radius);
       }
     }

@@ -51,11 +51,11 @@ void CellBins::build(const Grid& grid, const std::vector<Vec3>& x) {
                            : box_of(tbb::blocked_range<std::size_t>(0, n), Box{});
   lo_ = box.lo;
   hi_ = box.hi;
-  // Slab axis: the longest side of the box; the other two are the fast axes of the key.
-  int slab = 2;
+  // Layer axis: the longest side of the box; the other two are the fast axes of the key.
+  int layer = 2;
   for (int a = 1; a >= 0; --a)
-    if (hi_[a] - lo_[a] > hi_[slab] - lo_[slab]) slab = a;
-  axis_ = slab == 0 ? std::array<int, 3>{1, 2, 0} : slab == 1 ? std::array<int, 3>{0, 2, 1} : std::array<int, 3>{0, 1, 2};
+    if (hi_[a] - lo_[a] > hi_[layer] - lo_[layer]) layer = a;
+  axis_ = layer == 0 ? std::array<int, 3>{1, 2, 0} : layer == 1 ? std::array<int, 3>{0, 2, 1} : std::array<int, 3>{0, 1, 2};
   for (int a = 0; a < 3; ++a) extent_[a] = hi_[axis_[a]] - lo_[axis_[a]] + 1;
   const std::size_t cells = std::size_t(extent_[0]) * extent_[1] * extent_[2];
   auto keys = [&](const tbb::blocked_range<std::size_t>& r) {
@@ -88,13 +88,6 @@ std::pair<const std::uint32_t*, const std::uint32_t*> CellBins::cell(int i, int 
                           std::size_t(extent_[0]) * ((c[axis_[1]] - lo_[axis_[1]]) +
                                                      std::size_t(extent_[1]) * (c[axis_[2]] - lo_[axis_[2]]));
   return {order_.data() + start_[key], order_.data() + start_[key + 1]};
-}
-
-std::pair<std::uint32_t, std::uint32_t> CellBins::slab_range(int slab) const {
-  const std::size_t layer = std::size_t(extent_[0]) * extent_[1];
-  const std::size_t first = std::size_t(2 * slab) * layer;
-  const std::size_t last = std::min<std::size_t>(std::size_t(2 * slab + 2), std::size_t(extent_[2])) * layer;
-  return {start_[first], start_[last]};
 }
 
 }  // namespace tetfsi::mpm

@@ -1,11 +1,10 @@
 #pragma once
 /// @file cell_bins.hpp
 /// Particles bucketed by background-grid cell, rebuilt every step, for
-///  - the parallel particle-to-grid scatter without races or atomics: a particle in cell c writes
-///    only to the 8 nodes of c, so particles in slabs of two cell layers along one axis that are
-///    two slabs apart never write to the same node. Even slabs run in parallel, then odd slabs;
-///    each slab is one task that visits its particles in bin order. Every node therefore receives
-///    its contributions in the same order whatever the number of threads (bit-identical sums);
+///  - the particle passes in per-cell form (cell_moments.hpp): each cell's particles, in bin order,
+///    write only to that cell's accumulators, so cells run in parallel (layers along the longest
+///    axis of the box) without races or atomics, and every sum has one order whatever the number
+///    of threads (bit-identical results);
 ///  - neighbour queries (the particles of the cells around a grid node, for contact);
 ///  - the box of occupied cells, so that node loops cover only that box.
 /// A counting sort (stable, O(particles + cells of the box)) is used rather than a comparison
@@ -24,11 +23,11 @@ namespace tetfsi::mpm {
 
 class CellBins {
  public:
-  /// Below this many particles the coloured passes run serially (task overhead dominates; the
+  /// Below this many particles the cell passes run serially (task overhead dominates; the
   /// result is the same either way).
   static constexpr std::size_t kParallelMin = 16384;
 
-  /// Bins the positions `x` (all inside `grid`). The slab axis is the axis along which the box of
+  /// Bins the positions `x` (all inside `grid`). The layer axis is the axis along which the box of
   /// occupied cells is longest (ties: the later axis).
   void build(const Grid& grid, const std::vector<Vec3>& x);
 
@@ -47,40 +46,34 @@ class CellBins {
   /// Particle ids in binned order (position q holds order()[q]).
   const std::vector<std::uint32_t>& order() const { return order_; }
 
-  /// Calls f(q, p) for every particle p at binned position q; concurrent calls never write to the
-  /// same grid node through the particle's own 8-node stencil (see the file comment). Deterministic
-  /// order per node.
+  /// Calls f(cell, begin, end) for every cell of the box (global (i, j, k); its particle ids as a
+  /// [begin, end) pointer range in bin order, possibly empty), cells of one layer along the layer
+  /// axis in key order, layers in parallel (serially below kParallelMin particles). f may write
+  /// only data of its own cell; the result then does not depend on the number of threads.
   template <class F>
-  void for_each_coloured(F&& f) const {
-    const int slabs = (extent_[2] + 1) / 2;  // slabs of two layers along the slab axis
-    for (int colour = 0; colour < 2; ++colour) {
-      const int count = (slabs - colour + 1) / 2;
-      if (count <= 0) continue;
-      if (order_.size() < kParallelMin) {  // same per-node order as the parallel branch
-        for (int s = 0; s < count; ++s) {
-          const auto [b, e] = slab_range(2 * s + colour);
-          for (std::uint32_t q = b; q < e; ++q) f(std::size_t(q), static_cast<std::size_t>(order_[q]));
+  void for_each_cell(F&& f) const {
+    auto layers = [&](int first, int last) {
+      std::array<int, 3> c;
+      for (int l = first; l < last; ++l) {
+        c[axis_[2]] = lo_[axis_[2]] + l;
+        std::size_t key = std::size_t(l) * extent_[0] * extent_[1];
+        for (int b = 0; b < extent_[1]; ++b) {
+          c[axis_[1]] = lo_[axis_[1]] + b;
+          for (int a = 0; a < extent_[0]; ++a, ++key) {
+            c[axis_[0]] = lo_[axis_[0]] + a;
+            f(c, order_.data() + start_[key], order_.data() + start_[key + 1]);
+          }
         }
-        continue;
       }
-      tbb::parallel_for(tbb::blocked_range<int>(0, count, 1),
-                        [&](const tbb::blocked_range<int>& r) {
-                          for (int s = r.begin(); s != r.end(); ++s) {
-                            const int slab = 2 * s + colour;
-                            const auto [b, e] = slab_range(slab);
-                            for (std::uint32_t q = b; q < e; ++q) f(std::size_t(q), static_cast<std::size_t>(order_[q]));
-                          }
-                        },
-                        tbb::simple_partitioner());
-    }
+    };
+    if (order_.size() < kParallelMin) return layers(0, extent_[2]);
+    tbb::parallel_for(tbb::blocked_range<int>(0, extent_[2], 1),
+                      [&](const tbb::blocked_range<int>& r) { layers(r.begin(), r.end()); });
   }
 
  private:
-  /// [begin, end) positions in order_ of slab `slab` (two layers along the slab axis).
-  std::pair<std::uint32_t, std::uint32_t> slab_range(int slab) const;
-
   std::array<int, 3> lo_{0, 0, 0}, hi_{-1, -1, -1};
-  /// Axes of the local key, fastest first: axis_[2] is the slab axis.
+  /// Axes of the local key, fastest first: axis_[2] is the layer axis.
   std::array<int, 3> axis_{0, 1, 2};
   std::array<int, 3> extent_{0, 0, 0};  ///< cells of the box along axis_[0], axis_[1], axis_[2]
   std::vector<std::uint32_t> key_;    ///< local cell key per particle

@@ -106,6 +106,12 @@ struct Grid {
           st.dN[c] = Vec3(g[di] * w[1][dj] * w[2][dk], w[0][di] * g[dj] * w[2][dk], w[0][di] * w[1][dj] * g[dk]);
         }
   }
+  /// Position of x in its cell `cell` (= cell_of(x)), f = (x - x_cell) / h in [0, 1), computed
+  /// as in fill_stencil (the same values).
+  void fractions(const Vec3& x, const std::array<int, 3>& cell, double f[3]) const {
+    const double inv = 1.0 / h;
+    for (int a = 0; a < 3; ++a) f[a] = (x[a] - lo[a]) * inv - cell[a];
+  }
   /// Index (i, j, k) of the cell containing x, as used by stencil() (x inside the grid).
   std::array<int, 3> cell_of(const Vec3& x) const {
     const double inv = 1.0 / h;

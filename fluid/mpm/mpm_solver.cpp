@@ -17,10 +17,6 @@ namespace {
 constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reductions
 // Below this many particles the reductions run serially (same result; see reduce.hpp).
 constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
-// Up to this many particles the stencils of a step are computed once and kept (320 B each: 2.6 MB
-// at the limit, cache-resident); larger bodies recompute them in each pass, which is cheaper than
-// streaming the array (membrane on sphere, 113k particles: 36 MB per step).
-constexpr std::size_t kCacheStencilsMax = 8192;
 
 /// Bound of eq. (21) for one particle, h / (c + |v|), and the explicit viscous bound
 /// rho h^2 / (8 mu) of viscous fluids [s].
@@ -133,9 +129,9 @@ void MpmSolver::close_stencil(Stencil& st) const {
     if (mass_[st.node[c]] > mass_eps_) st.dN[c] += st.N[c] * g_empty;
 }
 
-Mat3 MpmSolver::velocity_gradient(const Stencil& st, std::size_t cell) const {
+Mat3 MpmSolver::velocity_gradient(const double f[3], std::size_t cell) const {
   const auto& G = cell_grad_[cell];
-  const double fx = st.frac[0], fy = st.frac[1], fz = st.frac[2];
+  const double fx = f[0], fy = f[1], fz = f[2];
   const double pa[3] = {fy, fx, fx}, pb[3] = {fz, fz, fy};
   Mat3 L;
   for (int col = 0; col < 3; ++col) {
@@ -145,42 +141,6 @@ Mat3 MpmSolver::velocity_gradient(const Stencil& st, std::size_t cell) const {
   }
   return L;
 }
-
-namespace {
-
-/// Nodal forces of one particle, eqs. (17)-(18): f_I += -V sigma N_I,j + N_I m_p g, in scalars.
-/// `minus_volume` is -V_p. The component sums follow Eigen's evaluation of -V * (sigma * dN) for a
-/// fixed 3x3 times 3-vector product ((-V sigma_ij) dN_j, rows 0 and 1 summed as (a + b) + c, row 2
-/// as a + (b + c)), so the forces are bit-identical to that expression.
-/// With `with_body` false the body term is left out: it is then +0 (no gravity), and adding it
-/// changes nothing (a node sum starts at +0 and can never become -0 in round-to-nearest).
-template <bool with_body>
-void nodal_forces(const Stencil& st, double minus_volume, const Mat3& sigma, const Vec3& body,
-                  std::vector<Vec3>& force) {
-  double A[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) A[i][j] = minus_volume * sigma(i, j);
-  for (int c = 0; c < 8; ++c) {
-    const double* g = st.dN[c].data();
-    const double n = st.N[c];
-    double* f = force[st.node[c]].data();
-    const double f0 = (A[0][0] * g[0] + A[0][1] * g[1]) + A[0][2] * g[2];
-    const double f1 = (A[1][0] * g[0] + A[1][1] * g[1]) + A[1][2] * g[2];
-    const double f2 = A[2][0] * g[0] + (A[2][1] * g[1] + A[2][2] * g[2]);
-    if constexpr (with_body) {
-      f[0] += f0 + n * body[0];
-      f[1] += f1 + n * body[1];
-      f[2] += f2 + n * body[2];
-    } else {
-      (void)n;
-      f[0] += f0;
-      f[1] += f1;
-      f[2] += f2;
-    }
-  }
-}
-
-}  // namespace
 
 MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles particles, MpmOptions options)
     : grid_(std::move(grid)), materials_(std::move(materials)), particles_(std::move(particles)),
@@ -220,22 +180,48 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
 }
 
 template <class F>
+void MpmSolver::for_each_box_row(F&& f) const {
+  const int ny = box_hi_[1] - box_lo_[1] + 1, nz = box_hi_[2] - box_lo_[2] + 1;
+  if (box_hi_[0] < box_lo_[0] || ny <= 0 || nz <= 0) return;
+  auto rows = [&](int first_row, int last_row) {
+    for (int row = first_row; row < last_row; ++row) {
+      const int j = box_lo_[1] + row % ny, k = box_lo_[2] + row / ny;
+      f(grid_.node_index(box_lo_[0], j, k), j, k);
+    }
+  };
+  const int nx = box_hi_[0] - box_lo_[0] + 1;
+  if (std::int64_t(nx) * ny * nz < 8192) return rows(0, ny * nz);  // small box: task overhead dominates
+  tbb::parallel_for(tbb::blocked_range<int>(0, ny * nz, 16),
+                    [&](const tbb::blocked_range<int>& r) { rows(r.begin(), r.end()); });
+}
+
+template <class F>
 void MpmSolver::for_each_box_node(F&& f) const {
-  const int nx = box_hi_[0] - box_lo_[0] + 1, ny = box_hi_[1] - box_lo_[1] + 1, nz = box_hi_[2] - box_lo_[2] + 1;
-  if (nx <= 0 || ny <= 0 || nz <= 0) return;
-  if (std::int64_t(nx) * ny * nz < 8192) {  // small box: task overhead dominates
-    for (int row = 0; row < ny * nz; ++row) {
-      const std::int64_t first = grid_.node_index(box_lo_[0], box_lo_[1] + row % ny, box_lo_[2] + row / ny);
-      for (std::int64_t id = first; id < first + nx; ++id) f(id);
-    }
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<int>(0, ny * nz, 16), [&](const tbb::blocked_range<int>& r) {
-    for (int row = r.begin(); row != r.end(); ++row) {
-      const std::int64_t first = grid_.node_index(box_lo_[0], box_lo_[1] + row % ny, box_lo_[2] + row / ny);
-      for (std::int64_t id = first; id < first + nx; ++id) f(id);
-    }
+  const int nx = box_hi_[0] - box_lo_[0] + 1;
+  for_each_box_row([&](std::int64_t first, int, int) {
+    for (std::int64_t id = first; id < first + nx; ++id) f(id);
   });
+}
+
+template <class F>
+void MpmSolver::add_cell_corners(int j, int k, std::int64_t first, F&& f) const {
+  // Node (i, j, k) is corner d = (dx, dy, dz) of cell (i - dx, j - dy, k - dz). Per node the cells
+  // come in the order (dz, dy, dx) = (1, 1, 1), (1, 1, 0), (1, 0, 1), ..., (0, 0, 0).
+  const auto& lo = bins_.lo();
+  const auto& hi = bins_.hi();
+  const int ex = hi[0] - lo[0] + 1;
+  for (int dz = 1; dz >= 0; --dz) {
+    if (k - dz < lo[2] || k - dz > hi[2]) continue;
+    for (int dy = 1; dy >= 0; --dy) {
+      if (j - dy < lo[1] || j - dy > hi[1]) continue;
+      const std::size_t c0 = box_cell({lo[0], j - dy, k - dz});
+      const int corner = 2 * dy + 4 * dz;
+      for (int ci = 0; ci < ex; ++ci) {
+        f(first + ci + 1, c0 + ci, corner + 1);  // the cell's corner dx = 1
+        f(first + ci, c0 + ci, corner);          // dx = 0
+      }
+    }
+  }
 }
 
 void MpmSolver::trial_step(double dt) {
@@ -253,7 +239,6 @@ void MpmSolver::trial_step(double dt) {
   });
   for (auto id : impulse_nodes_) impulse_[id].setZero();
   impulse_nodes_.clear();
-  stencils_.resize(P.size() <= kCacheStencilsMax ? P.size() : 0);
   work_.resize(P.size());
   bins_.build(grid_, P.x);
   if (bins_.empty()) {
@@ -266,25 +251,37 @@ void MpmSolver::trial_step(double dt) {
     box_hi_[a] = bins_.hi()[a] + 1;
   }
 
-  // Step 2a (eqs. 60, 61): coloured parallel scatter (eq. 51 only where contact asks for it:
-  // particle_trial_momenta).
-  bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
-    Stencil local;
-    Stencil& st = stencils_.empty() ? local : stencils_[q];
-    grid_.fill_stencil(P.x[p], st);
-    const double m = P.mass[p];
-    const Vec3 mv = m * P.v[p];
-    for (int c = 0; c < 8; ++c) {
-      const auto id = st.node[c];
-      mass_[id] += m * st.N[c];
-      mom_old_[id] += st.N[c] * mv;
+  // Step 2a (eqs. 60, 61) in per-cell form (cell_moments.hpp): corner masses and momenta per cell,
+  // then per node (eq. 51 only where contact asks for it: particle_trial_momenta).
+  const auto ncell = std::size_t(bins_.hi()[0] - bins_.lo()[0] + 1) * (bins_.hi()[1] - bins_.lo()[1] + 1) *
+                     (bins_.hi()[2] - bins_.lo()[2] + 1);
+  cell_acc_.resize(ncell);
+  bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
+    CellAcc acc{};  // local: no aliasing with the particle arrays
+    for (auto it = b; it != e; ++it) {
+      double f[3];
+      grid_.fractions(P.x[*it], c, f);
+      add_mass_moments(f, P.mass[*it], P.v[*it], acc);
     }
+    cell_acc_[box_cell(c)] = acc;
   });
   // Step 2b: essential conditions on p^{n-1/2}; grid velocities v_I = p_I / m_I (0 if empty).
-  for_each_box_node([&](std::int64_t id) {
-    for (int a = 0; a < 3; ++a)
-      if (mask_[id][a]) mom_old_[id][a] = 0.0;
-    vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
+  const int nx = box_hi_[0] - box_lo_[0] + 1;
+  for_each_box_row([&](std::int64_t first, int j, int k) {
+    for (std::int64_t id = first; id < first + nx; ++id) {
+      mass_[id] = 0;
+      mom_old_[id].setZero();
+    }
+    add_cell_corners(j, k, first, [&](std::int64_t id, std::size_t cell, int corner) {
+      const CellAcc& acc = cell_acc_[cell];
+      mass_[id] += acc[corner];
+      for (int r = 0; r < 3; ++r) mom_old_[id][r] += acc[8 * (1 + r) + corner];
+    });
+    for (std::int64_t id = first; id < first + nx; ++id) {
+      for (int a = 0; a < 3; ++a)
+        if (mask_[id][a]) mom_old_[id][a] = 0.0;
+      vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
+    }
   });
   cell_gradients();
   // Variable steps (section 3.2, Fig. 2): the velocities v^{n-1/2} act over the last step
@@ -295,36 +292,63 @@ void MpmSolver::trial_step(double dt) {
   // output times, 57 steps then two shorter ones, pumped energy into the sphere-on-membrane example
   // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
   const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
-  // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17, 18): stress update, then the particle's nodal
-  // forces, in the same coloured pass.
-  const bool gravity = !options_.gravity.isZero(0.0);
-  bins_.for_each_coloured([&](std::size_t q, std::size_t p) {
-    Stencil local, closed;
-    const Stencil* stp = &binned_stencil(q, local);
-    Mat3 L;  // velocity gradient L_ij = sum_I v_iI N_I,j (eqs. 62, 63)
-    const std::size_t cell = box_cell(*stp);
-    if (!cell_open_[cell]) {
-      L = velocity_gradient(*stp, cell);
-    } else {  // a particle on a cell face next to empty corners (rare): 8-node gather
-      closed = *stp;
-      close_stencil(closed);
-      stp = &closed;
-      L.setZero();
-      for (int c = 0; c < 8; ++c) L += vel_[closed.node[c]] * closed.dN[c].transpose();
+  const double inv_h = 1.0 / grid_.h;
+  // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17): stress update, then the particle's stress moments
+  // (cell_moments.hpp), in the same pass over the cells. A cell with a corner without mass holds
+  // in practice only particles on its faces (rare): their stencils are closed (close_stencil) and
+  // their velocity gradients and corner forces taken from the full 8-node stencils.
+  bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
+    const std::size_t cell = box_cell(c);
+    CellAcc acc{};  // local: no aliasing with the particle arrays
+    const bool open = cell_open_[cell];
+    StressBatch bt;
+    for (auto it = b; it != e; ++it) {
+      const std::size_t p = *it;
+      if (!open) {
+        double* f = bt.f[bt.n];
+        grid_.fractions(P.x[p], c, f);
+        const double V = update_particle_stress(p, dt_strain, velocity_gradient(f, cell));
+        for (int r = 0; r < 3; ++r)
+          for (int col = 0; col < 3; ++col) bt.A[bt.n][r][col] = -V * P.stress[p](r, col);
+        if (++bt.n == StressBatch::kBatch || it + 1 == e) {
+          add_stress_moments(bt, acc);
+          bt.n = 0;
+        }
+      } else {
+        Stencil st;
+        grid_.fill_stencil(P.x[p], st);
+        close_stencil(st);
+        Mat3 L = Mat3::Zero();  // velocity gradient L_ij = sum_I v_iI N_I,j (eqs. 62, 63)
+        for (int q = 0; q < 8; ++q) L += vel_[st.node[q]] * st.dN[q].transpose();
+        const double V = update_particle_stress(p, dt_strain, L);
+        double A[3][3];  // -V sigma of eq. (17)
+        for (int r = 0; r < 3; ++r)
+          for (int col = 0; col < 3; ++col) A[r][col] = -V * P.stress[p](r, col);
+        add_corner_forces(st, A, acc);
+      }
     }
-    const Stencil& st = *stp;
-    const double V = update_particle_stress(p, dt_strain, L);
-    const Vec3 body = P.mass[p] * options_.gravity;
-    if (gravity)
-      nodal_forces<true>(st, -V, P.stress[p], body, force_);
-    else
-      nodal_forces<false>(st, -V, P.stress[p], body, force_);
+    if (!open)
+      for (auto& a : acc) a *= inv_h;  // the 1 / h of dN/dx (cell_moments.hpp)
+    cell_acc_[cell] = acc;
   });
-  // Step 2e (eq. 64) and grid conditions on f and p^{n+1/2}.
-  for_each_box_node([&](std::int64_t id) {
-    for (int a = 0; a < 3; ++a)
-      if (mask_[id][a]) force_[id][a] = 0.0;
-    mom_new_[id] = mom_old_[id] + dt_n_ * force_[id];
+  // Step 2e: nodal forces (eq. 17 from the cells, eq. 18 as m_I g), grid conditions on f, trial
+  // momentum p^{n+1/2} (eq. 64).
+  const Vec3 g = options_.gravity;
+  for_each_box_row([&](std::int64_t first, int j, int k) {
+    for (std::int64_t id = first; id < first + nx; ++id) force_[id].setZero();
+    add_cell_corners(j, k, first, [&](std::int64_t id, std::size_t cell, int corner) {
+      const CellAcc& acc = cell_acc_[cell];
+      if (cell_open_[cell])
+        force_[id] += Vec3(acc[3 * corner], acc[3 * corner + 1], acc[3 * corner + 2]);
+      else
+        force_[id] += corner_force_moment(acc, corner);
+    });
+    for (std::int64_t id = first; id < first + nx; ++id) {
+      force_[id] += mass_[id] * g;
+      for (int a = 0; a < 3; ++a)
+        if (mask_[id][a]) force_[id][a] = 0.0;
+      mom_new_[id] = mom_old_[id] + dt_n_ * force_[id];
+    }
   });
 }
 
@@ -426,22 +450,28 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
     out[node].setZero();
     if (mass_gradient) (*mass_gradient)[node].setZero();
   }
-  // The particles of the cells around the nodes, cell by cell in ascending index.
+  // The particles of the cells around the nodes, cell by cell in ascending index; per cell the
+  // corner velocity changes (p^{n+1/2} - p^{n-1/2}) / m (0 at empty corners) are formed once.
+  const double inv_h = 1.0 / grid_.h;
   for (const auto& c : cells_around(nodes)) {
     const auto [b, e] = bins_.cell(c[0], c[1], c[2]);
+    if (b == e) continue;
+    std::int64_t id[8];
+    corner_nodes(grid_, c, id);
+    Vec3 dvc[8];
+    for (int q = 0; q < 8; ++q)
+      dvc[q] = mass_[id[q]] > mass_eps_ ? Vec3((mom_new_[id[q]] - mom_old_[id[q]]) / mass_[id[q]]) : Vec3::Zero();
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
-      Stencil local;
-      const Stencil& st = binned_stencil(bins_.position(it), local);
+      double f[3], N[8];
+      grid_.fractions(particles_.x[p], c, f);
+      corner_weights(f, N);
       Vec3 v = particles_.v[p];
-      for (int c = 0; c < 8; ++c) {
-        const auto id = st.node[c];
-        if (mass_[id] > mass_eps_) v += st.N[c] * (mom_new_[id] - mom_old_[id]) / mass_[id];
-      }
-      for (int c = 0; c < 8; ++c)
-        if (marked_[st.node[c]]) {
-          out[st.node[c]] += (particles_.mass[p] * st.N[c]) * v;
-          if (mass_gradient) (*mass_gradient)[st.node[c]] += particles_.mass[p] * st.dN[c];
+      for (int q = 0; q < 8; ++q) v += N[q] * dvc[q];
+      for (int q = 0; q < 8; ++q)
+        if (marked_[id[q]]) {
+          out[id[q]] += (particles_.mass[p] * N[q]) * v;
+          if (mass_gradient) (*mass_gradient)[id[q]] += particles_.mass[p] * corner_gradient(f, q, inv_h);
         }
     }
   }
@@ -462,54 +492,63 @@ void MpmSolver::finish_step(double dt) {
     dvel_imp_[id] = full ? Vec3(impulse_[id] / mass_[id]) : Vec3::Zero();
     vel_[id] = full ? Vec3(p_new / mass_[id]) : Vec3::Zero();
   });
-  // Grid-to-particle update with the reductions of this step: kinetic energy given by the
-  // impulses, the next critical step (eq. 21) and the first invalid particle.
-  struct Acc {
-    double c_max = 0;  // largest c + |v| (eq. 21)
-    double dt = std::numeric_limits<double>::infinity();  // smallest viscous bound
-    std::size_t bad = std::numeric_limits<std::size_t>::max();
-  };
-  // With cached stencils the particles are visited in binned order (the order of the cache),
-  // otherwise in particle order (sequential access to the particle arrays); the impulse work is
-  // stored per particle and summed in particle order below, so no sum depends on the visiting order.
+  // Grid-to-particle update (eqs. 65, 19) cell by cell: the 8 corner values of a cell are read
+  // once for all its particles. Per cell, the reductions of this step (next critical step, eq. 21,
+  // and the first invalid particle; max / min are exact, so their order does not matter); the
+  // impulse work is stored per particle and summed in particle order below.
   const double h = grid_.h;
-  const auto& order = bins_.order();
-  const bool binned = !stencils_.empty();
   bool viscous = false;
   for (const auto& m : materials_) viscous = viscous || viscous_bound(m, 1.0, h) < std::numeric_limits<double>::infinity();
-  const Acc acc = deterministic_reduce(
-      n, kGrain, kSerialBelow, Acc{},
-      [&](const tbb::blocked_range<std::size_t>& r, Acc a) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          const std::size_t p = binned ? order[i] : i;
-          Stencil local;
-          const Stencil& st = binned ? stencils_[i] : (grid_.fill_stencil(P.x[p], local), local);
-          Vec3 dv = Vec3::Zero(), vel = Vec3::Zero(), dvi = Vec3::Zero();
-          for (int c = 0; c < 8; ++c) {
-            dv += st.N[c] * dvel_[st.node[c]];
-            vel += st.N[c] * vel_[st.node[c]];
-          }
-          if (impulses) {
-            for (int c = 0; c < 8; ++c) dvi += st.N[c] * dvel_imp_[st.node[c]];
-            work_[p] = P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
-          }
-          P.v[p] += dv;
-          P.x[p] += dt * vel;
-          const auto mat = P.material[p];
-          a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
-          if (viscous) a.dt = std::min(a.dt, viscous_bound(materials_[mat], P.rho[p], h));
-          const bool ok = P.x[p].allFinite() && P.v[p].allFinite() && P.stress[p].allFinite() &&
-                          std::isfinite(P.rho[p]) && grid_.contains(P.x[p]);
-          if (!ok) a.bad = std::min(a.bad, p);
+  cell_bounds_.resize(cell_acc_.size());
+  bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
+    StepBounds a;
+    if (b != e) {
+      std::int64_t id[8];
+      corner_nodes(grid_, c, id);
+      // Corner values in rows (dv_I, v_I) and dv^imp_I (packed: the sums below vectorise).
+      double dvv[8][6], dvi_c[8][3];
+      for (int q = 0; q < 8; ++q)
+        for (int r = 0; r < 3; ++r) {
+          dvv[q][r] = dvel_[id[q]][r];
+          dvv[q][3 + r] = vel_[id[q]][r];
+          dvi_c[q][r] = dvel_imp_[id[q]][r];
         }
-        return a;
-      },
-      [](Acc a, const Acc& b) {
-        a.c_max = std::max(a.c_max, b.c_max);
-        a.dt = std::min(a.dt, b.dt);
-        a.bad = std::min(a.bad, b.bad);
-        return a;
-      });
+      for (auto it = b; it != e; ++it) {
+        const std::size_t p = *it;
+        double f[3];
+        grid_.fractions(P.x[p], c, f);
+        double N[8];
+        corner_weights(f, N);
+        double s6[6] = {0, 0, 0, 0, 0, 0};  // sum_I N_Ip dv_I, sum_I N_Ip v_I
+        for (int q = 0; q < 8; ++q)
+          for (int r = 0; r < 6; ++r) s6[r] += N[q] * dvv[q][r];
+        const Vec3 dv(s6[0], s6[1], s6[2]), vel(s6[3], s6[4], s6[5]);
+        if (impulses) {
+          double s3[3] = {0, 0, 0};
+          for (int q = 0; q < 8; ++q)
+            for (int r = 0; r < 3; ++r) s3[r] += N[q] * dvi_c[q][r];
+          const Vec3 dvi(s3[0], s3[1], s3[2]);
+          work_[p] = P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
+        }
+        P.v[p] += dv;
+        P.x[p] += dt * vel;
+        const auto mat = P.material[p];
+        a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
+        if (viscous) a.dt = std::min(a.dt, viscous_bound(materials_[mat], P.rho[p], h));
+        // contains() is false for a non-finite position as well.
+        const bool ok = grid_.contains(P.x[p]) && P.v[p].allFinite() && P.stress[p].allFinite() &&
+                        std::isfinite(P.rho[p]);
+        if (!ok) a.bad = std::min(a.bad, p);
+      }
+    }
+    cell_bounds_[box_cell(c)] = a;
+  });
+  StepBounds acc;
+  for (const auto& a : cell_bounds_) {
+    acc.c_max = std::max(acc.c_max, a.c_max);
+    acc.dt = std::min(acc.dt, a.dt);
+    acc.bad = std::min(acc.bad, a.bad);
+  }
   impulse_work_ = !impulses ? 0.0
                              : deterministic_reduce(
                                    n, kGrain, kSerialBelow, 0.0,

@@ -18,15 +18,17 @@
 /// momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eq. 64), and the strain increment of
 /// eq. (62) uses dt^{n-1/2} (see mpm_solver.cpp). The first step takes dt^{-1/2} = dt^{1/2}.
 ///
-/// Parallelism and determinism: the particle-to-grid scatters (eqs. 60, 61 and 17, 18) run in
-/// parallel over slabs of cells coloured so that no two concurrent tasks write the same node
-/// (CellBins); every node receives its contributions in a fixed order, so results are
-/// bit-identical whatever the number of threads. Node loops cover only the box of occupied cells.
-/// The grid-to-particle update and the reductions (critical step, contact work, energies) use
-/// tbb::parallel_deterministic_reduce with a fixed grain.
+/// Parallelism and determinism: the particle-to-grid sums (eqs. 60, 61 and 17) are taken per cell
+/// (cell_moments.hpp), cells in parallel, each cell's particles in bin order; each node then sums
+/// its cells' corner values in a fixed order, so results are bit-identical whatever the number of
+/// threads. The grid-to-particle update (eqs. 65, 19) also runs cell by cell (its reductions are
+/// exact max / min). Node loops cover only the box of occupied cells. The other reductions (contact
+/// work, energies) use tbb::parallel_deterministic_reduce with a fixed grain.
+#include <limits>
 #include <vector>
 
 #include "fluid/mpm/cell_bins.hpp"
+#include "fluid/mpm/cell_moments.hpp"
 #include "fluid/mpm/grid.hpp"
 #include "fluid/mpm/material.hpp"
 #include "fluid/mpm/particles.hpp"
@@ -84,15 +86,6 @@ class MpmSolver {
   /// Trial momentum p^{n+1/2} of eq. (64), without the impulses.
   const std::vector<Vec3>& node_momentum() const { return mom_new_; }
   const std::vector<Vec3>& node_momentum_old() const { return mom_old_; }
-  /// Shape functions, at the start of the current step, of the particle at binned position q, i.e.
-  /// of particle bins().order()[q] (valid after trial_step until finish_step). Small bodies keep
-  /// them from the mass scatter (in binned order, the order of the particle passes); otherwise
-  /// they are computed into `local`. Returns a reference to the one used.
-  const Stencil& binned_stencil(std::size_t q, Stencil& local) const {
-    if (!stencils_.empty()) return stencils_[q];
-    grid_.fill_stencil(particles_.x[bins_.order()[q]], local);
-    return local;
-  }
   /// The particles binned by cell at the start of the current step (valid until finish_step).
   const CellBins& bins() const { return bins_; }
   /// Momentum the particles would carry to each of `nodes` after the trial update without
@@ -128,15 +121,21 @@ class MpmSolver {
   /// Per cell of the occupied box, the velocity gradient of the trilinear field as a bilinear
   /// function of the position in the cell (from vel_; see mpm_solver.cpp).
   void cell_gradients();
-  /// L_ij = sum_I v_iI N_I,j of a particle from the coefficients of its cell (box index `cell`).
-  Mat3 velocity_gradient(const Stencil& st, std::size_t cell) const;
-  /// Index in the box of occupied cells of the stencil's cell (valid after trial_step's binning).
-  std::size_t box_cell(const Stencil& st) const {
+  /// L_ij = sum_I v_iI N_I,j of a particle (in-cell position f) from the coefficients of its cell
+  /// (box index `cell`).
+  Mat3 velocity_gradient(const double f[3], std::size_t cell) const;
+  /// Index in the box of occupied cells of cell (i, j, k) (valid after trial_step's binning).
+  std::size_t box_cell(const std::array<int, 3>& c) const {
     const auto& lo = bins_.lo();
     const auto& hi = bins_.hi();
     const std::size_t ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1;
-    return std::size_t(st.cell[0] - lo[0]) + ex * ((st.cell[1] - lo[1]) + ey * (st.cell[2] - lo[2]));
+    return std::size_t(c[0] - lo[0]) + ex * ((c[1] - lo[1]) + ey * (c[2] - lo[2]));
   }
+  /// For the nodes (i, j, k), i in the box, of one row of the node box (`first`: node id of its
+  /// first node), calls f(node id, box cell, corner of the node in that cell) for each of their
+  /// (up to 8) occupied cells, in a fixed order per node.
+  template <class F>
+  void add_cell_corners(int j, int k, std::int64_t first, F&& f) const;
   /// Replaces the gradients of a stencil whose far corners have no mass (particle on a cell face)
   /// by N_I,j + N_I sum_{J empty} N_J,j on the corners with mass and 0 on the empty ones (see
   /// mpm_solver.cpp). Needs this step's node masses.
@@ -144,6 +143,10 @@ class MpmSolver {
   /// Stress, density and energy update of particle p (eqs. 22-26) with its velocity gradient L;
   /// returns its new volume m / rho.
   double update_particle_stress(std::size_t p, double dt, const Mat3& L);
+  /// Calls f(first, j, k) for every row (j, k) of the node box (first: id of its first node), rows
+  /// in parallel (one writer per row).
+  template <class F>
+  void for_each_box_row(F&& f) const;
   /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
   template <class F>
   void for_each_box_node(F&& f) const;
@@ -161,9 +164,15 @@ class MpmSolver {
   std::vector<double> mass_;
   std::vector<Vec3> mom_old_, mom_new_, force_, impulse_;
   std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
-  std::vector<Stencil> stencils_;            // per binned position, at the start of the current step
   std::vector<double> work_;                 // per particle: impulse work of the last finish_step
   std::vector<std::array<double, 36>> cell_grad_;  // per cell of the box: see cell_gradients()
+  std::vector<CellAcc> cell_acc_;  // per cell of the box: mass, then stress moments (cell_moments.hpp)
+  struct StepBounds {  // reductions of the grid-to-particle update, per cell
+    double c_max = 0;  // largest c + |v| (eq. 21)
+    double dt = std::numeric_limits<double>::infinity();  // smallest viscous bound
+    std::size_t bad = std::numeric_limits<std::size_t>::max();  // first invalid particle
+  };
+  std::vector<StepBounds> cell_bounds_;
   std::vector<std::uint8_t> cell_open_;  // per cell of the box: some corner has no mass
   std::vector<std::int64_t> impulse_nodes_;
   std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around

@@ -1,0 +1,109 @@
+#pragma once
+/// @file cell_moments.hpp
+/// Per-cell form of the particle-to-grid sums of the explicit MPM (Lian, Liu & Zhang 2014):
+/// particles add to the 36 accumulators of their own cell (no scattered writes to 8 nodes), and
+/// each node then sums the corner values of its (up to 8) cells in a fixed order.
+///
+/// With the in-cell position f = (x - x_cell) / h and the 1D hats w_0(f) = 1 - f, w_1(f) = f, the
+/// trilinear function of corner d = (dx, dy, dz) is N_d = w_dx(fx) w_dy(fy) w_dz(fz), and
+///   dN_d/dx = s_dx w_dy(fy) w_dz(fz) / h,  s_0 = -1, s_1 = +1  (and alike for y, z),
+/// i.e. the x-derivative is a bilinear function of (fy, fz) written in the corner basis of that
+/// face. Hence, per cell (sums over its particles p):
+///  - mass and momentum, eqs. (60), (61): the corner values m_d = sum_p m_p N_d and
+///    P_d = sum_p m_p v_p N_d (32 accumulators, 32 FMAs per particle);
+///  - internal forces, eq. (17), f_I = -sum_p V_p sigma_p grad N_I: with A_p = -V_p sigma_p,
+///    S^x_(dy,dz) = sum_p A_p[:, 0] w_dy w_dz, S^y_(dx,dz) = sum_p A_p[:, 1] w_dx w_dz,
+///    S^z_(dx,dy) = sum_p A_p[:, 2] w_dx w_dy (36 accumulators, 36 FMAs per particle), and corner d
+///    receives (s_dx S^x_(dy,dz) + s_dy S^y_(dx,dz) + s_dz S^z_(dx,dy)) / h.
+/// The body force of eq. (18), sum_p N_I m_p g = m_I g, is added per node.
+/// The corner basis (rather than monomials 1, f, ...) keeps a node that only a cell's far side
+/// reaches free of cancellation: every accumulated term is non-negative for the masses.
+#include <array>
+#include <cstdint>
+
+#include "fluid/mpm/grid.hpp"
+
+namespace tetfsi::mpm {
+
+using CellAcc = std::array<double, 36>;
+
+/// Corners c = dx + 2 dy + 4 dz of a cell, as in Stencil. The layouts below keep the values that
+/// one particle scales by the same factor contiguous, so that the sums vectorise.
+/// N_c = w_dx(fx) w_dy(fy) w_dz(fz) of the 8 corners (the values of Grid::fill_stencil).
+inline void corner_weights(const double f[3], double N[8]) {
+  const double wx[2] = {1.0 - f[0], f[0]}, wy[2] = {1.0 - f[1], f[1]}, wz[2] = {1.0 - f[2], f[2]};
+  for (int c = 0; c < 8; ++c) N[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+}
+
+/// grad N_c of corner c (the value of Grid::fill_stencil), inv_h = 1 / h.
+inline Vec3 corner_gradient(const double f[3], int c, double inv_h) {
+  const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+  const double w[3] = {dx ? f[0] : 1.0 - f[0], dy ? f[1] : 1.0 - f[1], dz ? f[2] : 1.0 - f[2]};
+  const double g[3] = {dx ? inv_h : -inv_h, dy ? inv_h : -inv_h, dz ? inv_h : -inv_h};
+  return Vec3(g[0] * w[1] * w[2], w[0] * g[1] * w[2], w[0] * w[1] * g[2]);
+}
+
+/// The 8 node ids of cell (i, j, k), corner order c = dx + 2 dy + 4 dz.
+inline void corner_nodes(const Grid& grid, const std::array<int, 3>& cell, std::int64_t id[8]) {
+  const std::int64_t sx = grid.cells[0] + 1, sxy = sx * (grid.cells[1] + 1);
+  const std::int64_t n0 = grid.node_index(cell[0], cell[1], cell[2]);
+  for (int c = 0; c < 8; ++c) id[c] = n0 + (c & 1) + ((c >> 1) & 1) * sx + (c >> 2) * sxy;
+}
+
+/// Adds m N_c and m v N_c of one particle (in-cell position f) to a cell's mass moments:
+/// acc[c] = m_c, acc[8 (1 + r) + c] = P_c,r.
+inline void add_mass_moments(const double f[3], double m, const Vec3& v, CellAcc& acc) {
+  double N[8];
+  corner_weights(f, N);
+  const double mv[4] = {m, m * v[0], m * v[1], m * v[2]};
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < 8; ++c) acc[8 * k + c] += mv[k] * N[c];
+}
+
+/// Up to kBatch particles of one cell: in-cell positions f and A = -V sigma.
+struct StressBatch {
+  static constexpr int kBatch = 16;
+  int n = 0;
+  double f[kBatch][3];
+  double A[kBatch][3][3];
+};
+
+/// Adds the stress moments S^x, S^y, S^z of a batch (particles in batch order):
+/// acc[12 j + 4 r + e] = S^j_e,r with e = b + 2 c the corner (b, c) of the face of column j.
+/// Column by column, so that the 12 sums of a column stay in registers.
+inline void add_stress_moments(const StressBatch& bt, CellAcc& acc) {
+  for (int j = 0; j < 3; ++j) {
+    const int ia = j == 0 ? 1 : 0, ib = j == 2 ? 1 : 2;  // the two other axes: (y, z), (x, z), (x, y)
+    double s[12];
+    for (int i = 0; i < 12; ++i) s[i] = acc[12 * j + i];
+    for (int k = 0; k < bt.n; ++k) {
+      const double a = bt.f[k][ia], b = bt.f[k][ib];
+      const double W[4] = {(1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b};
+      for (int r = 0; r < 3; ++r)
+        for (int e = 0; e < 4; ++e) s[4 * r + e] += bt.A[k][r][j] * W[e];
+    }
+    for (int i = 0; i < 12; ++i) acc[12 * j + i] = s[i];
+  }
+}
+
+/// Adds the forces A dN_c of a particle with an explicit (e.g. closed) stencil to a cell's corner
+/// forces acc[3 c + r] (the accumulators of a cell whose particles all take this path).
+inline void add_corner_forces(const Stencil& st, const double A[3][3], CellAcc& acc) {
+  for (int c = 0; c < 8; ++c)
+    for (int r = 0; r < 3; ++r) acc[3 * c + r] += (A[r][0] * st.dN[c][0] + A[r][1] * st.dN[c][1]) + A[r][2] * st.dN[c][2];
+}
+
+/// Force on corner c = dx + 2 dy + 4 dz from a cell's stress moments (the solver has multiplied
+/// them by 1 / h once per cell).
+inline Vec3 corner_force_moment(const CellAcc& acc, int c) {
+  const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+  const double* sx = acc.data() + dy + 2 * dz;
+  const double* sy = acc.data() + 12 + dx + 2 * dz;
+  const double* sz = acc.data() + 24 + dx + 2 * dy;
+  Vec3 f;
+  for (int r = 0; r < 3; ++r)
+    f[r] = (dx ? sx[4 * r] : -sx[4 * r]) + (dy ? sy[4 * r] : -sy[4 * r]) + (dz ? sz[4 * r] : -sz[4 * r]);
+  return f;
+}
+
+}  // namespace tetfsi::mpm
