@@ -129,7 +129,7 @@ void MpmSolver::close_stencil(Stencil& st) const {
     if (mass_[st.node[c]] > mass_eps_) st.dN[c] += st.N[c] * g_empty;
 }
 
-Mat3 MpmSolver::velocity_gradient(const double f[3], std::size_t cell) const {
+inline Mat3 MpmSolver::velocity_gradient(const double f[3], std::size_t cell) const {
   const auto& G = cell_grad_[cell];
   const double fx = f[0], fy = f[1], fz = f[2];
   const double pa[3] = {fy, fx, fx}, pb[3] = {fz, fz, fy};
@@ -496,9 +496,15 @@ void MpmSolver::finish_step(double dt) {
   // once for all its particles. Per cell, the reductions of this step (next critical step, eq. 21,
   // and the first invalid particle; max / min are exact, so their order does not matter); the
   // impulse work is stored per particle and summed in particle order below.
-  const double h = grid_.h;
+  const double h = grid_.h, inv_h = 1.0 / h;
+  // Explicit viscous bound rho h^2 / (8 mu) as rho times a per-material factor (infinite unless a
+  // viscous fluid): no division per particle.
   bool viscous = false;
-  for (const auto& m : materials_) viscous = viscous || viscous_bound(m, 1.0, h) < std::numeric_limits<double>::infinity();
+  visc_factor_.clear();
+  for (const auto& m : materials_) {
+    visc_factor_.push_back(viscous_bound(m, 1.0, h));
+    viscous = viscous || visc_factor_.back() < std::numeric_limits<double>::infinity();
+  }
   cell_bounds_.resize(cell_acc_.size());
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     StepBounds a;
@@ -507,11 +513,13 @@ void MpmSolver::finish_step(double dt) {
       corner_nodes(grid_, c, id);
       // Corner values in rows (dv_I, v_I) and dv^imp_I (packed: the sums below vectorise).
       double dvv[8][6], dvi_c[8][3];
+      bool cell_impulses = false;  // some corner got a contact impulse (else dv^imp = 0 exactly)
       for (int q = 0; q < 8; ++q)
         for (int r = 0; r < 3; ++r) {
           dvv[q][r] = dvel_[id[q]][r];
           dvv[q][3 + r] = vel_[id[q]][r];
           dvi_c[q][r] = dvel_imp_[id[q]][r];
+          cell_impulses = cell_impulses || dvi_c[q][r] != 0.0;
         }
       for (auto it = b; it != e; ++it) {
         const std::size_t p = *it;
@@ -523,7 +531,9 @@ void MpmSolver::finish_step(double dt) {
         for (int q = 0; q < 8; ++q)
           for (int r = 0; r < 6; ++r) s6[r] += N[q] * dvv[q][r];
         const Vec3 dv(s6[0], s6[1], s6[2]), vel(s6[3], s6[4], s6[5]);
-        if (impulses) {
+        if (impulses && !cell_impulses) {
+          work_[p] = 0.0;
+        } else if (impulses) {
           double s3[3] = {0, 0, 0};
           for (int q = 0; q < 8; ++q)
             for (int r = 0; r < 3; ++r) s3[r] += N[q] * dvi_c[q][r];
@@ -534,10 +544,20 @@ void MpmSolver::finish_step(double dt) {
         P.x[p] += dt * vel;
         const auto mat = P.material[p];
         a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
-        if (viscous) a.dt = std::min(a.dt, viscous_bound(materials_[mat], P.rho[p], h));
-        // contains() is false for a non-finite position as well.
-        const bool ok = grid_.contains(P.x[p]) && P.v[p].allFinite() && P.stress[p].allFinite() &&
-                        std::isfinite(P.rho[p]);
+        if (viscous) a.dt = std::min(a.dt, P.rho[p] * visc_factor_[mat]);
+        // Inside the grid (as Grid::contains, with 1 / h hoisted); false for a non-finite position too.
+        bool inside = true;
+        for (int r = 0; r < 3; ++r) {
+          const double sr = (P.x[p][r] - grid_.lo[r]) * inv_h;
+          inside = inside && sr >= 0.0 && sr < grid_.cells[r];
+        }
+        // One finiteness test on a sum (a NaN or an infinity in any term makes it non-finite; an
+        // overflow of finite terms only sends the step to check_particles, which looks again).
+        const Mat3& sg = P.stress[p];
+        const double sum = ((P.v[p][0] + P.v[p][1]) + (P.v[p][2] + P.rho[p])) +
+                           ((sg(0, 0) + sg(1, 1)) + (sg(2, 2) + sg(0, 1))) +
+                           ((sg(1, 0) + sg(0, 2)) + (sg(2, 0) + (sg(1, 2) + sg(2, 1))));
+        const bool ok = inside && std::isfinite(sum);
         if (!ok) a.bad = std::min(a.bad, p);
       }
     }

@@ -174,6 +174,7 @@ class MpmSolver {
   };
   std::vector<StepBounds> cell_bounds_;
   std::vector<std::uint8_t> cell_open_;  // per cell of the box: some corner has no mass
+  std::vector<double> visc_factor_;      // per material: h^2 / (8 mu), infinite if not viscous
   std::vector<std::int64_t> impulse_nodes_;
   std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around
   std::vector<std::array<int, 3>> around_;     // result of cells_around
