@@ -258,9 +258,10 @@ TEST(GridContact, SlipContactDoesNotGainEnergyAndTheLossIsBookedAsDissipation) {
 }
 
 TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
-  // Same input + thread count => same output; the coloured scatter makes it hold across thread
-  // counts too. Gas expansion (7.3) at spacing 0.05 for 0.05 time units: about 600 coupled steps
-  // with contact on most of them (small enough to run the serial branches of the particle passes).
+  // Same input + thread count => same output; the per-cell passes (each cell writes only its own
+  // sums, each node adds its cells in a fixed order) make it hold across thread counts too. Gas
+  // expansion (7.3) at spacing 0.05 for 0.05 time units: about 600 coupled steps with contact on
+  // most of them (684 particles: the serial branches of the particle passes).
   auto run = [](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     mpm_contact::GasExpansionParams prm;
