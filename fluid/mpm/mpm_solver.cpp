@@ -450,12 +450,20 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
     out[node].setZero();
     if (mass_gradient) (*mass_gradient)[node].setZero();
   }
-  // The particles of the cells around the nodes, cell by cell in ascending index; per cell the
-  // corner velocity changes (p^{n+1/2} - p^{n-1/2}) / m (0 at empty corners) are formed once.
+  // The particles of the cells around the nodes, per cell: the corner velocity changes
+  // (p^{n+1/2} - p^{n-1/2}) / m (0 at empty corners) are formed once, and the cell's particles
+  // give per corner sum_p m_p N_Ip v~_p and sum_p m_p N_Ip,i. Cells run in parallel (each writes
+  // only its own sums); the sums are then added to the marked nodes cell by cell in ascending
+  // index, so the result does not depend on the number of threads.
   const double inv_h = 1.0 / grid_.h;
-  for (const auto& c : cells_around(nodes)) {
+  const auto& cells = cells_around(nodes);
+  around_acc_.resize(cells.size());
+  auto cell_sums = [&](std::size_t k) {
+    const auto& c = cells[k];
+    auto& acc = around_acc_[k];
+    acc.fill(0.0);
     const auto [b, e] = bins_.cell(c[0], c[1], c[2]);
-    if (b == e) continue;
+    if (b == e) return;
     std::int64_t id[8];
     corner_nodes(grid_, c, id);
     Vec3 dvc[8];
@@ -468,11 +476,32 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
       corner_weights(f, N);
       Vec3 v = particles_.v[p];
       for (int q = 0; q < 8; ++q) v += N[q] * dvc[q];
-      for (int q = 0; q < 8; ++q)
-        if (marked_[id[q]]) {
-          out[id[q]] += (particles_.mass[p] * N[q]) * v;
-          if (mass_gradient) (*mass_gradient)[id[q]] += particles_.mass[p] * corner_gradient(f, q, inv_h);
+      for (int q = 0; q < 8; ++q) {
+        if (!marked_[id[q]]) continue;
+        const Vec3 mv = (particles_.mass[p] * N[q]) * v;
+        for (int r = 0; r < 3; ++r) acc[6 * q + r] += mv[r];
+        if (mass_gradient) {
+          const Vec3 g = particles_.mass[p] * corner_gradient(f, q, inv_h);
+          for (int r = 0; r < 3; ++r) acc[6 * q + 3 + r] += g[r];
         }
+      }
+    }
+  };
+  if (particles_.size() < CellBins::kParallelMin) {
+    for (std::size_t k = 0; k < cells.size(); ++k) cell_sums(k);
+  } else {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 4), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t k = r.begin(); k != r.end(); ++k) cell_sums(k);
+    });
+  }
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    std::int64_t id[8];
+    corner_nodes(grid_, cells[k], id);
+    const auto& acc = around_acc_[k];
+    for (int q = 0; q < 8; ++q) {
+      if (!marked_[id[q]]) continue;
+      out[id[q]] += Vec3(acc[6 * q], acc[6 * q + 1], acc[6 * q + 2]);
+      if (mass_gradient) (*mass_gradient)[id[q]] += Vec3(acc[6 * q + 3], acc[6 * q + 4], acc[6 * q + 5]);
     }
   }
   for (auto node : nodes) marked_[node] = 0;

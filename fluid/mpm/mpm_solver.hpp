@@ -178,6 +178,7 @@ class MpmSolver {
   std::vector<std::int64_t> impulse_nodes_;
   std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around
   std::vector<std::array<int, 3>> around_;     // result of cells_around
+  std::vector<std::array<double, 48>> around_acc_;  // per cell of around_: corner sums of particle_trial_momenta
   std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
   double critical_dt_ = 0;
