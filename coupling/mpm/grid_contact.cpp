@@ -1,5 +1,7 @@
 #include "coupling/mpm/grid_contact.hpp"
 
+#include "fluid/mpm/reduce.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -172,7 +174,14 @@ void MpmMembraneCoupling::compute_gaps() {
   const auto& P = mpm_.particles();
   const auto& bins = mpm_.bins();
   for (auto id : candidates_) gap_[id] = std::numeric_limits<double>::infinity();
-  for (const auto& c : mpm_.cells_around(candidates_)) {
+  // Per cell the smallest gap at each corner (cells in parallel, each writing its own 8 values),
+  // then the minimum per node: exact, so the result does not depend on the number of threads.
+  const auto& cells = mpm_.cells_around(candidates_);
+  cell_gap_.resize(cells.size());
+  auto cell_gaps = [&](std::size_t k) {
+    const auto& c = cells[k];
+    auto& g = cell_gap_[k];
+    g.fill(std::numeric_limits<double>::infinity());
     const auto [b, e] = bins.cell(c[0], c[1], c[2]);
     std::int64_t ids[8];
     mpm::corner_nodes(mpm_.grid(), c, ids);
@@ -184,9 +193,16 @@ void MpmMembraneCoupling::compute_gaps() {
       for (int q = 0; q < 8; ++q) {
         const auto id = ids[q];
         if (std::isnan(gap_[id]) || !(N[q] > 0)) continue;  // not a candidate / outside the support
-        gap_[id] = std::min(gap_[id], (P.x[*it] - xr_[id] / mr_[id]).dot(nr_[id]) - radius);
+        g[q] = std::min(g[q], (P.x[*it] - xr_[id] / mr_[id]).dot(nr_[id]) - radius);
       }
     }
+  };
+  mpm::for_each_index(cells.size(), P.size() >= mpm::CellBins::kParallelMin, cell_gaps);
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    std::int64_t ids[8];
+    mpm::corner_nodes(mpm_.grid(), cells[k], ids);
+    for (int q = 0; q < 8; ++q)
+      if (!std::isnan(gap_[ids[q]])) gap_[ids[q]] = std::min(gap_[ids[q]], cell_gap_[k][q]);
   }
 }
 

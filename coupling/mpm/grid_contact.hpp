@@ -110,6 +110,7 @@ class MpmMembraneCoupling {
   std::vector<Vec3> pr_, nr_, xr_, fr_;
   std::vector<Vec3> ps_;  // particle-side trial momentum at candidate nodes
   std::vector<Vec3> grad_s_;  // particle-body mass gradient n^s (eq. 51) at the shared nodes
+  std::vector<std::array<double, 8>> cell_gap_;  // compute_gaps: per cell, the smallest gap per corner
   std::vector<std::uint8_t> seen_;  // node flags: in touched_
   std::vector<std::int64_t> touched_, shared_, candidates_;
   // Per-step membrane buffers (kept to avoid allocations).

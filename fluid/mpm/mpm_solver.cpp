@@ -487,13 +487,7 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
       }
     }
   };
-  if (particles_.size() < CellBins::kParallelMin) {
-    for (std::size_t k = 0; k < cells.size(); ++k) cell_sums(k);
-  } else {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 4), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t k = r.begin(); k != r.end(); ++k) cell_sums(k);
-    });
-  }
+  for_each_index(cells.size(), particles_.size() >= CellBins::kParallelMin, cell_sums);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     std::int64_t id[8];
     corner_nodes(grid_, cells[k], id);
