@@ -260,14 +260,16 @@ TEST(GridContact, SlipContactDoesNotGainEnergyAndTheLossIsBookedAsDissipation) {
 TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
   // Same input + thread count => same output; the per-cell passes (each cell writes only its own
   // sums, each node adds its cells in a fixed order) make it hold across thread counts too. Gas
-  // expansion (7.3) at spacing 0.05 for 0.05 time units: about 600 coupled steps with contact on
-  // most of them (684 particles: the serial branches of the particle passes).
+  // expansion (7.3) at the paper's spacing 0.025 for 0.05 time units: about 800 coupled steps with
+  // contact on most of them (2,736 particles, above CellBins::kParallelMin: the parallel branches
+  // of the particle passes and of the contact passes).
   auto run = [](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     mpm_contact::GasExpansionParams prm;
-    prm.particle_spacing = 0.05;
+    prm.particle_spacing = 0.025;
     prm.t_end = 0.05;
     auto model = mpm_contact::make_gas_expansion(prm);
+    EXPECT_GE(model->mpm().particles().size(), mpm::CellBins::kParallelMin);
     int contacts = 0;
     for (double t = 0; t < prm.t_end;) {
       const double dt = std::min(model->max_dt(), prm.t_end - t);
