@@ -31,9 +31,11 @@ void CellBins::build(const Grid& grid, const std::vector<Vec3>& x) {
   const std::size_t n = x.size();
   order_.resize(n);
   key_.resize(n);
-  if (n == 0) {
+  if (n == 0) {  // nothing to visit: for_each_cell must not walk the previous bins
     lo_ = {0, 0, 0};
     hi_ = {-1, -1, -1};
+    extent_ = {0, 0, 0};
+    start_.assign(1, 0);
     return;
   }
   // Box of occupied cells (min / max are exact, so the reduction order does not matter).

@@ -44,10 +44,6 @@ class CellBins {
   /// outside the box.
   std::pair<const std::uint32_t*, const std::uint32_t*> cell(int i, int j, int k) const;
 
-  /// Position of a particle id in the binned order, from a pointer of a cell() range.
-  std::size_t position(const std::uint32_t* it) const { return static_cast<std::size_t>(it - order_.data()); }
-  /// Particle ids in binned order (position q holds order()[q]).
-  const std::vector<std::uint32_t>& order() const { return order_; }
 
   /// Calls f(cell, begin, end) for every cell of the box (global (i, j, k); its particle ids as a
   /// [begin, end) pointer range in bin order, possibly empty), cells of one layer along the layer
@@ -55,6 +51,7 @@ class CellBins {
   /// only data of its own cell; the result then does not depend on the number of threads.
   template <class F>
   void for_each_cell(F&& f) const {
+    if (order_.empty()) return;
     auto layers = [&](int first, int last) {
       std::array<int, 3> c;
       for (int l = first; l < last; ++l) {

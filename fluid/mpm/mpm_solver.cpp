@@ -566,7 +566,8 @@ void MpmSolver::finish_step(double dt) {
         P.v[p] += dv;
         P.x[p] += dt * vel;
         const auto mat = P.material[p];
-        a.c_max = std::max(a.c_max, particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]));
+        const double speed = particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]);
+        a.c_max = std::max(a.c_max, speed);
         if (viscous) a.dt = std::min(a.dt, P.rho[p] * visc_factor_[mat]);
         // Inside the grid (as Grid::contains, with 1 / h hoisted); false for a non-finite position too.
         bool inside = true;
@@ -580,7 +581,8 @@ void MpmSolver::finish_step(double dt) {
         const double sum = ((P.v[p][0] + P.v[p][1]) + (P.v[p][2] + P.rho[p])) +
                            ((sg(0, 0) + sg(1, 1)) + (sg(2, 2) + sg(0, 1))) +
                            ((sg(1, 0) + sg(0, 2)) + (sg(2, 0) + (sg(1, 2) + sg(2, 1))));
-        const bool ok = inside && std::isfinite(sum);
+        // A NaN wave speed (e.g. from a non-positive density) would drop out of the max above.
+        const bool ok = inside && std::isfinite(sum) && std::isfinite(speed);
         if (!ok) a.bad = std::min(a.bad, p);
       }
     }
@@ -620,6 +622,12 @@ void MpmSolver::check_particles(double dt) const {
       std::ostringstream msg;
       msg << "MpmSolver: particle " << p << " left the background grid at (" << P.x[p].transpose()
           << ") at t = " << time_ + dt;
+      throw std::runtime_error(msg.str());
+    }
+    if (!(P.rho[p] > 0)) {
+      std::ostringstream msg;
+      msg << "MpmSolver: particle " << p << " has a non-positive density " << P.rho[p] << " at t = " << time_ + dt
+          << "; the time step is probably above the critical step";
       throw std::runtime_error(msg.str());
     }
   }
