@@ -26,14 +26,12 @@ enum class FaceBc : std::uint8_t {
 };
 
 /// Shape-function data of one point: the 8 nodes of its cell, weights N_I and gradients N_I,j.
-/// Left uninitialised by default (Grid::fill_stencil writes every field): the particle loops
-/// declare one per particle and pass, and zeroing its 320 bytes each time was measurable.
+/// Left uninitialised by default (Grid::fill_stencil writes every field): loops that build one per
+/// particle (the closed-stencil path, the membrane nodes of the contact) need no zeroing.
 struct Stencil {
   std::array<std::int64_t, 8> node;
   std::array<double, 8> N;
   std::array<Vec3, 8> dN;
-  std::array<int, 3> cell;      ///< (i, j, k) of the cell
-  std::array<double, 3> frac;  ///< position in the cell, (x - x_cell) / h in [0, 1)
 };
 
 /// The regular grid: origin `lo`, cubic cell size `h` [m], `cells` cells per axis.
@@ -61,10 +59,11 @@ struct Grid {
   }
   Vec3 node_position(std::int64_t id) const;
   /// True if x lies inside the grid box (closed at the low end, open at the high end).
-  bool contains(const Vec3& x) const {
-    const double inv = 1.0 / h;  // the same scaling as stencil() and cell_of()
+  bool contains(const Vec3& x) const { return contains(x, 1.0 / h); }
+  /// contains() with inv_h = 1 / h given (hoisted out of particle loops); false for a non-finite x.
+  bool contains(const Vec3& x, double inv_h) const {
     for (int a = 0; a < 3; ++a) {
-      const double s = (x[a] - lo[a]) * inv;
+      const double s = (x[a] - lo[a]) * inv_h;  // the same scaling as stencil() and cell_of()
       if (!(s >= 0.0) || !(s < cells[a])) return false;
     }
     return true;
@@ -87,10 +86,6 @@ struct Grid {
       const double s = (x[a] - lo[a]) * inv;
       base[a] = static_cast<int>(s);
       f[a] = s - base[a];
-    }
-    for (int a = 0; a < 3; ++a) {
-      st.cell[a] = base[a];
-      st.frac[a] = f[a];
     }
     const std::int64_t sx = cells[0] + 1, sxy = sx * (cells[1] + 1);
     const std::int64_t b = node_index(base[0], base[1], base[2]);

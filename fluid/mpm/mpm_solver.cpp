@@ -228,7 +228,15 @@ void MpmSolver::trial_step(double dt) {
   if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("MpmSolver: time step must be positive");
   auto& P = particles_;
   dt_step_ = dt;
-  dt_n_ = 0.5 * ((dt_prev_ > 0 ? dt_prev_ : dt) + dt);  // dt^n (see below)
+  // Variable steps (section 3.2, Fig. 2): the velocities v^{n-1/2} act over the last step
+  // dt^{n-1/2}, and momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eqs. 16, 64).
+  // The strain increment of eq. (62) is printed with dt^n; it is taken over dt^{n-1/2}, the interval
+  // over which those velocities moved the particles, so that with a varying step an elastic body's
+  // stress keeps following its displacement (with dt^n it does not: a step pattern that lands on
+  // output times, 57 steps then two shorter ones, pumped energy into the sphere-on-membrane example
+  // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
+  const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
+  dt_n_ = 0.5 * (dt_strain + dt);
   // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step): the
   // accumulated fields, and p^{n+1/2} (zero outside the box for callers). The per-phase velocities
   // vel_, dvel_, dvel_imp_ are overwritten on the whole new box before they are read; impulses are
@@ -284,14 +292,6 @@ void MpmSolver::trial_step(double dt) {
     }
   });
   cell_gradients();
-  // Variable steps (section 3.2, Fig. 2): the velocities v^{n-1/2} act over the last step
-  // dt^{n-1/2}, and momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eqs. 16, 64).
-  // The strain increment of eq. (62) is printed with dt^n; it is taken over dt^{n-1/2}, the interval
-  // over which those velocities moved the particles, so that with a varying step an elastic body's
-  // stress keeps following its displacement (with dt^n it does not: a step pattern that lands on
-  // output times, 57 steps then two shorter ones, pumped energy into the sphere-on-membrane example
-  // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
-  const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
   const double inv_h = 1.0 / grid_.h;
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17): stress update, then the particle's stress moments
   // (cell_moments.hpp), in the same pass over the cells. A cell with a corner without mass holds
@@ -569,12 +569,7 @@ void MpmSolver::finish_step(double dt) {
         const double speed = particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]);
         a.c_max = std::max(a.c_max, speed);
         if (viscous) a.dt = std::min(a.dt, P.rho[p] * visc_factor_[mat]);
-        // Inside the grid (as Grid::contains, with 1 / h hoisted); false for a non-finite position too.
-        bool inside = true;
-        for (int r = 0; r < 3; ++r) {
-          const double sr = (P.x[p][r] - grid_.lo[r]) * inv_h;
-          inside = inside && sr >= 0.0 && sr < grid_.cells[r];
-        }
+        const bool inside = grid_.contains(P.x[p], inv_h);  // false for a non-finite position too
         // One finiteness test on a sum (a NaN or an infinity in any term makes it non-finite; an
         // overflow of finite terms only sends the step to check_particles, which looks again).
         const Mat3& sg = P.stress[p];

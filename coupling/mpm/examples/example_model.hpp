@@ -27,8 +27,9 @@ class ExampleModel {
   /// @param dt_factor the step is dt_factor x the coupled critical step (section 4.4)
   ExampleModel(mpm::MpmSolver mpm, membrane::Membrane membrane, ContactOptions contact, double dt_factor)
       : mpm_(std::move(mpm)), membrane_(std::move(membrane)), coupling_(mpm_, membrane_, contact),
-        dt_factor_(dt_factor), balance0_(coupling_.energies().balance()) {
+        dt_factor_(dt_factor) {
     const auto e = coupling_.energies();
+    balance0_ = e.balance();
     supplied_ = e.mpm.kinetic + e.mpm.internal + e.membrane.kinetic + e.membrane.strain + e.membrane.hourglass;
   }
   ExampleModel(const ExampleModel&) = delete;
@@ -50,8 +51,9 @@ class ExampleModel {
   /// Named probes of the example (see gas_expansion.hpp, sphere_membrane.hpp).
   Probes probes() const { return probes_ ? probes_() : Probes{}; }
   /// Kinetic + internal + gravity of the particles, kinetic + strain + hourglass of the membrane [J].
-  double stored_energy() const {
-    const auto e = coupling_.energies();
+  double stored_energy() const { return stored_energy(coupling_.energies()); }
+  /// The same from energies `e` already at hand (coupling().energies()).
+  static double stored_energy(const CoupledEnergies& e) {
     return e.mpm.total() + e.membrane.kinetic + e.membrane.strain + e.membrane.hourglass;
   }
   /// Divergence check for a state that is still finite: an explicit step past its stable limit
@@ -61,7 +63,9 @@ class ExampleModel {
   ///         kinetic, internal, strain and hourglass energy at t = 0 (not the gravity potential,
   ///         which depends on the origin) plus the sum of |work| of the membrane's external loads
   ///         over the steps taken through step(); the message names the time and both figures
-  void check_energy_growth() const;
+  void check_energy_growth() const { check_energy_growth(coupling_.energies()); }
+  /// The same with the current energies `e` already at hand (coupling().energies()).
+  void check_energy_growth(const CoupledEnergies& e) const;
   /// A StepRecord of the current state (bodies valid while this model lives).
   StepRecord record(long step, double time, double dt, int contact_nodes) const;
 
@@ -72,8 +76,8 @@ class ExampleModel {
   membrane::Membrane membrane_;
   MpmMembraneCoupling coupling_;
   double dt_factor_;
-  double balance0_;  // at construction (t = 0)
-  double supplied_;  // see check_energy_growth
+  double balance0_ = 0;  // at construction (t = 0)
+  double supplied_ = 0;  // see check_energy_growth
   std::function<Probes()> probes_;
 };
 
