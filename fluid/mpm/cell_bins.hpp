@@ -39,6 +39,11 @@ class CellBins {
   const std::array<int, 3>& lo() const { return lo_; }
   const std::array<int, 3>& hi() const { return hi_; }
   bool empty() const { return order_.empty(); }
+  /// End of the particle ids of all cells (the ranges passed by for_each_cell lie in one array, in
+  /// visiting order within a layer; for prefetching the particles a few places ahead).
+  const std::uint32_t* ids_end() const { return order_.data() + order_.size(); }
+  /// Number of particles binned by the last build.
+  std::size_t size() const { return order_.size(); }
 
   /// Particle ids of cell (i, j, k) (global cell indices) as a [begin, end) pointer range; empty
   /// outside the box.

@@ -31,8 +31,17 @@ using CellAcc = std::array<double, 36>;
 /// one particle scales by the same factor contiguous, so that the sums vectorise.
 /// N_c = w_dx(fx) w_dy(fy) w_dz(fz) of the 8 corners (the values of Grid::fill_stencil).
 inline void corner_weights(const double f[3], double N[8]) {
-  const double wx[2] = {1.0 - f[0], f[0]}, wy[2] = {1.0 - f[1], f[1]}, wz[2] = {1.0 - f[2], f[2]};
-  for (int c = 0; c < 8; ++c) N[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+  // (w_dx w_dy) w_dz with the four products w_dx w_dy shared (12 products instead of 16).
+  const double wx0 = 1.0 - f[0], wx1 = f[0], wy0 = 1.0 - f[1], wy1 = f[1], wz0 = 1.0 - f[2], wz1 = f[2];
+  const double b00 = wx0 * wy0, b10 = wx1 * wy0, b01 = wx0 * wy1, b11 = wx1 * wy1;
+  N[0] = b00 * wz0;
+  N[1] = b10 * wz0;
+  N[2] = b01 * wz0;
+  N[3] = b11 * wz0;
+  N[4] = b00 * wz1;
+  N[5] = b10 * wz1;
+  N[6] = b01 * wz1;
+  N[7] = b11 * wz1;
 }
 
 /// grad N_c of corner c (the value of Grid::fill_stencil), inv_h = 1 / h.
@@ -104,6 +113,37 @@ inline Vec3 corner_force_moment(const CellAcc& acc, int c) {
   for (int r = 0; r < 3; ++r)
     f[r] = (dx ? sx[4 * r] : -sx[4 * r]) + (dy ? sy[4 * r] : -sy[4 * r]) + (dz ? sz[4 * r] : -sz[4 * r]);
   return f;
+}
+
+/// A cell's sums as its corner nodes read them: the (up to) 4 values of corner c at [4 c, 4 c + 4),
+/// one 32-byte block, so that a node gathering its 8 cells reads 8 blocks (the accumulator
+/// layouts above spread one corner's values over the whole cell).
+struct alignas(64) CornerValues {
+  double v[32];
+};
+
+/// Corner c's (m_c, P_c) from the mass moments acc[8 k + c] of add_mass_moments.
+inline void corner_masses(const CellAcc& acc, CornerValues& out) {
+  for (int c = 0; c < 8; ++c)
+    for (int k = 0; k < 4; ++k) out.v[4 * c + k] = acc[8 * k + c];
+}
+
+/// Corner c's force (and a zero) from the stress moments acc (scaled by 1 / h; corner_force_moment).
+inline void corner_forces(const CellAcc& acc, CornerValues& out) {
+#pragma GCC unroll 8
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 f = corner_force_moment(acc, c);
+    for (int r = 0; r < 3; ++r) out.v[4 * c + r] = f[r];
+    out.v[4 * c + 3] = 0.0;
+  }
+}
+
+/// Corner c's force (and a zero) from the per-corner forces acc[3 c + r] of add_corner_forces.
+inline void corner_values(const CellAcc& acc, CornerValues& out) {
+  for (int c = 0; c < 8; ++c) {
+    for (int r = 0; r < 3; ++r) out.v[4 * c + r] = acc[3 * c + r];
+    out.v[4 * c + 3] = 0.0;
+  }
 }
 
 }  // namespace tetfsi::mpm

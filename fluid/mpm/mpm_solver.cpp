@@ -14,6 +14,7 @@
 namespace tetfsi::mpm {
 namespace {
 
+constexpr int kAhead = 8;  // particle passes: prefetch the particle this many places ahead in bin order
 constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reductions
 // Below this many particles the reductions run serially (same result; see reduce.hpp).
 constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
@@ -22,7 +23,7 @@ constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
 /// rho h^2 / (8 mu) of viscous fluids [s].
 /// `p_modulus` is lambda + 2 G of a linear-elastic material (precomputed: saves the divisions of
 /// Material::sound_speed in the particle loop).
-double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
+inline double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
   const double sound = mat.kind == Material::Kind::LinearElastic ? std::sqrt(p_modulus / rho)
                                                                  : mat.sound_speed(rho, -stress.trace() / 3.0);
   return sound + v.norm();
@@ -56,59 +57,40 @@ double exp_small(double x) {
 
 }  // namespace
 
-void MpmSolver::cell_gradients() {
+bool MpmSolver::cell_gradient(const std::array<int, 3>& cell, CellGradient& G) const {
   // Inside a cell the trilinear velocity field has the bilinear gradient
   //   dv/dx (fy, fz) = [ (1-fy)(1-fz) D_00 + fy (1-fz) D_10 + (1-fy) fz D_01 + fy fz D_11 ] / h,
   //   D_bc = v_1bc - v_0bc (nodes a b c = x, y, z offsets), and the same for y and z,
   // i.e. sum_I v_I N_I,j (eqs. 62, 63) written as a + fb b + fc c + fb fc d per column: the 8-node
-  // gather of every particle becomes 36 coefficients per cell (64 particles per cell in the gas
-  // expansion of section 7.3).
-  const auto& lo = bins_.lo();
-  const auto& hi = bins_.hi();
-  const int ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1, ez = hi[2] - lo[2] + 1;
-  cell_grad_.resize(std::size_t(ex) * ey * ez);
-  cell_open_.resize(cell_grad_.size());
+  // gather of every particle becomes 36 coefficients per cell (8 particles per cell in the sphere
+  // examples of section 7.1, 64 in the gas expansion of section 7.3). Computed where the cell's
+  // particles need it (a separate pass over the whole box wrote and re-read 288 bytes per cell).
   const double inv = 1.0 / grid_.h;
   const std::int64_t sx = grid_.cells[0] + 1, sxy = sx * (grid_.cells[1] + 1);
-  // One row of cells along x per call; each cell writes only its own coefficients.
-  auto row = [&](int jk) {
-    const int j = jk % ey, k = jk / ey;
-    for (int i = 0; i < ex; ++i) {
-      const std::int64_t n0 = grid_.node_index(lo[0] + i, lo[1] + j, lo[2] + k);
-      // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
-      auto v = [&](int a, int b, int c) -> const Vec3& { return vel_[n0 + a + b * sx + c * sxy]; };
-      const std::size_t cell = std::size_t(i) + std::size_t(ex) * (j + std::size_t(ey) * k);
-      auto& G = cell_grad_[cell];
-      bool open = false;
-      for (int c = 0; c < 8; ++c) open = open || !(mass_[n0 + (c & 1) + ((c >> 1) & 1) * sx + (c >> 2) * sxy] > mass_eps_);
-      cell_open_[cell] = open;
-      for (int r = 0; r < 3; ++r) {
-        // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
-        const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
-                              v(1, 0, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(0, 1, 1)[r]};
-        const double dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
-                              v(0, 1, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(1, 0, 1)[r]};
-        const double dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
-                              v(0, 1, 1)[r] - v(0, 1, 0)[r], v(1, 1, 1)[r] - v(1, 1, 0)[r]};
-        const double* d[3] = {dx, dy, dz};
-        for (int col = 0; col < 3; ++col) {
-          // d[col] = {D(0,0), D(1,0), D(0,1), D(1,1)} in the column's two fractions.
-          const double* D = d[col];
-          G[12 * col + r] = inv * D[0];
-          G[12 * col + 3 + r] = inv * (D[1] - D[0]);
-          G[12 * col + 6 + r] = inv * (D[2] - D[0]);
-          G[12 * col + 9 + r] = inv * ((D[3] - D[2]) - (D[1] - D[0]));
-        }
-      }
+  const std::int64_t n0 = grid_.node_index(cell[0], cell[1], cell[2]);
+  // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
+  auto v = [&](int a, int b, int c) -> const Vec3& { return vel_[n0 + a + b * sx + c * sxy]; };
+  bool open = false;
+  for (int c = 0; c < 8; ++c) open = open || !(mass_[n0 + (c & 1) + ((c >> 1) & 1) * sx + (c >> 2) * sxy] > mass_eps_);
+  for (int r = 0; r < 3; ++r) {
+    // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
+    const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
+                          v(1, 0, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(0, 1, 1)[r]};
+    const double dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
+                          v(0, 1, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(1, 0, 1)[r]};
+    const double dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
+                          v(0, 1, 1)[r] - v(0, 1, 0)[r], v(1, 1, 1)[r] - v(1, 1, 0)[r]};
+    const double* d[3] = {dx, dy, dz};
+    for (int col = 0; col < 3; ++col) {
+      // d[col] = {D(0,0), D(1,0), D(0,1), D(1,1)} in the column's two fractions.
+      const double* D = d[col];
+      G[12 * col + r] = inv * D[0];
+      G[12 * col + 3 + r] = inv * (D[1] - D[0]);
+      G[12 * col + 6 + r] = inv * (D[2] - D[0]);
+      G[12 * col + 9 + r] = inv * ((D[3] - D[2]) - (D[1] - D[0]));
     }
-  };
-  if (cell_grad_.size() < 8192) {  // small box: task overhead dominates
-    for (int jk = 0; jk < ey * ez; ++jk) row(jk);
-    return;
   }
-  tbb::parallel_for(tbb::blocked_range<int>(0, ey * ez, 16), [&](const tbb::blocked_range<int>& r) {
-    for (int jk = r.begin(); jk != r.end(); ++jk) row(jk);
-  });
+  return open;
 }
 
 void MpmSolver::close_stencil(Stencil& st) const {
@@ -129,8 +111,7 @@ void MpmSolver::close_stencil(Stencil& st) const {
     if (mass_[st.node[c]] > mass_eps_) st.dN[c] += st.N[c] * g_empty;
 }
 
-inline Mat3 MpmSolver::velocity_gradient(const double f[3], std::size_t cell) const {
-  const auto& G = cell_grad_[cell];
+inline Mat3 MpmSolver::velocity_gradient(const double f[3], const CellGradient& G) const {
   const double fx = f[0], fy = f[1], fz = f[2];
   const double pa[3] = {fy, fx, fx}, pb[3] = {fz, fz, fy};
   Mat3 L;
@@ -152,19 +133,31 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
       particles_.rho.size() != n || particles_.energy.size() != n || particles_.material.size() != n)
     throw std::invalid_argument("MpmSolver: particle arrays have different sizes");
   double total_mass = 0;
+  // The message is formatted only for a bad particle (formatting every particle's position was a
+  // quarter of the set-up of a 113k-particle body).
+  auto where = [&](std::size_t p) {
+    std::ostringstream s;
+    s << "MpmSolver: particle " << p << " at (" << particles_.x[p].transpose() << ")";
+    return s.str();
+  };
   for (std::size_t p = 0; p < n; ++p) {
-    std::ostringstream where;
-    where << "MpmSolver: particle " << p << " at (" << particles_.x[p].transpose() << ")";
     if (particles_.material[p] >= materials_.size())
-      throw std::invalid_argument(where.str() + " has material index out of range");
+      throw std::invalid_argument(where(p) + " has material index out of range");
     if (!(particles_.mass[p] > 0) || !(particles_.rho[p] > 0))
-      throw std::invalid_argument(where.str() + " has non-positive mass or density");
-    if (!grid_.contains(particles_.x[p])) throw std::invalid_argument(where.str() + " is outside the grid");
+      throw std::invalid_argument(where(p) + " has non-positive mass or density");
+    if (!grid_.contains(particles_.x[p])) throw std::invalid_argument(where(p) + " is outside the grid");
+    const Mat3& sg = particles_.stress[p];  // the stress update keeps sigma symmetric; it must start so
+    if (sg(0, 1) != sg(1, 0) || sg(0, 2) != sg(2, 0) || sg(1, 2) != sg(2, 1))
+      throw std::invalid_argument(where(p) + " has a non-symmetric stress");
     total_mass += particles_.mass[p];
   }
   for (const auto& m : materials_)
     lame_.push_back({m.lame_lambda(), 2.0 * m.shear_modulus(), m.lame_lambda() + 2 * m.shear_modulus()});
   for (const auto& m : materials_) inv_rho0_.push_back(1.0 / m.rho0);
+  for (std::size_t m = 0; m < materials_.size(); ++m) {
+    elastic_.push_back(materials_[m].kind == Material::Kind::LinearElastic);
+    inv_p_modulus_.push_back(elastic_.back() ? 1.0 / lame_[m][2] : 0.0);
+  }
   mask_ = grid_.build_constraint_mask();
   const auto nn = static_cast<std::size_t>(grid_.num_nodes());
   mass_.assign(nn, 0.0);
@@ -203,25 +196,48 @@ void MpmSolver::for_each_box_node(F&& f) const {
   });
 }
 
-template <class F>
-void MpmSolver::add_cell_corners(int j, int k, std::int64_t first, F&& f) const {
+template <class T, class Value, class Store>
+void MpmSolver::gather_row(int j, int k, std::int64_t first, const T& zero, Value&& value, Store&& store) const {
   // Node (i, j, k) is corner d = (dx, dy, dz) of cell (i - dx, j - dy, k - dz). Per node the cells
-  // come in the order (dz, dy, dx) = (1, 1, 1), (1, 1, 0), (1, 0, 1), ..., (0, 0, 0).
+  // come in the order (dz, dy, dx) = (1, 1, 1), (1, 1, 0), (1, 0, 1), ..., (0, 0, 0). The sum of a
+  // node is kept in registers and stored once (adding each cell's corner to the node arrays in
+  // memory, cell row by cell row, made every addition wait for the previous store).
   const auto& lo = bins_.lo();
   const auto& hi = bins_.hi();
-  const int ex = hi[0] - lo[0] + 1;
+  std::size_t row0[4];  // first box cell of the (up to 4) cell rows around the node row
+  int corner0[4];       // corner (0, dy, dz) of the node in those cells
+  int rows = 0;
   for (int dz = 1; dz >= 0; --dz) {
     if (k - dz < lo[2] || k - dz > hi[2]) continue;
     for (int dy = 1; dy >= 0; --dy) {
       if (j - dy < lo[1] || j - dy > hi[1]) continue;
-      const std::size_t c0 = box_cell({lo[0], j - dy, k - dz});
-      const int corner = 2 * dy + 4 * dz;
-      for (int ci = 0; ci < ex; ++ci) {
-        f(first + ci + 1, c0 + ci, corner + 1);  // the cell's corner dx = 1
-        f(first + ci, c0 + ci, corner);          // dx = 0
-      }
+      row0[rows] = box_cell({lo[0], j - dy, k - dz});
+      corner0[rows++] = 2 * dy + 4 * dz;
     }
   }
+  const int ex = hi[0] - lo[0] + 1;  // cells per row; the row has ex + 1 nodes
+  for (int i = 0; i <= ex; ++i) {
+    T sum = zero;
+    for (int r = 0; r < rows; ++r) {
+      if (i > 0) sum += value(row0[r] + i - 1, corner0[r] + 1);  // cell i - 1, corner dx = 1
+      if (i < ex) sum += value(row0[r] + i, corner0[r]);          // cell i, corner dx = 0
+    }
+    store(first + i, sum);
+  }
+}
+
+void MpmSolver::reset_nodes_outside_box(const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+  auto reset = [&](std::int64_t id) {
+    mass_[id] = 0;
+    for (auto* f : {&mom_old_, &mom_new_, &force_}) (*f)[id].setZero();
+  };
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j) {
+      const std::int64_t first = grid_.node_index(0, j, k);
+      const bool row_in_box = j >= box_lo_[1] && j <= box_hi_[1] && k >= box_lo_[2] && k <= box_hi_[2];
+      for (int i = lo[0]; i <= hi[0]; ++i)
+        if (!row_in_box || i < box_lo_[0] || i > box_hi_[0]) reset(first + i);
+    }
 }
 
 void MpmSolver::trial_step(double dt) {
@@ -237,61 +253,66 @@ void MpmSolver::trial_step(double dt) {
   // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
   const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
   dt_n_ = 0.5 * (dt_strain + dt);
-  // Step 1: reset the nodes of the previous step's box (the grid is "rebuilt" each step): the
-  // accumulated fields, and p^{n+1/2} (zero outside the box for callers). The per-phase velocities
-  // vel_, dvel_, dvel_imp_ are overwritten on the whole new box before they are read; impulses are
-  // non-zero only at impulse_nodes_.
-  for_each_box_node([&](std::int64_t id) {
-    mass_[id] = 0;
-    for (auto* f : {&mom_old_, &mom_new_, &force_}) (*f)[id].setZero();
-  });
+  // Step 1: the grid is "rebuilt" each step. Every node of the new box gets its accumulated fields
+  // (mass, p^{n-1/2}, f, p^{n+1/2}) written below, so only the nodes of the previous step's box
+  // that the new box does not cover are reset (p^{n+1/2} is zero outside the box for callers). The
+  // per-phase velocities vel_, dvel_, dvel_imp_ are overwritten on the whole new box before they are
+  // read; impulses are non-zero only at impulse_nodes_.
   for (auto id : impulse_nodes_) impulse_[id].setZero();
   impulse_nodes_.clear();
   work_.resize(P.size());
-  bins_.build(grid_, P.x);
+  const auto old_lo = box_lo_, old_hi = box_hi_;
+  // If the last finish_step left every particle in its cell, its bins still hold.
+  if (!bins_current_ || bins_.size() != P.size()) bins_.build(grid_, P.x);
+  bins_current_ = false;  // until finish_step finds every particle still in its cell
   if (bins_.empty()) {
     box_lo_ = {0, 0, 0};
     box_hi_ = {-1, -1, -1};
-    return;
+  } else {
+    for (int a = 0; a < 3; ++a) {
+      box_lo_[a] = bins_.lo()[a];
+      box_hi_[a] = bins_.hi()[a] + 1;
+    }
   }
-  for (int a = 0; a < 3; ++a) {
-    box_lo_[a] = bins_.lo()[a];
-    box_hi_[a] = bins_.hi()[a] + 1;
-  }
+  reset_nodes_outside_box(old_lo, old_hi);
+  if (bins_.empty()) return;
 
   // Step 2a (eqs. 60, 61) in per-cell form (cell_moments.hpp): corner masses and momenta per cell,
   // then per node (eq. 51 only where contact asks for it: particle_trial_momenta).
   const auto ncell = std::size_t(bins_.hi()[0] - bins_.lo()[0] + 1) * (bins_.hi()[1] - bins_.lo()[1] + 1) *
                      (bins_.hi()[2] - bins_.lo()[2] + 1);
-  cell_acc_.resize(ncell);
+  cell_corners_.resize(ncell);
+  const std::uint32_t* const ids_end = bins_.ids_end();
+  cell_stress_bad_.resize(ncell);
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     CellAcc acc{};  // local: no aliasing with the particle arrays
     for (auto it = b; it != e; ++it) {
+      if (it + kAhead < ids_end) {
+        __builtin_prefetch(&P.x[it[kAhead]]);
+        __builtin_prefetch(&P.v[it[kAhead]]);
+      }
       double f[3];
       grid_.fractions(P.x[*it], c, f);
       add_mass_moments(f, P.mass[*it], P.v[*it], acc);
     }
-    cell_acc_[box_cell(c)] = acc;
+    corner_masses(acc, cell_corners_[box_cell(c)]);
   });
   // Step 2b: essential conditions on p^{n-1/2}; grid velocities v_I = p_I / m_I (0 if empty).
   const int nx = box_hi_[0] - box_lo_[0] + 1;
   for_each_box_row([&](std::int64_t first, int j, int k) {
-    for (std::int64_t id = first; id < first + nx; ++id) {
-      mass_[id] = 0;
-      mom_old_[id].setZero();
-    }
-    add_cell_corners(j, k, first, [&](std::int64_t id, std::size_t cell, int corner) {
-      const CellAcc& acc = cell_acc_[cell];
-      mass_[id] += acc[corner];
-      for (int r = 0; r < 3; ++r) mom_old_[id][r] += acc[8 * (1 + r) + corner];
-    });
+    gather_row(
+        j, k, first, Eigen::Vector4d::Zero().eval(),
+        [&](std::size_t cell, int corner) { return Eigen::Vector4d(cell_corners_[cell].v + 4 * corner); },
+        [&](std::int64_t id, const Eigen::Vector4d& m) {
+          mass_[id] = m[0];
+          mom_old_[id] = m.tail<3>();
+        });
     for (std::int64_t id = first; id < first + nx; ++id) {
       for (int a = 0; a < 3; ++a)
         if (mask_[id][a]) mom_old_[id][a] = 0.0;
       vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
     }
   });
-  cell_gradients();
   const double inv_h = 1.0 / grid_.h;
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17): stress update, then the particle's stress moments
   // (cell_moments.hpp), in the same pass over the cells. A cell with a corner without mass holds
@@ -300,14 +321,20 @@ void MpmSolver::trial_step(double dt) {
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     const std::size_t cell = box_cell(c);
     CellAcc acc{};  // local: no aliasing with the particle arrays
-    const bool open = cell_open_[cell];
+    CellGradient G;
+    const bool open = b != e && cell_gradient(c, G);  // an empty cell's sums are zero either way
     StressBatch bt;
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
+      if (it + kAhead < ids_end) {
+        __builtin_prefetch(&P.stress[it[kAhead]]);
+        __builtin_prefetch(&P.rho[it[kAhead]]);
+        __builtin_prefetch(&P.x[it[kAhead]]);
+      }
       if (!open) {
         double* f = bt.f[bt.n];
         grid_.fractions(P.x[p], c, f);
-        const double V = update_particle_stress(p, dt_strain, velocity_gradient(f, cell));
+        const double V = update_particle_stress(p, dt_strain, velocity_gradient(f, G));
         for (int r = 0; r < 3; ++r)
           for (int col = 0; col < 3; ++col) bt.A[bt.n][r][col] = -V * P.stress[p](r, col);
         if (++bt.n == StressBatch::kBatch || it + 1 == e) {
@@ -329,20 +356,27 @@ void MpmSolver::trial_step(double dt) {
     }
     if (!open)
       for (auto& a : acc) a *= inv_h;  // the 1 / h of dN/dx (cell_moments.hpp)
-    cell_acc_[cell] = acc;
+    // Finiteness of the new stresses, tested here where they are in cache: a NaN or an infinity in
+    // a particle's -V sigma makes every moment it enters non-finite (0 * inf is NaN too); an
+    // overflow of finite terms only sends the step to check_particles, which looks again.
+    double sum = 0;
+    for (double a : acc) sum += a;
+    cell_stress_bad_[cell] = !std::isfinite(sum);
+    if (b == e)
+      std::fill(std::begin(cell_corners_[cell].v), std::end(cell_corners_[cell].v), 0.0);
+    else if (open)
+      corner_values(acc, cell_corners_[cell]);
+    else
+      corner_forces(acc, cell_corners_[cell]);
   });
   // Step 2e: nodal forces (eq. 17 from the cells, eq. 18 as m_I g), grid conditions on f, trial
   // momentum p^{n+1/2} (eq. 64).
   const Vec3 g = options_.gravity;
   for_each_box_row([&](std::int64_t first, int j, int k) {
-    for (std::int64_t id = first; id < first + nx; ++id) force_[id].setZero();
-    add_cell_corners(j, k, first, [&](std::int64_t id, std::size_t cell, int corner) {
-      const CellAcc& acc = cell_acc_[cell];
-      if (cell_open_[cell])
-        force_[id] += Vec3(acc[3 * corner], acc[3 * corner + 1], acc[3 * corner + 2]);
-      else
-        force_[id] += corner_force_moment(acc, corner);
-    });
+    gather_row(
+        j, k, first, Vec3::Zero().eval(),
+        [&](std::size_t cell, int corner) { return Vec3(cell_corners_[cell].v + 4 * corner); },
+        [&](std::int64_t id, const Vec3& f) { force_[id] = f; });
     for (std::int64_t id = first; id < first + nx; ++id) {
       force_[id] += mass_[id] * g;
       for (int a = 0; a < 3; ++a)
@@ -352,26 +386,45 @@ void MpmSolver::trial_step(double dt) {
   });
 }
 
-double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L) {
+__attribute__((always_inline)) inline double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L) {
   auto& P = particles_;
-  // D = sym L (eq. 23), W = skew L (eq. 24).
-  const Mat3 D = 0.5 * (L + L.transpose());
-  const double trD = D.trace();
-  const auto& mat = materials_[P.material[p]];
+  // Written out on the six independent components (sigma stays symmetric: it starts at zero and
+  // every increment below is symmetric); the Eigen 3x3 form was a fifth of the particle work.
+  // D = sym L (eq. 23) as (xx, yy, zz, xy, xz, yz); W = skew L (eq. 24) as (w01, w02, w12).
+  const double d[6] = {L(0, 0), L(1, 1), L(2, 2), 0.5 * (L(0, 1) + L(1, 0)), 0.5 * (L(0, 2) + L(2, 0)),
+                       0.5 * (L(1, 2) + L(2, 1))};
+  const double trD = (d[0] + d[1]) + d[2];
+  const auto mat_id = P.material[p];
+  const auto& mat = materials_[mat_id];
   const double rho_old = P.rho[p];
-  // Mass conservation: rho^{n+1} = rho^n exp(-dt tr D).
-  const double shrink = exp_small(-dt * trD);
-  const double rho_new = rho_old * shrink;
-  P.rho[p] = rho_new;
+  Mat3& s = P.stress[p];
   if (mat.kind == Material::Kind::LinearElastic) {
+    // Mass conservation: rho^{n+1} = rho^n exp(-dt tr D).
+    const double rho_new = rho_old * exp_small(-dt * trD);
+    P.rho[p] = rho_new;
     // Hypo-elastic Jaumann update (eqs. 22, 25): sigma += dt (C:D + W sigma - sigma W).
     // Eq. (22) is printed as sigma Omega + (sigma Omega)^T; with Omega_ij = (v_i,j - v_j,i)/2 as in
-    // eq. (24) the objective rotation of sigma is W sigma - sigma W, which is what is used.
-    const Mat3 W = 0.5 * (L - L.transpose());
-    const Mat3& s = P.stress[p];
-    const auto& lm = lame_[P.material[p]];  // lambda, 2 G
-    const Mat3 rate = lm[0] * trD * Mat3::Identity() + lm[1] * D;
-    P.stress[p] = s + dt * (rate + W * s - s * W);
+    // eq. (24) the objective rotation of sigma is W sigma - sigma W, which is what is used. For
+    // symmetric sigma it is J = M + M^T with M = W sigma, i.e. with W = [0 a b; -a 0 c; -b -c 0]:
+    //   J_xx = 2 (a s_xy + b s_xz),  J_yy = 2 (c s_yz - a s_xy),  J_zz = -2 (b s_xz + c s_yz),
+    //   J_xy = a (s_yy - s_xx) + b s_yz + c s_xz,  J_xz = b (s_zz - s_xx) + a s_yz - c s_xy,
+    //   J_yz = c (s_zz - s_yy) - a s_xz - b s_xy.
+    const double a = 0.5 * (L(0, 1) - L(1, 0)), b = 0.5 * (L(0, 2) - L(2, 0)), c = 0.5 * (L(1, 2) - L(2, 1));
+    const double sxx = s(0, 0), syy = s(1, 1), szz = s(2, 2), sxy = s(0, 1), sxz = s(0, 2), syz = s(1, 2);
+    const auto& lm = lame_[mat_id];  // lambda, 2 G
+    const double lam_tr = lm[0] * trD;
+    const double nxx = sxx + dt * ((lam_tr + lm[1] * d[0]) + 2.0 * (a * sxy + b * sxz));
+    const double nyy = syy + dt * ((lam_tr + lm[1] * d[1]) + 2.0 * (c * syz - a * sxy));
+    const double nzz = szz + dt * ((lam_tr + lm[1] * d[2]) - 2.0 * (b * sxz + c * syz));
+    const double nxy = sxy + dt * (lm[1] * d[3] + ((a * (syy - sxx) + b * syz) + c * sxz));
+    const double nxz = sxz + dt * (lm[1] * d[4] + ((b * (szz - sxx) + a * syz) - c * sxy));
+    const double nyz = syz + dt * (lm[1] * d[5] + ((c * (szz - syy) - a * sxz) - b * sxy));
+    s(0, 0) = nxx;
+    s(1, 1) = nyy;
+    s(2, 2) = nzz;
+    s(0, 1) = s(1, 0) = nxy;
+    s(0, 2) = s(2, 0) = nxz;
+    s(1, 2) = s(2, 1) = nyz;
     return P.mass[p] / rho_new;
   }
   // Fluid (eq. 26): sigma = 2 mu D' - p I, p from the EOS with the energy equation
@@ -381,25 +434,28 @@ double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L
   // from tr D to the stress, instead of the chain of m/rho0, m/rho^n, m/rho^{n+1}, dV/V0 and the
   // EOS's rho/rho0 (that chain of dependent divisions was the critical path of the update).
   constexpr double kThird = 1.0 / 3.0;
-  const double inv_rho0 = inv_rho0_[P.material[p]];
+  const double rho_new = rho_old * exp_small(-dt * trD);
+  P.rho[p] = rho_new;
+  const double inv_rho0 = inv_rho0_[mat_id];
   const double r_old = mat.rho0 / rho_old, r_new = r_old * exp_small(dt * trD);
   const double dv = r_new - r_old;
   const double mean = trD * kThird;
-  Mat3 Ddev = D;
-  for (int a = 0; a < 3; ++a) Ddev(a, a) -= mean;
+  const double dev[3] = {d[0] - mean, d[1] - mean, d[2] - mean};  // D' = D - tr D / 3 I
+  const double dev_sq = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]) +
+                        2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);  // D' : D'
   const double two_mu = 2.0 * mat.viscosity;
-  const double w_visc = two_mu * Ddev.squaredNorm() * dt * 0.5 * (r_old + r_new);
-  const Mat3& s_old = P.stress[p];
-  const double p_old = -(s_old(0, 0) + s_old(1, 1) + s_old(2, 2)) * kThird;
+  const double w_visc = two_mu * dev_sq * dt * 0.5 * (r_old + r_new);
+  const double p_old = -((s(0, 0) + s(1, 1)) + s(2, 2)) * kThird;
   // Ideal gas (eq. 67): p = (gamma - 1) (rho / rho0) E, with rho / rho0 = 1 / r_new.
-  const auto [a, b] = mat.eos == Eos::IdealGas ? std::pair<double, double>{0.0, (mat.gamma - 1.0) * (rho_new * inv_rho0)}
-                                               : mat.eos_coefficients(rho_new);
-  const double E = (P.energy[p] + w_visc - 0.5 * (p_old + a) * dv) / (1.0 + 0.5 * b * dv);
+  const auto [pa, pb] = mat.eos == Eos::IdealGas ? std::pair<double, double>{0.0, (mat.gamma - 1.0) * (rho_new * inv_rho0)}
+                                                 : mat.eos_coefficients(rho_new);
+  const double E = (P.energy[p] + w_visc - 0.5 * (p_old + pa) * dv) / (1.0 + 0.5 * pb * dv);
   P.energy[p] = E;
-  const double pressure = a + b * E;
-  Mat3& s = P.stress[p];
-  s = two_mu * Ddev;
-  for (int a = 0; a < 3; ++a) s(a, a) -= pressure;
+  const double pressure = pa + pb * E;
+  for (int k = 0; k < 3; ++k) s(k, k) = two_mu * dev[k] - pressure;
+  s(0, 1) = s(1, 0) = two_mu * d[3];
+  s(0, 2) = s(2, 0) = two_mu * d[4];
+  s(1, 2) = s(2, 1) = two_mu * d[5];
   return (P.mass[p] * inv_rho0) * r_new;  // V = V0 r_new
 }
 
@@ -528,7 +584,8 @@ void MpmSolver::finish_step(double dt) {
     visc_factor_.push_back(viscous_bound(m, 1.0, h));
     viscous = viscous || visc_factor_.back() < std::numeric_limits<double>::infinity();
   }
-  cell_bounds_.resize(cell_acc_.size());
+  cell_bounds_.resize(cell_corners_.size());
+  const std::uint32_t* const ids_end = bins_.ids_end();
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     StepBounds a;
     if (b != e) {
@@ -544,8 +601,18 @@ void MpmSolver::finish_step(double dt) {
           dvi_c[q][r] = dvel_imp_[id[q]][r];
           cell_impulses = cell_impulses || dvi_c[q][r] != 0.0;
         }
+      // Elastic particles: c_p + |v_p| <= sqrt((lambda + 2 G) / rho_min) + |v|_max over the cell
+      // (rho / (lambda + 2 G) and |v|^2 per particle, two square roots per cell instead of a
+      // division and two roots per particle; the bound exceeds the cell's largest c + |v| by at most
+      // the spread of |v| within the cell, parts per million of c in the sphere examples).
+      double solid_rho_min = std::numeric_limits<double>::infinity(), solid_v2_max = 0;
       for (auto it = b; it != e; ++it) {
         const std::size_t p = *it;
+        if (it + kAhead < ids_end) {
+          __builtin_prefetch(&P.x[it[kAhead]]);
+          __builtin_prefetch(&P.v[it[kAhead]]);
+          __builtin_prefetch(&P.rho[it[kAhead]]);
+        }
         double f[3];
         grid_.fractions(P.x[p], c, f);
         double N[8];
@@ -566,20 +633,30 @@ void MpmSolver::finish_step(double dt) {
         P.v[p] += dv;
         P.x[p] += dt * vel;
         const auto mat = P.material[p];
-        const double speed = particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]);
-        a.c_max = std::max(a.c_max, speed);
+        double speed = 0;  // c + |v| of a fluid particle; elastic ones go into the cell's bound below
+        if (elastic_[mat]) {
+          solid_rho_min = std::min(solid_rho_min, P.rho[p] * inv_p_modulus_[mat]);
+          solid_v2_max = std::max(solid_v2_max, P.v[p].squaredNorm());
+        } else {
+          speed = particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]);
+          a.c_max = std::max(a.c_max, speed);
+        }
         if (viscous) a.dt = std::min(a.dt, P.rho[p] * visc_factor_[mat]);
         const bool inside = grid_.contains(P.x[p], inv_h);  // false for a non-finite position too
+        // Still in cell c? (the computation of Grid::cell_of, as CellBins uses it)
+        if (inside)
+          for (int k = 0; k < 3; ++k) a.moved = a.moved || static_cast<int>((P.x[p][k] - grid_.lo[k]) * inv_h) != c[k];
         // One finiteness test on a sum (a NaN or an infinity in any term makes it non-finite; an
         // overflow of finite terms only sends the step to check_particles, which looks again).
-        const Mat3& sg = P.stress[p];
-        const double sum = ((P.v[p][0] + P.v[p][1]) + (P.v[p][2] + P.rho[p])) +
-                           ((sg(0, 0) + sg(1, 1)) + (sg(2, 2) + sg(0, 1))) +
-                           ((sg(1, 0) + sg(0, 2)) + (sg(2, 0) + (sg(1, 2) + sg(2, 1))));
+        // The stresses were tested in the stress pass (cell_stress_bad_).
+        const double sum = (P.v[p][0] + P.v[p][1]) + (P.v[p][2] + P.rho[p]);
         // A NaN wave speed (e.g. from a non-positive density) would drop out of the max above.
-        const bool ok = inside && std::isfinite(sum) && std::isfinite(speed);
+        const bool ok = inside && std::isfinite(sum) && std::isfinite(speed) && P.rho[p] > 0;  // rho > 0: no NaN
         if (!ok) a.bad = std::min(a.bad, p);
       }
+      if (cell_stress_bad_[box_cell(c)]) a.bad = std::min(a.bad, std::size_t(*b));
+      if (solid_rho_min < std::numeric_limits<double>::infinity())
+        a.c_max = std::max(a.c_max, std::sqrt(1.0 / solid_rho_min) + std::sqrt(solid_v2_max));
     }
     cell_bounds_[box_cell(c)] = a;
   });
@@ -588,7 +665,10 @@ void MpmSolver::finish_step(double dt) {
     acc.c_max = std::max(acc.c_max, a.c_max);
     acc.dt = std::min(acc.dt, a.dt);
     acc.bad = std::min(acc.bad, a.bad);
+    acc.moved = acc.moved || a.moved;
   }
+  // The next step may reuse this step's bins if no particle left its cell.
+  bins_current_ = !acc.moved && acc.bad >= n;
   impulse_work_ = !impulses ? 0.0
                              : deterministic_reduce(
                                    n, kGrain, kSerialBelow, 0.0,

@@ -23,7 +23,9 @@
 /// its cells' corner values in a fixed order, so results are bit-identical whatever the number of
 /// threads. The grid-to-particle update (eqs. 65, 19) also runs cell by cell (its reductions are
 /// exact max / min). Node loops cover only the box of occupied cells. The other reductions (contact
-/// work, energies) use tbb::parallel_deterministic_reduce with a fixed grain.
+/// work, energies) use tbb::parallel_deterministic_reduce with a fixed grain. The cell bins are
+/// kept from one step to the next while no particle leaves its cell; write access through
+/// particles() makes the next step bin afresh.
 #include <limits>
 #include <vector>
 
@@ -51,18 +53,24 @@ struct MpmEnergies {
 class MpmSolver {
  public:
   /// @throws std::invalid_argument on an empty material list, a bad material index, non-positive
-  ///         mass or density, or a particle outside the grid
+  ///         mass or density, a non-symmetric stress, or a particle outside the grid
   MpmSolver(Grid grid, std::vector<Material> materials, Particles particles, MpmOptions options = {});
 
   const Grid& grid() const { return grid_; }
   const Particles& particles() const { return particles_; }
-  Particles& particles() { return particles_; }
+  /// Write access to the particles (the solver then bins them afresh at the next step).
+  Particles& particles() {
+    bins_current_ = false;
+    return particles_;
+  }
   const std::vector<Material>& materials() const { return materials_; }
   const MpmOptions& options() const { return options_; }
 
   /// Critical step of eq. (21): cfl * min_p h / (c_p + |v_p|), further limited by the explicit
   /// viscous bound rho h^2 / (8 mu) for viscous fluids. Evaluated for the current state (at the
-  /// end of each step, within the particle update).
+  /// end of each step, within the particle update). For elastic solids c_p + |v_p| is taken per
+  /// cell as sqrt((lambda + 2 G) / rho_min) + |v|_max over the cell's particles (a bound above
+  /// the exact value by at most the spread of |v| within a cell).
   double critical_time_step() const { return critical_dt_; }
 
   /// Steps (60)-(64) for the step dt = dt^{n+1/2}: trial grid momentum. After this call
@@ -118,12 +126,14 @@ class MpmSolver {
   long steps() const { return steps_; }
 
  private:
-  /// Per cell of the occupied box, the velocity gradient of the trilinear field as a bilinear
-  /// function of the position in the cell (from vel_; see mpm_solver.cpp).
-  void cell_gradients();
-  /// L_ij = sum_I v_iI N_I,j of a particle (in-cell position f) from the coefficients of its cell
-  /// (box index `cell`).
-  Mat3 velocity_gradient(const double f[3], std::size_t cell) const;
+  /// Coefficients of the velocity gradient of the trilinear field in one cell, a bilinear function
+  /// of the position in the cell (see mpm_solver.cpp).
+  using CellGradient = std::array<double, 36>;
+  /// The coefficients of `cell` (global (i, j, k)) from this phase's node velocities vel_; returns
+  /// whether some corner of the cell has no mass.
+  bool cell_gradient(const std::array<int, 3>& cell, CellGradient& G) const;
+  /// L_ij = sum_I v_iI N_I,j of a particle (in-cell position f) from its cell's coefficients.
+  Mat3 velocity_gradient(const double f[3], const CellGradient& G) const;
   /// Index in the box of occupied cells of cell (i, j, k) (valid after trial_step's binning).
   std::size_t box_cell(const std::array<int, 3>& c) const {
     const auto& lo = bins_.lo();
@@ -131,11 +141,11 @@ class MpmSolver {
     const std::size_t ex = hi[0] - lo[0] + 1, ey = hi[1] - lo[1] + 1;
     return std::size_t(c[0] - lo[0]) + ex * ((c[1] - lo[1]) + ey * (c[2] - lo[2]));
   }
-  /// For the nodes (i, j, k), i in the box, of one row of the node box (`first`: node id of its
-  /// first node), calls f(node id, box cell, corner of the node in that cell) for each of their
-  /// (up to 8) occupied cells, in a fixed order per node.
-  template <class F>
-  void add_cell_corners(int j, int k, std::int64_t first, F&& f) const;
+  /// For each node (i, j, k), i in the box, of one row of the node box (`first`: node id of its
+  /// first node): store(node id, sum) with sum = zero + value(box cell, corner of the node in that
+  /// cell) over the node's (up to 8) occupied cells, in a fixed order per node.
+  template <class T, class Value, class Store>
+  void gather_row(int j, int k, std::int64_t first, const T& zero, Value&& value, Store&& store) const;
   /// Replaces the gradients of a stencil whose far corners have no mass (particle on a cell face)
   /// by N_I,j + N_I sum_{J empty} N_J,j on the corners with mass and 0 on the empty ones (see
   /// mpm_solver.cpp). Needs this step's node masses.
@@ -143,6 +153,9 @@ class MpmSolver {
   /// Stress, density and energy update of particle p (eqs. 22-26) with its velocity gradient L;
   /// returns its new volume m / rho.
   double update_particle_stress(std::size_t p, double dt, const Mat3& L);
+  /// Zeroes mass, momenta and force of the nodes of the box [lo, hi] (the previous step's node box)
+  /// that lie outside the current node box.
+  void reset_nodes_outside_box(const std::array<int, 3>& lo, const std::array<int, 3>& hi);
   /// Calls f(first, j, k) for every row (j, k) of the node box (first: id of its first node), rows
   /// in parallel (one writer per row).
   template <class F>
@@ -156,24 +169,27 @@ class MpmSolver {
   std::vector<Material> materials_;
   std::vector<std::array<double, 3>> lame_;  // per material: lambda, 2 G, lambda + 2 G [Pa]
   std::vector<double> inv_rho0_;              // per material: 1 / rho0
+  std::vector<std::uint8_t> elastic_;         // per material: linear elastic (a solid)
+  std::vector<double> inv_p_modulus_;         // per material: 1 / (lambda + 2 G) of a solid
   Particles particles_;
   MpmOptions options_;
   std::vector<std::array<bool, 3>> mask_;
   CellBins bins_;
+  bool bins_current_ = false;  // the last finish_step left every particle in its cell: bins_ hold
   std::array<int, 3> box_lo_{0, 0, 0}, box_hi_{-1, -1, -1};  // node box of the current step
   std::vector<double> mass_;
   std::vector<Vec3> mom_old_, mom_new_, force_, impulse_;
   std::vector<Vec3> vel_, dvel_, dvel_imp_;  // per-node grid velocities of the current phase
   std::vector<double> work_;                 // per particle: impulse work of the last finish_step
-  std::vector<std::array<double, 36>> cell_grad_;  // per cell of the box: see cell_gradients()
-  std::vector<CellAcc> cell_acc_;  // per cell of the box: mass, then stress moments (cell_moments.hpp)
+  std::vector<CornerValues> cell_corners_;  // per cell of the box: corner masses and momenta, then forces
   struct StepBounds {  // reductions of the grid-to-particle update, per cell
     double c_max = 0;  // largest c + |v| (eq. 21)
     double dt = std::numeric_limits<double>::infinity();  // smallest viscous bound
     std::size_t bad = std::numeric_limits<std::size_t>::max();  // first invalid particle
+    bool moved = false;  // some particle left its cell
   };
   std::vector<StepBounds> cell_bounds_;
-  std::vector<std::uint8_t> cell_open_;  // per cell of the box: some corner has no mass
+  std::vector<std::uint8_t> cell_stress_bad_;  // per cell of the box: a non-finite stress moment
   std::vector<double> visc_factor_;      // per material: h^2 / (8 mu), infinite if not viscous
   std::vector<std::int64_t> impulse_nodes_;
   std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around

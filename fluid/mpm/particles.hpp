@@ -17,7 +17,7 @@ struct Particles {
   std::vector<double> mass;      ///< m_p [kg]
   std::vector<Vec3> x;           ///< position [m]
   std::vector<Vec3> v;           ///< velocity v^{n-1/2} [m/s]
-  std::vector<Mat3> stress;      ///< Cauchy stress sigma [Pa]
+  std::vector<Mat3> stress;      ///< Cauchy stress sigma [Pa], symmetric
   std::vector<double> rho;       ///< current density [kg/m^3]
   std::vector<double> energy;    ///< fluids: internal energy per reference volume E [J/m^3]
   std::vector<std::uint16_t> material;  ///< index into the solver's material list

@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fluid/mpm/mpm_solver.hpp"
@@ -314,6 +316,68 @@ TEST(MpmCore, BadInputIsReported) {
   P.add(1, Vec3(2, 0, 0), Vec3::Zero(), 1, 0, 0);
   EXPECT_THROW(MpmSolver(g, {Material::ideal_gas(1, 1.4, 0)}, P), std::invalid_argument);
   EXPECT_THROW(Grid::covering(Vec3::Zero(), Vec3(1, 1, 1), 0.0), std::invalid_argument);
+  // The stress update keeps sigma symmetric on its six components; a non-symmetric start is refused.
+  Particles Q;
+  Q.add(1, Vec3(0.2, 0.2, 0.2), Vec3::Zero(), 1, 0, 0);
+  Q.stress[0](0, 1) = 1.0;
+  try {
+    MpmSolver s(g, {Material::linear_elastic(1, 1e3, 0.3)}, Q);
+    ADD_FAILURE() << "a non-symmetric stress was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("non-symmetric"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MpmCore, ParticleMovedByTheCallerIsBinnedAgain) {
+  // The solver reuses its cell bins while no particle leaves its cell (the sphere examples of
+  // section 7.1 hardly move). A particle moved through particles() must still be binned where it
+  // is: its mass then lands on the 8 corners of its new cell (eq. 60), and the grid holds the
+  // whole mass.
+  Grid g = Grid::covering(Vec3::Zero(), Vec3(1, 1, 1), 0.1);
+  Particles P;
+  sample_lattice(P, Vec3(0.3, 0.3, 0.3), Vec3(0.5, 0.5, 0.5), 0.05, 1000, 0, Vec3::Zero(), 0, nullptr);
+  MpmSolver s(g, {Material::linear_elastic(1000, 1e6, 0.3)}, P);
+  for (int n = 0; n < 3; ++n) s.step(s.critical_time_step());  // at rest: the bins are reused
+  s.particles().x[0] = Vec3(0.825, 0.825, 0.825);  // into cell (8, 8, 8), far from the block
+  s.trial_step(s.critical_time_step());
+  double grid_mass = 0, corner_mass = 0, particle_mass = 0;
+  for (double m : s.node_mass()) grid_mass += m;
+  for (double m : s.particles().mass) particle_mass += m;
+  for (int c = 0; c < 8; ++c) corner_mass += s.node_mass()[g.node_index(8 + (c & 1), 8 + ((c >> 1) & 1), 8 + (c >> 2))];
+  EXPECT_NEAR(corner_mass, s.particles().mass[0], 1e-12 * particle_mass);
+  EXPECT_NEAR(grid_mass, particle_mass, 1e-12 * particle_mass);
+}
+
+TEST(MpmCore, ElasticCriticalStepIsEq21) {
+  // Eq. (21) for an elastic body: dt = cfl h / max_p (c + |v_p|), c = sqrt((lambda + 2 G) / rho).
+  // The solver bounds c_p + |v_p| per cell by sqrt((lambda + 2 G) / rho_min) + |v|_max: exact for
+  // a uniform motion, and for varying velocities never above the exact step and at most the
+  // spread of |v| in a cell below it.
+  Grid g = Grid::covering(Vec3::Zero(), Vec3(1, 1, 1), 0.1);
+  const double E = 1e6, nu = 0.3, rho = 1000, cfl = 0.5;
+  const double c = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / rho);
+  Particles P;
+  sample_lattice(P, Vec3(0.3, 0.3, 0.3), Vec3(0.7, 0.7, 0.7), 0.05, rho, 0, Vec3(3, -4, 0), 0, nullptr);
+  MpmSolver s(g, {Material::linear_elastic(rho, E, nu)}, P, MpmOptions{Vec3::Zero(), cfl});
+  s.step(1e-6);
+  EXPECT_NEAR(s.critical_time_step(), cfl * 0.1 / (c + 5.0), 1e-12 * s.critical_time_step());
+  // Varying velocities: compare with the per-particle minimum after the step.
+  Particles Q = P;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-20, 20);
+  for (auto& v : Q.v) v = Vec3(U(rng), U(rng), U(rng));
+  MpmSolver q(g, {Material::linear_elastic(rho, E, nu)}, Q, MpmOptions{Vec3::Zero(), cfl});
+  q.step(1e-7);
+  double exact = std::numeric_limits<double>::infinity(), vmax = 0;
+  for (std::size_t p = 0; p < Q.size(); ++p) {
+    const double cp = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / q.particles().rho[p]);
+    exact = std::min(exact, cfl * 0.1 / (cp + q.particles().v[p].norm()));
+    vmax = std::max(vmax, q.particles().v[p].norm());
+  }
+  EXPECT_LE(q.critical_time_step(), exact * (1 + 1e-14));
+  EXPECT_GE(q.critical_time_step(), exact * (c / (c + vmax)) * (1 - 1e-9));
+  std::printf("[elastic critical step] uniform motion: %.9e (eq. 21: %.9e); random velocities: %.9e vs "
+              "per-particle %.9e\n", s.critical_time_step(), cfl * 0.1 / (c + 5.0), q.critical_time_step(), exact);
 }
 
 TEST(MpmCore, UnstableStepIsDetected) {
