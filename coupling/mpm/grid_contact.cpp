@@ -14,15 +14,10 @@ MpmMembraneCoupling::MpmMembraneCoupling(mpm::MpmSolver& mpm, membrane::Membrane
   if (!(opt_.friction >= 0)) throw std::invalid_argument("grid contact: friction coefficient must be >= 0");
   if (!(opt_.distance_factor > 0)) throw std::invalid_argument("grid contact: distance factor must be > 0");
   const auto nn = static_cast<std::size_t>(mpm_.grid().num_nodes());
-  mr_.assign(nn, 0.0);
-  pr_.assign(nn, Vec3::Zero());
-  nr_.assign(nn, Vec3::Zero());
-  xr_.assign(nn, Vec3::Zero());
+  at_.assign(nn, MembraneAtNode::zero());
   ps_.assign(nn, Vec3::Zero());
   grad_s_.assign(nn, Vec3::Zero());
-  seen_.assign(nn, 0);
   gap_.assign(nn, std::numeric_limits<double>::quiet_NaN());
-  fr_.assign(nn, Vec3::Zero());
 }
 
 double MpmMembraneCoupling::critical_time_step() const {
@@ -43,14 +38,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
   const auto t2 = Clock::now();
 
   // Step 4a: membrane mass, momentum, normals and mass-weighted positions on the grid.
-  for (auto id : touched_) {
-    seen_[id] = 0;
-    mr_[id] = 0;
-    pr_[id].setZero();
-    nr_[id].setZero();
-    xr_[id].setZero();
-    fr_[id].setZero();
-  }
+  for (auto id : touched_) at_[id] = MembraneAtNode::zero();
   touched_.clear();
   const auto& X = mem_.positions();
   const auto& V = mem_.velocities();
@@ -65,14 +53,15 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     const auto& st = fe_st_.back();
     for (int c = 0; c < 8; ++c) {
       const auto id = st.node[c];
-      if (!seen_[id]) {  // first touch: the list stays in a deterministic order, no sort needed
-        seen_[id] = 1;
+      auto& a = at_[id];
+      if (!a.seen) {  // first touch: the list stays in a deterministic order, no sort needed
+        a.seen = true;
         touched_.push_back(id);
       }
-      mr_[id] += st.N[c] * M[k];
-      pr_[id] += (st.N[c] * M[k]) * V[k];
-      nr_[id] += st.N[c] * normals_[k];
-      xr_[id] += (st.N[c] * M[k]) * X[k];
+      a.m += st.N[c] * M[k];
+      a.p += (st.N[c] * M[k]) * V[k];
+      a.n += st.N[c] * normals_[k];
+      a.x += (st.N[c] * M[k]) * X[k];
     }
   }
 
@@ -83,18 +72,18 @@ ContactReport MpmMembraneCoupling::step(double dt) {
   const double h = grid.h;
   shared_.clear();
   for (auto id : touched_)
-    if (mr_[id] > 0 && ms[id] > eps && nr_[id].norm() > 0) shared_.push_back(id);
+    if (at_[id].m > 0 && ms[id] > eps && at_[id].n.norm() > 0) shared_.push_back(id);
   mpm_.particle_trial_momenta(shared_, ps_, &grad_s_);
   candidates_.clear();
   for (auto id : shared_) {
-    const double mr = mr_[id], m_s = ms[id];
-    Vec3 n = nr_[id].normalized();
+    const double mr = at_[id].m, m_s = ms[id];
+    Vec3 n = at_[id].n.normalized();
     // Orient the (two-sided) membrane normal towards body s, i.e. against the outward normal
     // n^s = sum_p N_Ip,i m_p of body s (eq. 51).
     if (n.dot(grad_s_[id]) > 0) n = -n;
-    const Vec3 approach = m_s * pr_[id] - mr * ps_[id];
+    const Vec3 approach = m_s * at_[id].p - mr * ps_[id];
     if (!(approach.dot(n) > 0)) continue;  // eq. (52)
-    nr_[id] = n;
+    at_[id].n = n;
     candidates_.push_back(id);
   }
   compute_gaps();
@@ -105,9 +94,9 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     const double g = gap_[id];
     gap_[id] = std::numeric_limits<double>::quiet_NaN();
     if (!(g < opt_.distance_factor * h)) continue;
-    const double mr = mr_[id], m_s = ms[id];
-    const Vec3 n = nr_[id];
-    const Vec3 pr = pr_[id], p_s = ps_[id];
+    const double mr = at_[id].m, m_s = ms[id];
+    const Vec3 n = at_[id].n;
+    const Vec3 pr = at_[id].p, p_s = ps_[id];
     const Vec3 approach = m_s * pr - mr * p_s;
     Vec3 f = -approach / ((mr + m_s) * dtn);  // eq. (55), force on r (see header for the sign)
     if (opt_.mode == ContactOptions::Mode::Slip) {
@@ -116,7 +105,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
       const double ft_norm = ft.norm(), limit = opt_.friction * std::abs(fn);
       f = fn * n + (ft_norm > limit ? Vec3(ft * (limit / ft_norm)) : ft);  // eq. (58)
     }
-    fr_[id] = f;
+    at_[id].f = f;
     mpm_.add_node_impulse(id, -dtn * f);  // eq. (53) with f^s = -f^r
     rep.impulse_on_mpm -= dtn * f;
     rep.impulse_on_membrane += dtn * f;
@@ -134,7 +123,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
       Vec3 dv = Vec3::Zero();
       for (int c = 0; c < 8; ++c) {
         const auto id = st.node[c];
-        if (mr_[id] > 0) dv += st.N[c] * fr_[id] / mr_[id];
+        if (at_[id].m > 0) dv += st.N[c] * at_[id].f / at_[id].m;
       }
       const Vec3 v_trial = Vm[k];
       Vm[k] += dtn * dv;
@@ -193,7 +182,7 @@ void MpmMembraneCoupling::compute_gaps() {
       for (int q = 0; q < 8; ++q) {
         const auto id = ids[q];
         if (std::isnan(gap_[id]) || !(N[q] > 0)) continue;  // not a candidate / outside the support
-        g[q] = std::min(g[q], (P.x[*it] - xr_[id] / mr_[id]).dot(nr_[id]) - radius);
+        g[q] = std::min(g[q], (P.x[*it] - at_[id].x / at_[id].m).dot(at_[id].n) - radius);
       }
     }
   };
