@@ -1,6 +1,7 @@
 #pragma once
 /// @file cell_bins.hpp
-/// Particles bucketed by background-grid cell, rebuilt every step, for
+/// Particles bucketed by background-grid cell (rebuilt by the solver whenever a particle changed
+/// cell), for
 ///  - the particle passes in per-cell form (cell_moments.hpp): each cell's particles, in bin order,
 ///    write only to that cell's accumulators, so cells run in parallel (layers along the longest
 ///    axis of the box) without races or atomics, and every sum has one order whatever the number

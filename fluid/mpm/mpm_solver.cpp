@@ -111,7 +111,7 @@ void MpmSolver::close_stencil(Stencil& st) const {
     if (mass_[st.node[c]] > mass_eps_) st.dN[c] += st.N[c] * g_empty;
 }
 
-inline Mat3 MpmSolver::velocity_gradient(const double f[3], const CellGradient& G) const {
+Mat3 MpmSolver::velocity_gradient(const double f[3], const CellGradient& G) const {
   const double fx = f[0], fy = f[1], fz = f[2];
   const double pa[3] = {fy, fx, fx}, pb[3] = {fz, fz, fy};
   Mat3 L;
@@ -287,7 +287,7 @@ void MpmSolver::trial_step(double dt) {
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     CellAcc acc{};  // local: no aliasing with the particle arrays
     for (auto it = b; it != e; ++it) {
-      if (it + kAhead < ids_end) {
+      if (ids_end - it > kAhead) {
         __builtin_prefetch(&P.x[it[kAhead]]);
         __builtin_prefetch(&P.v[it[kAhead]]);
       }
@@ -326,7 +326,7 @@ void MpmSolver::trial_step(double dt) {
     StressBatch bt;
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
-      if (it + kAhead < ids_end) {
+      if (ids_end - it > kAhead) {
         __builtin_prefetch(&P.stress[it[kAhead]]);
         __builtin_prefetch(&P.rho[it[kAhead]]);
         __builtin_prefetch(&P.x[it[kAhead]]);
@@ -386,7 +386,7 @@ void MpmSolver::trial_step(double dt) {
   });
 }
 
-__attribute__((always_inline)) inline double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L) {
+double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L) {
   auto& P = particles_;
   // Written out on the six independent components (sigma stays symmetric: it starts at zero and
   // every increment below is symmetric); the Eigen 3x3 form was a fifth of the particle work.
@@ -584,7 +584,7 @@ void MpmSolver::finish_step(double dt) {
     visc_factor_.push_back(viscous_bound(m, 1.0, h));
     viscous = viscous || visc_factor_.back() < std::numeric_limits<double>::infinity();
   }
-  cell_bounds_.resize(cell_corners_.size());
+  cell_bounds_.resize(bins_.empty() ? 0 : cell_corners_.size());  // no particles: no bound (infinite step)
   const std::uint32_t* const ids_end = bins_.ids_end();
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     StepBounds a;
@@ -608,7 +608,7 @@ void MpmSolver::finish_step(double dt) {
       double solid_rho_min = std::numeric_limits<double>::infinity(), solid_v2_max = 0;
       for (auto it = b; it != e; ++it) {
         const std::size_t p = *it;
-        if (it + kAhead < ids_end) {
+        if (ids_end - it > kAhead) {
           __builtin_prefetch(&P.x[it[kAhead]]);
           __builtin_prefetch(&P.v[it[kAhead]]);
           __builtin_prefetch(&P.rho[it[kAhead]]);

@@ -348,6 +348,20 @@ TEST(MpmCore, ParticleMovedByTheCallerIsBinnedAgain) {
   EXPECT_NEAR(grid_mass, particle_mass, 1e-12 * particle_mass);
 }
 
+TEST(MpmCore, NoParticlesLeaveNoStepBound) {
+  // After the caller removes every particle, eq. (21) has no particle to bound the step: it is
+  // infinite (it used to keep the last bound).
+  Grid g = Grid::covering(Vec3::Zero(), Vec3(1, 1, 1), 0.1);
+  Particles P;
+  sample_lattice(P, Vec3(0.3, 0.3, 0.3), Vec3(0.5, 0.5, 0.5), 0.05, 1000, 0, Vec3(1, 0, 0), 0, nullptr);
+  MpmSolver s(g, {Material::linear_elastic(1000, 1e6, 0.3)}, P);
+  s.step(s.critical_time_step());
+  ASSERT_TRUE(std::isfinite(s.critical_time_step()));
+  s.particles() = Particles{};
+  s.step(1e-4);
+  EXPECT_TRUE(std::isinf(s.critical_time_step()));
+}
+
 TEST(MpmCore, ElasticCriticalStepIsEq21) {
   // Eq. (21) for an elastic body: dt = cfl h / max_p (c + |v_p|), c = sqrt((lambda + 2 G) / rho).
   // The solver bounds c_p + |v_p| per cell by sqrt((lambda + 2 G) / rho_min) + |v|_max: exact for
