@@ -15,6 +15,13 @@ namespace tetfsi::mpm {
 namespace {
 
 constexpr int kAhead = 8;  // particle passes: prefetch the particle this many places ahead in bin order
+
+/// Prefetches the entries of particle it[kAhead] (kAhead places ahead in bin order, usually in the
+/// next cell) of the given particle arrays, if that particle exists (`end`: end of all bin ids).
+template <class... Arrays>
+inline void prefetch_ahead(const std::uint32_t* it, const std::uint32_t* end, const Arrays&... arrays) {
+  if (end - it > kAhead) (__builtin_prefetch(&arrays[it[kAhead]]), ...);
+}
 constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reductions
 // Below this many particles the reductions run serially (same result; see reduce.hpp).
 constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
@@ -23,7 +30,7 @@ constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
 /// rho h^2 / (8 mu) of viscous fluids [s].
 /// `p_modulus` is lambda + 2 G of a linear-elastic material (precomputed: saves the divisions of
 /// Material::sound_speed in the particle loop).
-inline double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
+double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
   const double sound = mat.kind == Material::Kind::LinearElastic ? std::sqrt(p_modulus / rho)
                                                                  : mat.sound_speed(rho, -stress.trace() / 3.0);
   return sound + v.norm();
@@ -287,10 +294,7 @@ void MpmSolver::trial_step(double dt) {
   bins_.for_each_cell([&](const std::array<int, 3>& c, const std::uint32_t* b, const std::uint32_t* e) {
     CellAcc acc{};  // local: no aliasing with the particle arrays
     for (auto it = b; it != e; ++it) {
-      if (ids_end - it > kAhead) {
-        __builtin_prefetch(&P.x[it[kAhead]]);
-        __builtin_prefetch(&P.v[it[kAhead]]);
-      }
+      prefetch_ahead(it, ids_end, P.x, P.v);
       double f[3];
       grid_.fractions(P.x[*it], c, f);
       add_mass_moments(f, P.mass[*it], P.v[*it], acc);
@@ -326,11 +330,7 @@ void MpmSolver::trial_step(double dt) {
     StressBatch bt;
     for (auto it = b; it != e; ++it) {
       const std::size_t p = *it;
-      if (ids_end - it > kAhead) {
-        __builtin_prefetch(&P.stress[it[kAhead]]);
-        __builtin_prefetch(&P.rho[it[kAhead]]);
-        __builtin_prefetch(&P.x[it[kAhead]]);
-      }
+      prefetch_ahead(it, ids_end, P.stress, P.rho, P.x);
       if (!open) {
         double* f = bt.f[bt.n];
         grid_.fractions(P.x[p], c, f);
@@ -363,7 +363,7 @@ void MpmSolver::trial_step(double dt) {
     for (double a : acc) sum += a;
     cell_stress_bad_[cell] = !std::isfinite(sum);
     if (b == e)
-      std::fill(std::begin(cell_corners_[cell].v), std::end(cell_corners_[cell].v), 0.0);
+      cell_corners_[cell] = CornerValues{};  // zeros
     else if (open)
       corner_values(acc, cell_corners_[cell]);
     else
@@ -608,11 +608,7 @@ void MpmSolver::finish_step(double dt) {
       double solid_rho_min = std::numeric_limits<double>::infinity(), solid_v2_max = 0;
       for (auto it = b; it != e; ++it) {
         const std::size_t p = *it;
-        if (ids_end - it > kAhead) {
-          __builtin_prefetch(&P.x[it[kAhead]]);
-          __builtin_prefetch(&P.v[it[kAhead]]);
-          __builtin_prefetch(&P.rho[it[kAhead]]);
-        }
+        prefetch_ahead(it, ids_end, P.x, P.v, P.rho);
         double f[3];
         grid_.fractions(P.x[p], c, f);
         double N[8];
