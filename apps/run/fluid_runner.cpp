@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 
@@ -26,6 +27,7 @@
 #include "fluid/advection/point_locator.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/io/fluid_output.hpp"
+#include "fluid/liquid/level_set.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/surface_import.hpp"
 #include "mesh/quality.hpp"
@@ -45,6 +47,38 @@ Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d
            vec3(motion.at("axis")).normalized().cross(moved(motion, x0, t) - vec3(motion.at("center")));
   if (type == "path" && dt > 0) return (moved(motion, x0, t) - moved(motion, x0, t - dt)) / dt;
   return Eigen::Vector3d::Zero();
+}
+
+/// Signed distance [m] to the union of the liquid regions of `fill: regions` (negative inside):
+/// the minimum of the shapes' distances (exact for spheres and half-spaces, and for boxes outside
+/// and inside; a union's minimum is exact outside every shape).
+std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
+                                                                     const Eigen::Vector3d& gravity) {
+  std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
+  const Eigen::Vector3d up = gravity.norm() > 0 ? Eigen::Vector3d(-gravity.normalized()) : Eigen::Vector3d::UnitZ();
+  for (const auto& r : regions) {
+    const auto type = r.at("type").get<std::string>();
+    if (type == "box") {
+      const Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
+      shapes.push_back([lo, hi](const Eigen::Vector3d& x) {
+        const Eigen::Vector3d c = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+        const Eigen::Vector3d q = (x - c).cwiseAbs() - half;
+        return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+      });
+    } else if (type == "sphere") {
+      const Eigen::Vector3d c = vec3(r.at("center"));
+      const double radius = r.at("radius").get<double>();
+      shapes.push_back([c, radius](const Eigen::Vector3d& x) { return (x - c).norm() - radius; });
+    } else {  // below
+      const double height = r.at("height").get<double>();
+      shapes.push_back([up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; });
+    }
+  }
+  return [shapes](const Eigen::Vector3d& x) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& s : shapes) d = std::min(d, s(x));
+    return d;
+  };
 }
 
 bool is_static(const scene::Json& motion) {
@@ -119,6 +153,14 @@ class FluidRunner : public Simulation {
     fields.temperature = Eigen::VectorXd::Constant(nt, ambient_);
     try {
       solver_->initialize(complex_, fields);
+      if (f.value("fill", "domain") == "regions") {
+        fluid::LiquidOptions liquid;
+        liquid.band = 4.0 * solver_->mesh().mean_edge_length();
+        solver_->set_liquid(fluid::sample_level_set(solver_->mesh(), liquid_region_distance(f.at("regions"), params.gravity)),
+                            liquid);
+        log.info("free surface: {:.6g} m^3 of liquid in {} regions (level set band {:.4g} m)",
+                 solver_->target_liquid_volume(), f.at("regions").size(), liquid.band);
+      }
     } catch (const std::invalid_argument& e) {
       throw RunError(std::string("fluid initialisation failed: ") + e.what());
     }
@@ -126,16 +168,24 @@ class FluidRunner : public Simulation {
     update_solid_velocity(0.0, 0.0);
   }
 
-  std::vector<std::string> phases() const override { return {"remesh", "advect", "forces", "assemble", "solve"}; }
+  std::vector<std::string> phases() const override {
+    if (solver_->has_free_surface()) return {"remesh", "surface", "advect", "forces", "assemble", "solve"};
+    return {"remesh", "advect", "forces", "assemble", "solve"};
+  }
   std::vector<std::string> columns() const override {
-    return {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence", "kinetic_energy",
-            "min_dihedral", "clamped_traces", "remeshed"};
+    std::vector<std::string> c = {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence",
+                                  "kinetic_energy", "min_dihedral", "clamped_traces", "remeshed"};
+    if (solver_->has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
+    return c;
   }
 
   double max_dt() const override {
     if (fixed_dt_ > 0) return fixed_dt_;
     double umax = max_solid_speed_;
     for (const auto& u : solver_->fields().velocity) umax = std::max(umax, u.norm());
+    // A free surface at rest starts to move at once: bound the step by the speed a liquid falling
+    // under gravity reaches over one cell, sqrt(|g| h).
+    if (solver_->has_free_surface()) umax = std::max(umax, std::sqrt(solver_->params().gravity.norm() * h_));
     return umax > 0 ? std::min(frame_dt_, cfl_ * h_ / umax) : frame_dt_;
   }
 
@@ -203,6 +253,10 @@ class FluidRunner : public Simulation {
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
                   s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces),
                   double(remeshed_)};
+    if (solver_->has_free_surface()) {
+      rep.phase_seconds.insert(rep.phase_seconds.begin() + 1, s.surface_seconds);
+      rep.values.insert(rep.values.end(), {s.liquid_volume, s.volume_drift});
+    }
     return rep;
   }
 
@@ -219,7 +273,14 @@ class FluidRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    out.write_grid("fluid", frame, time, fluid::make_fluid_grid(solver_->mesh(), solver_->fields(), solver_->pressure()));
+    auto grid = fluid::make_fluid_grid(solver_->mesh(), solver_->fields(), solver_->pressure());
+    if (solver_->has_free_surface()) {
+      fluid::add_liquid_fields(grid, solver_->mesh(), solver_->level_set(), solver_->liquid().liquid_volume);
+      std::vector<Eigen::Vector3d> vel;
+      const auto surface = fluid::liquid_surface(solver_->mesh(), solver_->level_set(), solver_->fields().velocity, &vel);
+      out.write_surface("liquid", frame, surface, vel);
+    }
+    out.write_grid("fluid", frame, time, grid);
     for (std::size_t i = 0; i < names_.size(); ++i) {
       std::vector<Eigen::Vector3d> vel;
       const auto surface = solid_surface(static_cast<int>(i), vel);
@@ -230,6 +291,12 @@ class FluidRunner : public Simulation {
   std::vector<double> probe(const scene::Json& p) const override {
     const auto kind = p.at("kind").get<std::string>();
     if (kind == "fluid_kinetic_energy") return {last_.kinetic_energy};
+    if (kind == "fluid_volume") {
+      if (solver_->has_free_surface()) return {solver_->liquid().total_volume()};
+      double v = 0;
+      for (double x : solver_->mesh().volume) v += x;
+      return {v};
+    }
     if (kind != "fluid_point") return {};
     const auto& fm = solver_->mesh();
     const fluid::PointLocator locator(fm);

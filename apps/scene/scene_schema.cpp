@@ -80,6 +80,23 @@ void check_shells(const Json& s, std::vector<Issue>& issues) {
                                  "the domain box, nothing outside the shell is meshed"});
 }
 
+// `fluid.fill: regions` (a free surface) needs regions; the simultaneous solve (eq. 7) and the
+// emitters do not take a free surface yet.
+void check_free_surface(const Json& s, std::vector<Issue>& issues) {
+  if (s["fluid"]["type"] != "liquid" || s["fluid"].value("fill", "domain") != "regions") return;
+  if (s["fluid"]["regions"].empty())
+    issues.push_back({"/fluid/regions", "fill \"regions\" needs at least one region (box, sphere or below)"});
+  for (std::size_t i = 0; i < s["solids"].size(); ++i)
+    if (s["solids"][i]["motion"]["type"] == "none")
+      issues.push_back({fmt::format("/solids/{}/motion/type", i),
+                        "a liquid with a free surface (fluid.fill \"regions\") takes static or kinematic solids "
+                        "only for now (a translation, rotation or path; a zero translation for a fixed one); "
+                        "deforming solids need fill \"domain\""});
+  if (!s["emitters"].empty())
+    issues.push_back({"/emitters", "emitters do not add liquid to a free-surface liquid yet (fluid.fill "
+                                   "\"regions\"): remove them or use fill \"domain\""});
+}
+
 // Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.
 void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
   std::set<std::string> names;
@@ -99,6 +116,7 @@ void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) 
   }
   check_mpm(s, issues);
   check_shells(s, issues);
+  check_free_surface(s, issues);
   if (!s.contains("domain") && s["solids"].empty() && !s.contains("mpm"))
     issues.push_back({"/solids", "the scene has neither a domain nor any solid: nothing to simulate"});
   if (s["fluid"]["type"] != "none" && !s.contains("domain") && s["fluid"].value("fill", "domain") != "cavities")

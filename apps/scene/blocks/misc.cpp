@@ -53,9 +53,11 @@ Field probes() {
                          "the particle starting at the sphere's top (sphere_on_membrane, water_sphere_impact, "
                          "Figs. 9, 11, 12); `total_energy`: stored energy of particles and membrane. Fluid runner: "
                          "`fluid_point`: one fluid `quantity` at `point` (NaN outside the fluid); "
-                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J]. Coupled runner: "
-                         "`fluid_volume`: volume of the fluid [m^3] with the solids at their current "
-                         "position (the cavity volume when the fluid fills only a shell's cavity).").req()})
+                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J] (of the liquid part of each "
+                         "tet for a free surface); `fluid_volume`: volume of the fluid [m^3]: the liquid's "
+                         "for a free surface (fluid.fill `regions`), else the fluid mesh's; in the coupled "
+                         "runner with the solids at their current position (the cavity volume when the "
+                         "fluid fills only a shell's cavity).").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
