@@ -82,6 +82,16 @@ void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
 }
 
 void FluidSolver::apply_sources(const BoundaryConditions& bc) {
+  // A liquid's sources fill their box with liquid (phi = min(phi, distance to the box)); what
+  // they add is added to the volume the run keeps.
+  if (free_surface_ && !bc.sources.empty()) {
+    const double before = liquid_.total_volume();
+    for (const SourceVolume& s : bc.sources)
+      for (int i = 0; i < mesh_.num_nodes(); ++i)
+        level_set_[i] = std::min(level_set_[i], box_distance(mesh_.nodes[i], s.region.lo, s.region.hi));
+    liquid_ = liquid_geometry(mesh_, level_set_);
+    target_volume_ += liquid_.total_volume() - before;
+  }
   for (const SourceVolume& s : bc.sources)
     for (int t = 0; t < mesh_.num_tets(); ++t)
       if (s.region.contains(mesh_.centroid(t))) {

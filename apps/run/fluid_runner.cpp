@@ -60,11 +60,7 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
     const auto type = r.at("type").get<std::string>();
     if (type == "box") {
       const Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
-      shapes.push_back([lo, hi](const Eigen::Vector3d& x) {
-        const Eigen::Vector3d c = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-        const Eigen::Vector3d q = (x - c).cwiseAbs() - half;
-        return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
-      });
+      shapes.push_back([lo, hi](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo, hi); });
     } else if (type == "sphere") {
       const Eigen::Vector3d c = vec3(r.at("center"));
       const double radius = r.at("radius").get<double>();

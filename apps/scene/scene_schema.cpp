@@ -80,8 +80,8 @@ void check_shells(const Json& s, std::vector<Issue>& issues) {
                                  "the domain box, nothing outside the shell is meshed"});
 }
 
-// `fluid.fill: regions` (a free surface) needs regions; the simultaneous solve (eq. 7) and the
-// emitters do not take a free surface yet.
+// `fluid.fill: regions` (a free surface) needs regions; the simultaneous solve (eq. 7) does not
+// take a free surface yet.
 void check_free_surface(const Json& s, std::vector<Issue>& issues) {
   if (s["fluid"]["type"] != "liquid" || s["fluid"].value("fill", "domain") != "regions") return;
   if (s["fluid"]["regions"].empty())
@@ -92,9 +92,6 @@ void check_free_surface(const Json& s, std::vector<Issue>& issues) {
                         "a liquid with a free surface (fluid.fill \"regions\") takes static or kinematic solids "
                         "only for now (a translation, rotation or path; a zero translation for a fixed one); "
                         "deforming solids need fill \"domain\""});
-  if (!s["emitters"].empty())
-    issues.push_back({"/emitters", "emitters do not add liquid to a free-surface liquid yet (fluid.fill "
-                                   "\"regions\"): remove them or use fill \"domain\""});
 }
 
 // Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.

@@ -196,6 +196,11 @@ double volume_of(const FluidMesh& mesh, const Eigen::VectorXd& phi, double shift
 
 }  // namespace
 
+double box_distance(const Eigen::Vector3d& x, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d q = (x - 0.5 * (lo + hi)).cwiseAbs() - 0.5 * (hi - lo);
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
 Eigen::VectorXd sample_level_set(const FluidMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& sdf) {
   Eigen::VectorXd phi(mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) phi[i] = sdf(mesh.nodes[i]);
@@ -246,10 +251,12 @@ void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band) {
     for (Eigen::Index i = 0; i < phi.size(); ++i) phi[i] = phi[i] < 0.0 ? -band : band;
     return;
   }
-  const TriangleGrid grid(s, band);
+  const TriangleGrid grid(s, 0.5 * band);
   Eigen::VectorXd out(phi.size());
+  // The advected phi is a distance moved by at most a few cells: a node with |phi| beyond twice
+  // the band cannot be within the band of the surface; it takes +-band without a query.
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    const double d = grid.distance(mesh.nodes[i], band);
+    const double d = std::abs(phi[i]) >= 2.0 * band ? band : grid.distance(mesh.nodes[i], band);
     out[i] = phi[i] < 0.0 ? -d : d;
   });
   // A liquid node on the surface itself (d = 0) would turn to air: keep it liquid by a hair.
@@ -265,6 +272,26 @@ double restore_volume(const FluidMesh& mesh, Eigen::VectorXd& phi, double target
   const double tol = relative_tolerance * std::max(target, 1e-300);
   double f0 = excess(0.0);
   if (std::abs(f0) <= tol) return 0.0;
+  // Newton: dV/d(shift) = -(area of the zero set) for a distance function; a few steps suffice.
+  double area = 0.0;
+  {
+    const mesh::SurfaceMesh z = zero_set(mesh, phi);
+    for (const auto& t : z.triangles)
+      area += 0.5 * (z.vertices[t[1]] - z.vertices[t[0]]).cross(z.vertices[t[2]] - z.vertices[t[0]]).norm();
+  }
+  if (area > 0.0) {
+    double shift = 0.0, f = f0;
+    for (int k = 0; k < 4; ++k) {
+      const double next = shift + f / area, fn = excess(next);
+      if (!(std::abs(fn) < std::abs(f))) break;
+      shift = next;
+      f = fn;
+      if (std::abs(f) <= tol) {
+        phi.array() += shift;
+        return shift;
+      }
+    }
+  }
   // Liquid volume falls as phi rises: bracket the root, then secant steps kept inside the bracket.
   const double step0 = 0.01 * mesh.mean_edge_length();
   double a = 0.0, fa = f0, b = f0 > 0 ? step0 : -step0, fb = excess(b);

@@ -22,6 +22,9 @@
 
 namespace tetfsi::fluid {
 
+/// Signed distance from x to the axis-aligned box [lo, hi] (negative inside) [m].
+double box_distance(const Eigen::Vector3d& x, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
 /// Nodal level set from a signed distance function (negative inside the liquid) [m].
 Eigen::VectorXd sample_level_set(const FluidMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& sdf);
 

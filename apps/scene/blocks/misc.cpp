@@ -32,7 +32,12 @@ Field emitters() {
       Field::number("start_time", "s", "Time the source switches on.").at_least(0).def(0),
       Field::number("end_time", "s", "Time the source switches off; absent: never.").greater(0),
   });
-  return Field::array("emitters", "Smoke or liquid sources.", std::move(emitter)).def(Json::array());
+  return Field::array("emitters",
+                      "Smoke or liquid sources. With a free-surface liquid (fluid.fill `regions`) the source "
+                      "keeps its box full of liquid moving at `velocity` while it is on (a nozzle; a sphere acts "
+                      "on its bounding box); the liquid it adds is added to the volume the run keeps.",
+                      std::move(emitter))
+      .def(Json::array());
 }
 
 Field probes() {
