@@ -172,8 +172,7 @@ class HexRunner : public Simulation {
     double a = 0, s = 0;
     for (auto& b : bodies_) {
       try {
-        b.integrator->set_time_step(dt);  // the driver may shorten a step to land on a frame
-        const auto& st = b.integrator->step();
+        const auto& st = b.integrator->step(dt);  // the driver may shorten a step to land on a frame
         a += st.assembly_seconds;
         s += st.solve_seconds;
         const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),

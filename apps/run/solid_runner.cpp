@@ -141,10 +141,9 @@ class SolidRunner : public Simulation {
     double assemble = 0, solve = 0;
     std::vector<double> v(7, 0.0);
     for (auto& b : bodies_) {
-      b.integrator->set_time_step(dt);  // the driver may shorten a step to land on a frame
       solid::StepStats st;
       try {
-        st = b.integrator->step();
+        st = b.integrator->step(dt);  // the driver may shorten a step to land on a frame
       } catch (const solid::SolidError& e) {
         const bool stvk = b.model->material().law == solid::ConstitutiveLaw::kStVK;
         throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),

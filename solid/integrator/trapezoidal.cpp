@@ -67,11 +67,6 @@ void TrapezoidalIntegrator::set_uniform_velocity(const Eigen::Vector3d& v) {
   set_velocity(v.replicate(model_.num_nodes(), 1));
 }
 
-void TrapezoidalIntegrator::set_time_step(double h) {
-  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
-  settings_.time_step = h;
-}
-
 void TrapezoidalIntegrator::set_external_forces(const Eigen::VectorXd& f) {
   if (f.size() != f_ext_.size() || !f.allFinite()) throw SolidError("set_external_forces: wrong size or non-finite");
   f_ext_ = f;
@@ -83,8 +78,8 @@ void TrapezoidalIntegrator::add_spring(const LinearSpring& s) {
   springs_.push_back(s);
 }
 
-void TrapezoidalIntegrator::form_system(SparseMatrix& A, Eigen::VectorXd& b) {
-  const double h = settings_.time_step;
+void TrapezoidalIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& b) {
+  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
   const int next = step_ + 1;
   if (!model_.evaluate(d_, K_force_, &K_tangent_))
     throw SolidError("solid step " + std::to_string(next) + " (t = " + std::to_string(time_) +
@@ -123,8 +118,7 @@ void TrapezoidalIntegrator::form_system(SparseMatrix& A, Eigen::VectorXd& b) {
   stats_.inverted = model_.last_inverted_count();
 }
 
-void TrapezoidalIntegrator::advance(const Eigen::VectorXd& u_next) {
-  const double h = settings_.time_step;
+void TrapezoidalIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
   const int next = step_ + 1;
   if (u_next.size() != u_.size()) throw SolidError("advance: velocity has the wrong size");
   for (Eigen::Index i = 0; i < u_next.size(); ++i)
@@ -151,14 +145,14 @@ void TrapezoidalIntegrator::advance(const Eigen::VectorXd& u_next) {
   time_ += h;
 }
 
-const StepStats& TrapezoidalIntegrator::step() {
+const StepStats& TrapezoidalIntegrator::step(double h) {
   auto t0 = std::chrono::steady_clock::now();
-  form_system(A_, b_);
+  form_system(h, A_, b_);
   const double assembly = seconds_since(t0);
   u_next_ = u_;
-  solve_with_contact("solid step " + std::to_string(step_ + 1));
+  solve_with_contact(h, "solid step " + std::to_string(step_ + 1));
   const double solve_seconds = seconds_since(t0) - assembly;
-  advance(u_next_);
+  advance(h, u_next_);
   const int inverted = stats_.inverted, contacts = stats_.contacts;
   if (settings_.track_energy) stats_ = energies();
   stats_.step = step_;
@@ -171,11 +165,10 @@ const StepStats& TrapezoidalIntegrator::step() {
   return stats_;
 }
 
-void TrapezoidalIntegrator::solve_with_contact(const std::string& context) {
+void TrapezoidalIntegrator::solve_with_contact(double h, const std::string& context) {
   active_.clear();
   solver_.solve(A_, b_, u_next_, context);
   if (obstacles_.empty()) return;
-  const double h = settings_.time_step;
   const auto& X = model_.reference_positions();
   const int n = model_.num_nodes();
   SparseMatrix A_free;

@@ -95,21 +95,18 @@ class TrapezoidalIntegrator {
   void set_uniform_velocity(const Eigen::Vector3d& v);
   /// Constant external nodal forces, 3n [N] (added to M g).
   void set_external_forces(const Eigen::VectorXd& f);
-  /// Changes h for the following steps (runners shorten a step to land on a frame time).
-  /// @throws SolidError if h <= 0
-  void set_time_step(double h);
   void add_spring(const LinearSpring& spring);
   StaticObstacles& obstacles() { return obstacles_; }
 
   // ---- pieces for the coupling ----
-  /// A and b of eq. (4)/(18) at the current state (see the scheme note above). Dirichlet DOFs are eliminated
+  /// A and b of eq. (4)/(18) at the current state for a step of length h [s] (see the scheme note above). Dirichlet DOFs are eliminated
   /// symmetrically: their rows and columns are zero except the diagonal A_ii, b_i = A_ii v_i,
   /// and b of the other rows is corrected by -A_ij v_j. (The coupling must leave fixed rows
-  /// out of J.) @throws SolidError naming the step and element if the model fails at d^n.
-  void form_system(SparseMatrix& A, Eigen::VectorXd& b);
-  /// Eq. (5) with the given u^{n+1}, then Dirichlet values, contact and finiteness checks;
-  /// advances the time and step counter. @throws SolidError on non-finite values.
-  void advance(const Eigen::VectorXd& u_next);
+  /// out of J.) @throws SolidError if h <= 0, naming the step and element if the model fails at d^n.
+  void form_system(double h, SparseMatrix& A, Eigen::VectorXd& b);
+  /// Eq. (5) over a step of length h [s] with the given u^{n+1}, then Dirichlet values, contact
+  /// and finiteness checks; advances the time and step counter. @throws SolidError on non-finite values.
+  void advance(double h, const Eigen::VectorXd& u_next);
 
   // ---- whole step ----
   /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
@@ -122,7 +119,9 @@ class TrapezoidalIntegrator {
   /// (inelastic) and Coulomb friction removes up to mu |f_c| h / m of tangential velocity, f_c
   /// being the constraint force. Nodes still inside are projected (StaticObstacles::project).
   /// @throws SolidError (see above)
-  const StepStats& step();
+  const StepStats& step(double h);
+  /// One step of length settings().time_step.
+  const StepStats& step() { return step(settings_.time_step); }
 
   // ---- state ----
   const Eigen::VectorXd& displacement() const { return d_; }
@@ -154,7 +153,7 @@ class TrapezoidalIntegrator {
   };
   std::vector<ActiveContact> active_;
   /// Solves A u = b with the contact active set (see step()); fills active_.
-  void solve_with_contact(const std::string& context);
+  void solve_with_contact(double h, const std::string& context);
   SparseMatrix K_tangent_, A_;
   Eigen::VectorXd K_force_, b_, u_next_;
   double time_ = 0;
