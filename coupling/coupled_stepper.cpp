@@ -46,7 +46,7 @@ struct CoupledStepper::SolidRows {
 
 /// The fluid rows of eq. (6) for one step, on the pressure unknowns.
 struct CoupledStepper::FluidRows {
-  SparseMatrix C;     ///< m x m, (h/ρ) L
+  SparseMatrix P;     ///< m x m, (h/ρ) L
   Eigen::VectorXd r;  ///< m, Gᵀ V v* less the prescribed fluxes
 };
 
@@ -68,13 +68,13 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     Solid s;
     s.submesh = mesh::extract_subdomain(mesh_, mesh::solid_subdomain(i));
     s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i]);
-    solid::TrapezoidalSettings ts;
+    solid::NewmarkSettings ts;
     ts.time_step = settings_.time_step;
     ts.rayleigh_alpha = materials[i].rayleigh_alpha;
     ts.rayleigh_beta = materials[i].rayleigh_beta;
     ts.gravity = settings_.solid_gravity;
     ts.scheme = settings_.newmark;
-    s.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*s.model, ts);
+    s.integrator = std::make_unique<solid::NewmarkIntegrator>(*s.model, ts);
     s.dof_offset = offset;
     offset += 3 * s.model->num_nodes();
     solids_.push_back(std::move(s));
@@ -84,7 +84,7 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
   CoupledSolverOptions options = settings_.solver_options;
   if (settings_.solver == CoupledSolverKind::SchurCG && fluid_.params().solver.backend == fluid::SolverBackend::kHypreAmgCg &&
       !options.preconditioner_apply) {
-    // BoomerAMG of Ŝ = C + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change).
+    // BoomerAMG of Ŝ = P + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change).
     auto amg = std::make_shared<fluid::AmgPreconditioner>();
     options.preconditioner_setup = [amg](const SparseMatrix& S_hat) { amg->setup(S_hat); };
     options.preconditioner_apply = [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
@@ -241,20 +241,20 @@ CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const In
   const std::vector<int>& unknown = interface.unknown;
   const int m = static_cast<int>(interface.H_all.rows());
   FluidRows rows;
-  // C = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
+  // P = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
   const double rho = fluid_.params().density;
   const SparseMatrix L = fluid::assemble_laplacian(fm);
-  // C is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
-  // L's (sorted, compressed) columns filtered in place are C's columns in order: no sort needed.
-  rows.C.resize(m, m);
-  rows.C.reserve(L.nonZeros());
+  // P is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
+  // L's (sorted, compressed) columns filtered in place are P's columns in order: no sort needed.
+  rows.P.resize(m, m);
+  rows.P.reserve(L.nonZeros());
   for (int k = 0; k < L.outerSize(); ++k) {
     if (unknown[k] < 0) continue;
-    rows.C.startVec(unknown[k]);
+    rows.P.startVec(unknown[k]);
     for (SparseMatrix::InnerIterator it(L, k); it; ++it)
-      if (unknown[it.row()] >= 0) rows.C.insertBack(unknown[it.row()], unknown[k]) = (h / rho) * it.value();
+      if (unknown[it.row()] >= 0) rows.P.insertBack(unknown[it.row()], unknown[k]) = (h / rho) * it.value();
   }
-  rows.C.finalize();
+  rows.P.finalize();
   const Eigen::VectorXd div_star = fluid::gradient_transpose_volume(fm, fluid_.fields().velocity) - bc.flux;
   rows.r.resize(m);
   for (int i = 0; i < fm.num_nodes(); ++i)
@@ -276,7 +276,7 @@ CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const In
     moving_boundary = SparseMatrix::InnerIterator(interface.H, k);
   if (bc.closed && !moving_boundary && m > 0) {
     rows.r.array() -= rows.r.mean();
-    rows.C.coeffRef(0, 0) += rows.C.coeff(0, 0);  // p_0 anchored softly: unique and still SPD
+    rows.P.coeffRef(0, 0) += rows.P.coeff(0, 0);  // p_0 anchored softly: unique and still SPD
   }
   return rows;
 }
@@ -298,7 +298,7 @@ CoupledSolveReport CoupledStepper::solve(const CoupledSystem& sys, const std::ve
                              Eigen::VectorXd(0)};
     Eigen::VectorXd unused;
     const CoupledSolveReport rs = solver_->solve(solid_only, u, unused);
-    CoupledSystem fluid_only{SparseMatrix(0, 0), SparseMatrix(m, 0), sys.C, Eigen::VectorXd(0), sys.r - sys.H * u};
+    CoupledSystem fluid_only{SparseMatrix(0, 0), SparseMatrix(m, 0), sys.P, Eigen::VectorXd(0), sys.r - sys.H * u};
     Eigen::VectorXd none;
     report = solver_->solve(fluid_only, none, p);
     report.solver = "splitting:" + report.solver;
@@ -344,7 +344,7 @@ CoupledStepReport CoupledStepper::step(double h) {
   const auto clock = std::chrono::steady_clock::now();
   Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
   FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
-  const CoupledSystem sys{std::move(solid.A), std::move(interface.H), std::move(fluid.C), std::move(solid.b),
+  const CoupledSystem sys{std::move(solid.A), std::move(interface.H), std::move(fluid.P), std::move(solid.b),
                           std::move(fluid.r)};
   report.interface_seconds = seconds_since(clock);
   report.pressure_unknowns = sys.num_pressures();

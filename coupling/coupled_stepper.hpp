@@ -28,7 +28,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "mesh/submesh.hpp"
 #include "mesh/tet_mesh.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/tet/material.hpp"
 #include "solid/tet/tet_model.hpp"
 
@@ -43,7 +43,7 @@ struct CoupledSettings {
   CoupledSolverOptions solver_options;
   Eigen::Vector3d solid_gravity = Eigen::Vector3d::Zero();  ///< gravity on the solids [m/s²]
   /// Solid time integration: the paper's eq. (18) as printed (θ = 1, dissipative) or the
-  /// energy-conserving trapezoidal rule (θ = ½); see solid/integrator/trapezoidal.hpp.
+  /// energy-conserving trapezoidal rule (θ = ½); see solid/integrator/newmark.hpp.
   solid::NewmarkScheme newmark = solid::NewmarkScheme::kChentanez;
   /// Simultaneous scheme: impose the incompressibility constraint on the step's mean state,
   /// Gᵀ V (vⁿ + v^{n+1})/2 = H (uⁿ + u^{n+1})/2 with H at the predicted mid-step interface
@@ -86,7 +86,7 @@ class CoupledStepper {
 
   int num_solids() const { return static_cast<int>(solids_.size()); }
   /// The i-th solid's integrator: set fixed nodes, springs, initial velocity, obstacles here.
-  solid::TrapezoidalIntegrator& solid(int i) { return *solids_[i].integrator; }
+  solid::NewmarkIntegrator& solid(int i) { return *solids_[i].integrator; }
   const solid::TetModel& solid_model(int i) const { return *solids_[i].model; }
   /// Solid node -> shared-mesh vertex map of solid i.
   const mesh::Submesh& solid_mesh(int i) const { return solids_[i].submesh; }
@@ -111,7 +111,7 @@ class CoupledStepper {
   struct Solid {
     mesh::Submesh submesh;
     std::unique_ptr<solid::TetModel> model;
-    std::unique_ptr<solid::TrapezoidalIntegrator> integrator;
+    std::unique_ptr<solid::NewmarkIntegrator> integrator;
     int dof_offset = 0;
   };
   struct SolidRows;  // A, b of eq. (4) over all solids
