@@ -60,14 +60,18 @@ struct CoupledStepper::Interface {
 };
 
 CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
-                               const std::vector<solid::TetMaterial>& materials, CoupledSettings settings)
+                               const std::vector<solid::TetMaterial>& materials, CoupledSettings settings,
+                               const std::vector<solid::TetModelOptions>& model_options)
     : mesh_(std::move(mesh)), settings_(std::move(settings)), fluid_(std::move(fluid)) {
   if (!(settings_.time_step > 0)) throw std::invalid_argument("coupled step: time step must be positive");
+  if (!model_options.empty() && model_options.size() != materials.size())
+    throw std::invalid_argument("coupled step: one element option set per solid expected");
   int offset = 0;
   for (int i = 0; i < static_cast<int>(materials.size()); ++i) {
     Solid s;
     s.submesh = mesh::extract_subdomain(mesh_, mesh::solid_subdomain(i));
-    s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i]);
+    s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i],
+                                                model_options.empty() ? solid::TetModelOptions{} : model_options[i]);
     solid::NewmarkSettings ts;
     ts.time_step = settings_.time_step;
     ts.rayleigh_alpha = materials[i].rayleigh_alpha;

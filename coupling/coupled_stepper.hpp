@@ -80,9 +80,11 @@ class CoupledStepper {
   /// @param mesh       the shared complex (fluid subdomain 1, solid i subdomain 2+i), at rest
   /// @param fluid      fluid parameters (density, gravity, advection, ...)
   /// @param materials  one material per solid, in subdomain order
-  /// @throws std::invalid_argument if a solid subdomain is missing, solid::SolidError on bad materials
+  /// @param model_options  element options per solid (empty: the defaults for all)
+  /// @throws std::invalid_argument if a solid subdomain is missing or model_options has another size,
+  ///         solid::SolidError on bad materials
   CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid, const std::vector<solid::TetMaterial>& materials,
-                 CoupledSettings settings);
+                 CoupledSettings settings, const std::vector<solid::TetModelOptions>& model_options = {});
 
   int num_solids() const { return static_cast<int>(solids_.size()); }
   /// The i-th solid's integrator: set fixed nodes, springs, initial velocity, obstacles here.

@@ -22,6 +22,7 @@
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
@@ -39,18 +40,6 @@ bool is_deformable_tet(const scene::Json& solid) {
   return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == "tet_fem";
 }
 
-solid::TetMaterial material_of(const scene::Json& m) {
-  solid::TetMaterial mat;
-  mat.density = m.at("density").get<double>();
-  mat.youngs_modulus = m.at("youngs_modulus").get<double>();
-  mat.poisson_ratio = m.at("poissons_ratio").get<double>();
-  mat.law = m.at("constitutive") == "neohookean" ? solid::ConstitutiveLaw::kStableNeoHookean
-                                                 : solid::ConstitutiveLaw::kStVK;
-  mat.rayleigh_alpha = m.at("rayleigh_alpha").get<double>();
-  mat.rayleigh_beta = m.at("rayleigh_beta").get<double>();
-  return mat;
-}
-
 class CoupledRunner : public Simulation {
  public:
   void setup(const scene::Scene& scene, spdlog::logger& log) override {
@@ -61,13 +50,15 @@ class CoupledRunner : public Simulation {
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
+    std::vector<solid::TetModelOptions> model_options;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
       std::vector<std::string> warnings;
       cavities.emplace_back();  // stays empty unless a sphere_shell
       surfaces.push_back(surface_of(s, warnings, &cavities.back()));
       for (const auto& w : warnings) log.warn("{}", w);
-      materials.push_back(material_of(s.at("material")));
+      materials.push_back(tet_material(s.at("material")));
+      model_options.push_back(tet_model_options(s.at("material")));
     }
     mesh::TetMesh complex;
     const bool cavity_only = js.at("fluid").value("fill", "domain") == "cavities";
@@ -112,7 +103,7 @@ class CoupledRunner : public Simulation {
     // 0: CoupledStepper's default band, four near-solid cells (never the whole fluid).
     cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
     try {
-      stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs);
+      stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs, model_options);
     } catch (const std::exception& e) {
       throw InputError(std::string("cannot set up the coupled model: ") + e.what());
     }

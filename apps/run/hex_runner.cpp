@@ -16,6 +16,7 @@
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
+#include "apps/run/solid_params.hpp"
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
@@ -42,12 +43,7 @@ hex::BlockProblem problem_of(const scene::Json& s, const std::string& ptr) {
   p.nx = s["model"].at("nx").get<int>();
   p.ny = s["model"].at("ny").get<int>();
   p.nz = s["model"].at("nz").get<int>();
-  const auto& m = s.at("material");
-  p.material.law = m.at("constitutive") == "neohookean" ? hex::MaterialLaw::NeoHookean
-                                                       : hex::MaterialLaw::StVenantKirchhoff;
-  p.material.youngs_modulus = m.at("youngs_modulus").get<double>();
-  p.material.poisson_ratio = m.at("poissons_ratio").get<double>();
-  p.material.density = m.at("density").get<double>();
+  p.material = hex_material(s.at("material"));
   for (const auto& box : s.at("fixed_regions")) {
     hex::RegionCondition rc;
     rc.lo = vec3(box.at("lo"));
@@ -273,14 +269,8 @@ class HexRunner : public Simulation {
   void make_dynamic(HexBody& b, const scene::Json& s, const scene::Json& js, const std::string& ptr) {
     if (!b.bc.prescribed.empty() || !b.bc.rotating_faces.empty())
       throw InputError(ptr + "/boundary_conditions: `displacement` and `moment_rotation` need analysis: static");
-    solid::NewmarkSettings settings;
-    settings.time_step = h_;
-    settings.rayleigh_alpha = s.at("material").at("rayleigh_alpha").get<double>();
-    settings.rayleigh_beta = s.at("material").at("rayleigh_beta").get<double>();
-    settings.gravity = vec3(js.at("simulation").at("gravity"));
     try {
-      settings.scheme = solid::parse_newmark_scheme(s.at("integrator").at("scheme").get<std::string>());
-      settings.solver = solid::parse_solver_kind(s.at("integrator").at("linear_solver").get<std::string>());
+      const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
       b.integrator = std::make_unique<solid::NewmarkIntegrator>(*b.model, settings);
     } catch (const solid::SolidError& e) {
       throw InputError(fmt::format("{}: {}", ptr, e.what()));

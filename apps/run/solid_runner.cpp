@@ -15,6 +15,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
 #include "apps/run/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
@@ -75,31 +76,15 @@ class SolidRunner : public Simulation {
                mesh::quality_report(tets).summary());
 
       const auto& mat = s.at("material");
-      solid::TetMaterial material;
-      material.youngs_modulus = mat.at("youngs_modulus").get<double>();
-      material.poisson_ratio = mat.at("poissons_ratio").get<double>();
-      material.density = mat.at("density").get<double>();
-      material.rayleigh_alpha = mat.at("rayleigh_alpha").get<double>();
-      material.rayleigh_beta = mat.at("rayleigh_beta").get<double>();
-      const bool neo = mat.at("constitutive") == "neohookean";
-      material.law = neo ? solid::ConstitutiveLaw::kStableNeoHookean : solid::ConstitutiveLaw::kStVK;
-      solid::TetModelOptions options;
-      options.project_spd = neo;  // keeps A positive definite under strong compression (README)
-
-      solid::NewmarkSettings settings;
-      settings.time_step = h_;
-      settings.rayleigh_alpha = material.rayleigh_alpha;
-      settings.rayleigh_beta = material.rayleigh_beta;
-      settings.gravity = vec3(sim.at("gravity"));
+      const solid::TetMaterial material = tet_material(mat);
       try {
         material.validate();
       } catch (const solid::SolidError& e) {
         throw InputError(fmt::format("{}/material: {}", ptr, e.what()));
       }
       try {
-        settings.scheme = solid::parse_newmark_scheme(s.at("integrator").at("scheme").get<std::string>());
-        settings.solver = solid::parse_solver_kind(s.at("integrator").at("linear_solver").get<std::string>());
-        b.model = std::make_unique<solid::TetModel>(tets, material, options);
+        const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
+        b.model = std::make_unique<solid::TetModel>(tets, material, tet_model_options(mat));
         b.integrator = std::make_unique<solid::NewmarkIntegrator>(*b.model, settings);
       } catch (const solid::SolidError& e) {  // e.g. a degenerate tet from the mesher: try another mesh size
         throw InputError(fmt::format("{}: solid '{}' (mesh.edge_length {} m): {}", ptr, b.name,
