@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "tests/coupling/piston_fixture.hpp"
+#include "apps/fixtures/piston_fixture.hpp"
 
 using namespace tetfsi;
 using test::PistonSetup;

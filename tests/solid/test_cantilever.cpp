@@ -9,7 +9,7 @@
 #include "solid/analysis/linear_analysis.hpp"
 #include "solid/integrator/newmark.hpp"
 #include "solid/linearized_model.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
 using namespace tetfsi::solid;

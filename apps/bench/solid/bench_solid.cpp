@@ -18,7 +18,7 @@
 #include "solid/analysis/linear_analysis.hpp"
 #include "solid/integrator/spd_solver.hpp"
 #include "solid/integrator/newmark.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid/tet/tet_model.hpp"
 
 using namespace tetfsi;
