@@ -38,14 +38,14 @@ namespace {
 
 
 /// Velocity [m/s] at time t of the point with rest position x0: analytic for translation and
-/// rotation, the secant over [t - dt, t] for keyframed paths.
-Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d& x0, double t, double dt) {
+/// rotation, the secant over [t - h, t] for keyframed paths.
+Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d& x0, double t, double h) {
   const auto type = motion.at("type").get<std::string>();
   if (type == "translation") return vec3(motion.at("velocity"));
   if (type == "rotation")
     return motion.at("angular_velocity").get<double>() *
            vec3(motion.at("axis")).normalized().cross(moved(motion, x0, t) - vec3(motion.at("center")));
-  if (type == "path" && dt > 0) return (moved(motion, x0, t) - moved(motion, x0, t - dt)) / dt;
+  if (type == "path" && h > 0) return (moved(motion, x0, t) - moved(motion, x0, t - h)) / h;
   return Eigen::Vector3d::Zero();
 }
 
@@ -92,9 +92,9 @@ class FluidRunner : public Simulation {
     const auto& js = scene.json;
     const auto& f = js.at("fluid");
     const auto& sim = js.at("simulation");
-    fixed_dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
+    fixed_h_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
     cfl_ = sim.at("cfl").get<double>();
-    frame_dt_ = 1.0 / sim.at("frame_rate").get<double>();
+    frame_interval_ = 1.0 / sim.at("frame_rate").get<double>();
 
     // ---- fluid parameters, boundary patches, emitters (fluid_setup.hpp) ----
     const fluid::FluidParams params = fluid_params(js, log);
@@ -160,7 +160,7 @@ class FluidRunner : public Simulation {
     } catch (const std::invalid_argument& e) {
       throw RunError(std::string("fluid initialisation failed: ") + e.what());
     }
-    h_ = solver_->mesh().mean_edge_length();
+    dx_ = solver_->mesh().mean_edge_length();
     update_solid_velocity(0.0, 0.0);
   }
 
@@ -176,17 +176,17 @@ class FluidRunner : public Simulation {
   }
 
   double max_dt() const override {
-    if (fixed_dt_ > 0) return fixed_dt_;
+    if (fixed_h_ > 0) return fixed_h_;
     double umax = max_solid_speed_;
     for (const auto& u : solver_->fields().velocity) umax = std::max(umax, u.norm());
     // A free surface at rest starts to move at once: bound the step by the speed a liquid falling
-    // under gravity reaches over one cell, sqrt(|g| h).
-    if (solver_->has_free_surface()) umax = std::max(umax, std::sqrt(solver_->params().gravity.norm() * h_));
-    return umax > 0 ? std::min(frame_dt_, cfl_ * h_ / umax) : frame_dt_;
+    // under gravity reaches over one cell, sqrt(|g| dx).
+    if (solver_->has_free_surface()) umax = std::max(umax, std::sqrt(solver_->params().gravity.norm() * dx_));
+    return umax > 0 ? std::min(frame_interval_, cfl_ * dx_ / umax) : frame_interval_;
   }
 
-  StepReport step(double dt) override {
-    time_ += dt;
+  StepReport step(double h) override {
+    time_ += h;
     Stopwatch clock;
     if (moving_) {
       std::vector<Eigen::Vector3d> target = complex_.vertices;
@@ -205,7 +205,7 @@ class FluidRunner : public Simulation {
         try {
           r = mesh::remesh_step(complex_, target, opt);
         } catch (const mesh::MeshError& e) {
-          throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce dt or cfl)", time_, e.what()));
+          throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce simulation.dt or cfl)", time_, e.what()));
         }
         q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
         if (q.inverted + q.degenerate == 0) break;
@@ -226,25 +226,25 @@ class FluidRunner : public Simulation {
       complex_ = std::move(r.mesh);
       min_dihedral_ = r.report.min_dihedral_deg;
       remeshed_ = r.report.remeshed;
-      update_solid_velocity(time_, dt);
+      update_solid_velocity(time_, h);
     }
     const double t_remesh = clock.seconds();
 
     fluid::BoundaryConditions bc = bc_;
     for (const auto& e : emitters_)
-      if (e.active(time_ - dt)) bc.sources.push_back(e.source);
+      if (e.active(time_ - h)) bc.sources.push_back(e.source);
     bc.solid_vertex_velocity = solid_velocity_;
     fluid::StepReport s;
     try {
-      s = solver_->step(complex_, bc, dt);
+      s = solver_->step(complex_, bc, h);
     } catch (const std::exception& e) {  // SolverError, non-finite values, bad boundary input
       throw RunError(fmt::format("fluid step at t = {} s failed: {}", time_, e.what()));
     }
     last_ = s;
-    h_ = solver_->mesh().mean_edge_length();
+    dx_ = solver_->mesh().mean_edge_length();
 
     StepReport rep;
-    rep.dt = dt;
+    rep.dt = h;
     rep.phase_seconds = {t_remesh, s.advect_seconds, s.forces_seconds, s.assemble_seconds, s.solve_seconds};
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
                   s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces),
@@ -314,7 +314,7 @@ class FluidRunner : public Simulation {
 
  private:
   /// Which solid each complex vertex belongs to (-1: fluid only), and the solid vertex velocities.
-  void update_solid_velocity(double t, double dt) {
+  void update_solid_velocity(double t, double h) {
     vertex_solid_.assign(complex_.num_vertices(), -1);
     for (int k = 0; k < complex_.num_tets(); ++k)
       if (complex_.subdomain[k] >= mesh::solid_subdomain(0))
@@ -323,7 +323,7 @@ class FluidRunner : public Simulation {
     max_solid_speed_ = 0;
     for (int v = 0; v < complex_.num_vertices(); ++v)
       if (vertex_solid_[v] >= 0 && !is_static(motions_[vertex_solid_[v]])) {
-        solid_velocity_[v] = motion_velocity(motions_[vertex_solid_[v]], rest_[v], t, dt);
+        solid_velocity_[v] = motion_velocity(motions_[vertex_solid_[v]], rest_[v], t, h);
         max_solid_speed_ = std::max(max_solid_speed_, solid_velocity_[v].norm());
       }
   }
@@ -377,7 +377,7 @@ class FluidRunner : public Simulation {
   fluid::StepReport last_;
   bool moving_ = false;
   bool remeshed_ = false;  ///< last step remeshed the fluid (false: static, or moved only)
-  double fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_ = 0, time_ = 0, ambient_ = 293.15;
+  double fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, dx_ = 0, time_ = 0, ambient_ = 293.15;
   double max_solid_speed_ = 0, min_dihedral_ = 0;
 };
 

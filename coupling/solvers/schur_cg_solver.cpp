@@ -23,7 +23,7 @@ bool SchurCGSolver::refactor(const SparseMatrix& A) {
 bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
   Lag& lag = *lag_;
   lag.precondition = nullptr;
-  lag.C_pattern.assign(SparseMatrix());
+  lag.P_pattern.assign(SparseMatrix());
   lag.H_pattern.assign(SparseMatrix());
   if (s.num_pressures() > 0) {
     const SparseMatrix S_hat = approximate_schur_complement(s);
@@ -41,7 +41,7 @@ bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
     lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
     lag.preconditioner_name = "ic";
   }
-  lag.C_pattern.assign(s.C);
+  lag.P_pattern.assign(s.P);
   lag.H_pattern.assign(s.H);
   return true;
 }
@@ -66,7 +66,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
     fresh.solve_seconds += lagged.solve_seconds;
     return fresh;
   }
-  // A is not positive definite: the Schur complement C + H A⁻¹ Hᵀ is then not SPD and CG is not
+  // A is not positive definite: the Schur complement P + H A⁻¹ Hᵀ is then not SPD and CG is not
   // defined, but GMRES on the whole system, preconditioned with the factor of an earlier SPD A,
   // still is (a light pre-stressed solid whose geometric stiffness outweighs M/h: the bar scene).
   // If the rebuild was due, Ŝ's preconditioner is rebuilt all the same, and the next attempt to
@@ -108,7 +108,7 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   report.setup_seconds = clock.lap();
 
   auto apply_S = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-    Eigen::VectorXd y = s.C * x;
+    Eigen::VectorXd y = s.P * x;
     if (n > 0) y += s.H * A_inv(s.H.transpose() * x);
     return y;
   };

@@ -7,7 +7,7 @@
 
 namespace tetfsi::coupling::detail {
 
-/// Ŝ = C + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement C + H A⁻¹ Hᵀ,
+/// Ŝ = P + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement P + H A⁻¹ Hᵀ,
 /// used to precondition the pressure block (methods.md §3, option 2).
 SparseMatrix approximate_schur_complement(const CoupledSystem& system);
 
@@ -49,8 +49,8 @@ class SchurCGSolver final : public CoupledSolver {
   /// Factorizes A into spare_ and, if it is SPD, makes that the current factor (swap with
   /// factor_); otherwise returns false and leaves factor_ as it was.
   bool refactor(const SparseMatrix& A);
-  /// Sets up Ŝ's preconditioner (the caller's or IC of Ŝ = C + H diag(A)⁻¹ Hᵀ) in lag_ and records
-  /// the patterns of C and H it was built for; false if the incomplete Cholesky failed (lag_ is
+  /// Sets up Ŝ's preconditioner (the caller's or IC of Ŝ = P + H diag(A)⁻¹ Hᵀ) in lag_ and records
+  /// the patterns of P and H it was built for; false if the incomplete Cholesky failed (lag_ is
   /// then left without a preconditioner).
   bool build_schur_preconditioner(const CoupledSystem& s);
   /// Fresh Schur-complement CG with factor_ (A's factor, or none for n = 0); sets up Ŝ's

@@ -26,8 +26,8 @@ constexpr std::size_t kGrain = 512;  // fixed grain of the deterministic reducti
 // Below this many particles the reductions run serially (same result; see reduce.hpp).
 constexpr std::size_t kSerialBelow = CellBins::kParallelMin;
 
-/// Bound of eq. (21) for one particle, h / (c + |v|), and the explicit viscous bound
-/// rho h^2 / (8 mu) of viscous fluids [s].
+/// Bound of eq. (21) for one particle, dx / (c + |v|), and the explicit viscous bound
+/// rho dx^2 / (8 mu) of viscous fluids [s].
 /// `p_modulus` is lambda + 2 G of a linear-elastic material (precomputed: saves the divisions of
 /// Material::sound_speed in the particle loop).
 double particle_speed(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v) {
@@ -36,25 +36,25 @@ double particle_speed(const Material& mat, double p_modulus, double rho, const M
   return sound + v.norm();
 }
 
-/// Explicit viscous bound rho h^2 / (8 mu) [s] (infinite unless a viscous fluid).
-double viscous_bound(const Material& mat, double rho, double h) {
-  if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) return rho * h * h / (8.0 * mat.viscosity);
+/// Explicit viscous bound rho dx^2 / (8 mu) [s] (infinite unless a viscous fluid).
+double viscous_bound(const Material& mat, double rho, double dx) {
+  if (mat.kind == Material::Kind::Fluid && mat.viscosity > 0) return rho * dx * dx / (8.0 * mat.viscosity);
   return std::numeric_limits<double>::infinity();
 }
 
-/// h / c for the largest c > 0 (infinite if none): equal to the smallest h / c_p, since rounded
+/// dx / c for the largest c > 0 (infinite if none): equal to the smallest dx / c_p, since rounded
 /// division is monotone, with one division per step instead of one per particle.
-double sound_bound(double c_max, double h) {
-  return c_max > 0 ? h / c_max : std::numeric_limits<double>::infinity();
+double sound_bound(double c_max, double dx) {
+  return c_max > 0 ? dx / c_max : std::numeric_limits<double>::infinity();
 }
 
 double particle_step_bound(const Material& mat, double p_modulus, double rho, const Mat3& stress, const Vec3& v,
-                           double h) {
-  return std::min(sound_bound(particle_speed(mat, p_modulus, rho, stress, v), h), viscous_bound(mat, rho, h));
+                           double dx) {
+  return std::min(sound_bound(particle_speed(mat, p_modulus, rho, stress, v), dx), viscous_bound(mat, rho, dx));
 }
 
 /// exp(x) for the density update: the Taylor polynomial to x^5 when |x| < 2^-10 (truncation below
-/// x^6 / 720 < 2e-21, far under the rounding of the result; in the gas expansion dt ~ 6e-5 and
+/// x^6 / 720 < 2e-21, far under the rounding of the result; in the gas expansion h ~ 6e-5 and
 /// |tr D| is of order 1), std::exp otherwise. The call to exp was ~5% of the gas expansion's
 /// particle work.
 double exp_small(double x) {
@@ -66,13 +66,13 @@ double exp_small(double x) {
 
 bool MpmSolver::cell_gradient(const std::array<int, 3>& cell, CellGradient& G) const {
   // Inside a cell the trilinear velocity field has the bilinear gradient
-  //   dv/dx (fy, fz) = [ (1-fy)(1-fz) D_00 + fy (1-fz) D_10 + (1-fy) fz D_01 + fy fz D_11 ] / h,
+  //   dv/dx (fy, fz) = [ (1-fy)(1-fz) D_00 + fy (1-fz) D_10 + (1-fy) fz D_01 + fy fz D_11 ] / dx,
   //   D_bc = v_1bc - v_0bc (nodes a b c = x, y, z offsets), and the same for y and z,
   // i.e. sum_I v_I N_I,j (eqs. 62, 63) written as a + fb b + fc c + fb fc d per column: the 8-node
   // gather of every particle becomes 36 coefficients per cell (8 particles per cell in the sphere
   // examples of section 7.1, 64 in the gas expansion of section 7.3). Computed where the cell's
   // particles need it (a separate pass over the whole box wrote and re-read 288 bytes per cell).
-  const double inv = 1.0 / grid_.h;
+  const double inv = 1.0 / grid_.dx;
   const std::int64_t sx = grid_.cells[0] + 1, sxy = sx * (grid_.cells[1] + 1);
   const std::int64_t n0 = grid_.node_index(cell[0], cell[1], cell[2]);
   // v(a, b, c) = velocity of node n0 + a + b sx + c sxy.
@@ -81,13 +81,13 @@ bool MpmSolver::cell_gradient(const std::array<int, 3>& cell, CellGradient& G) c
   for (int c = 0; c < 8; ++c) open = open || !(mass_[n0 + (c & 1) + ((c >> 1) & 1) * sx + (c >> 2) * sxy] > mass_eps_);
   for (int r = 0; r < 3; ++r) {
     // Column 0 (d/dx) in (fy, fz), column 1 (d/dy) in (fx, fz), column 2 (d/dz) in (fx, fy).
-    const double dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
+    const double Dx[4] = {v(1, 0, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(0, 1, 0)[r],
                           v(1, 0, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(0, 1, 1)[r]};
-    const double dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
+    const double Dy[4] = {v(0, 1, 0)[r] - v(0, 0, 0)[r], v(1, 1, 0)[r] - v(1, 0, 0)[r],
                           v(0, 1, 1)[r] - v(0, 0, 1)[r], v(1, 1, 1)[r] - v(1, 0, 1)[r]};
-    const double dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
+    const double Dz[4] = {v(0, 0, 1)[r] - v(0, 0, 0)[r], v(1, 0, 1)[r] - v(1, 0, 0)[r],
                           v(0, 1, 1)[r] - v(0, 1, 0)[r], v(1, 1, 1)[r] - v(1, 1, 0)[r]};
-    const double* d[3] = {dx, dy, dz};
+    const double* d[3] = {Dx, Dy, Dz};
     for (int col = 0; col < 3; ++col) {
       // d[col] = {D(0,0), D(1,0), D(0,1), D(1,1)} in the column's two fractions.
       const double* D = d[col];
@@ -171,12 +171,12 @@ MpmSolver::MpmSolver(Grid grid, std::vector<Material> materials, Particles parti
   for (auto* f : {&mom_old_, &mom_new_, &force_, &impulse_, &vel_, &dvel_, &dvel_imp_})
     f->assign(nn, Vec3::Zero());
   mass_eps_ = n ? 1e-12 * total_mass / double(n) : 0.0;
-  critical_dt_ = std::numeric_limits<double>::infinity();
+  critical_h_ = std::numeric_limits<double>::infinity();
   for (std::size_t p = 0; p < n; ++p)
-    critical_dt_ = std::min(critical_dt_, particle_step_bound(materials_[particles_.material[p]],
+    critical_h_ = std::min(critical_h_, particle_step_bound(materials_[particles_.material[p]],
                                                               lame_[particles_.material[p]][2], particles_.rho[p],
-                                                              particles_.stress[p], particles_.v[p], grid_.h));
-  critical_dt_ *= options_.cfl;
+                                                              particles_.stress[p], particles_.v[p], grid_.dx));
+  critical_h_ *= options_.cfl;
 }
 
 template <class F>
@@ -205,29 +205,29 @@ void MpmSolver::for_each_box_node(F&& f) const {
 
 template <class T, class Value, class Store>
 void MpmSolver::gather_row(int j, int k, std::int64_t first, const T& zero, Value&& value, Store&& store) const {
-  // Node (i, j, k) is corner d = (dx, dy, dz) of cell (i - dx, j - dy, k - dz). Per node the cells
-  // come in the order (dz, dy, dx) = (1, 1, 1), (1, 1, 0), (1, 0, 1), ..., (0, 0, 0). The sum of a
+  // Node (i, j, k) is corner d = (di, dj, dk) of cell (i - di, j - dj, k - dk). Per node the cells
+  // come in the order (dk, dj, di) = (1, 1, 1), (1, 1, 0), (1, 0, 1), ..., (0, 0, 0). The sum of a
   // node is kept in registers and stored once (adding each cell's corner to the node arrays in
   // memory, cell row by cell row, made every addition wait for the previous store).
   const auto& lo = bins_.lo();
   const auto& hi = bins_.hi();
   std::size_t row0[4];  // first box cell of the (up to 4) cell rows around the node row
-  int corner0[4];       // corner (0, dy, dz) of the node in those cells
+  int corner0[4];       // corner (0, dj, dk) of the node in those cells
   int rows = 0;
-  for (int dz = 1; dz >= 0; --dz) {
-    if (k - dz < lo[2] || k - dz > hi[2]) continue;
-    for (int dy = 1; dy >= 0; --dy) {
-      if (j - dy < lo[1] || j - dy > hi[1]) continue;
-      row0[rows] = box_cell({lo[0], j - dy, k - dz});
-      corner0[rows++] = 2 * dy + 4 * dz;
+  for (int dk = 1; dk >= 0; --dk) {
+    if (k - dk < lo[2] || k - dk > hi[2]) continue;
+    for (int dj = 1; dj >= 0; --dj) {
+      if (j - dj < lo[1] || j - dj > hi[1]) continue;
+      row0[rows] = box_cell({lo[0], j - dj, k - dk});
+      corner0[rows++] = 2 * dj + 4 * dk;
     }
   }
   const int ex = hi[0] - lo[0] + 1;  // cells per row; the row has ex + 1 nodes
   for (int i = 0; i <= ex; ++i) {
     T sum = zero;
     for (int r = 0; r < rows; ++r) {
-      if (i > 0) sum += value(row0[r] + i - 1, corner0[r] + 1);  // cell i - 1, corner dx = 1
-      if (i < ex) sum += value(row0[r] + i, corner0[r]);          // cell i, corner dx = 0
+      if (i > 0) sum += value(row0[r] + i - 1, corner0[r] + 1);  // cell i - 1, corner di = 1
+      if (i < ex) sum += value(row0[r] + i, corner0[r]);          // cell i, corner di = 0
     }
     store(first + i, sum);
   }
@@ -247,19 +247,19 @@ void MpmSolver::reset_nodes_outside_box(const std::array<int, 3>& lo, const std:
     }
 }
 
-void MpmSolver::trial_step(double dt) {
-  if (!(dt > 0) || !std::isfinite(dt)) throw std::invalid_argument("MpmSolver: time step must be positive");
+void MpmSolver::trial_step(double h) {
+  if (!(h > 0) || !std::isfinite(h)) throw std::invalid_argument("MpmSolver: time step must be positive");
   auto& P = particles_;
-  dt_step_ = dt;
+  h_step_ = h;
   // Variable steps (section 3.2, Fig. 2): the velocities v^{n-1/2} act over the last step
-  // dt^{n-1/2}, and momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eqs. 16, 64).
-  // The strain increment of eq. (62) is printed with dt^n; it is taken over dt^{n-1/2}, the interval
+  // h^{n-1/2}, and momentum advances by h^n = (h^{n-1/2} + h^{n+1/2}) / 2 (eqs. 16, 64).
+  // The strain increment of eq. (62) is printed with h^n; it is taken over h^{n-1/2}, the interval
   // over which those velocities moved the particles, so that with a varying step an elastic body's
-  // stress keeps following its displacement (with dt^n it does not: a step pattern that lands on
+  // stress keeps following its displacement (with h^n it does not: a step pattern that lands on
   // output times, 57 steps then two shorter ones, pumped energy into the sphere-on-membrane example
-  // at cell 2 mm). Equal steps give dt^n = dt^{n-1/2} = dt, bit for bit.
-  const double dt_strain = dt_prev_ > 0 ? dt_prev_ : dt;
-  dt_n_ = 0.5 * (dt_strain + dt);
+  // at cell 2 mm). Equal steps give h^n = h^{n-1/2} = h, bit for bit.
+  const double h_strain = h_prev_ > 0 ? h_prev_ : h;
+  h_n_ = 0.5 * (h_strain + h);
   // Step 1: the grid is "rebuilt" each step. Every node of the new box gets its accumulated fields
   // (mass, p^{n-1/2}, f, p^{n+1/2}) written below, so only the nodes of the previous step's box
   // that the new box does not cover are reset (p^{n+1/2} is zero outside the box for callers). The
@@ -317,7 +317,7 @@ void MpmSolver::trial_step(double dt) {
       vel_[id] = mass_[id] > mass_eps_ ? Vec3(mom_old_[id] / mass_[id]) : Vec3::Zero();
     }
   });
-  const double inv_h = 1.0 / grid_.h;
+  const double inv_dx = 1.0 / grid_.dx;
   // Steps 2c, 2d (eqs. 62, 63, 22, 25, 26; 17): stress update, then the particle's stress moments
   // (cell_moments.hpp), in the same pass over the cells. A cell with a corner without mass holds
   // in practice only particles on its faces (rare): their stencils are closed (close_stencil) and
@@ -334,7 +334,7 @@ void MpmSolver::trial_step(double dt) {
       if (!open) {
         double* f = bt.f[bt.n];
         grid_.fractions(P.x[p], c, f);
-        const double V = update_particle_stress(p, dt_strain, velocity_gradient(f, G));
+        const double V = update_particle_stress(p, h_strain, velocity_gradient(f, G));
         for (int r = 0; r < 3; ++r)
           for (int col = 0; col < 3; ++col) bt.A[bt.n][r][col] = -V * P.stress[p](r, col);
         if (++bt.n == StressBatch::kBatch || it + 1 == e) {
@@ -347,7 +347,7 @@ void MpmSolver::trial_step(double dt) {
         close_stencil(st);
         Mat3 L = Mat3::Zero();  // velocity gradient L_ij = sum_I v_iI N_I,j (eqs. 62, 63)
         for (int q = 0; q < 8; ++q) L += vel_[st.node[q]] * st.dN[q].transpose();
-        const double V = update_particle_stress(p, dt_strain, L);
+        const double V = update_particle_stress(p, h_strain, L);
         double A[3][3];  // -V sigma of eq. (17)
         for (int r = 0; r < 3; ++r)
           for (int col = 0; col < 3; ++col) A[r][col] = -V * P.stress[p](r, col);
@@ -355,7 +355,7 @@ void MpmSolver::trial_step(double dt) {
       }
     }
     if (!open)
-      for (auto& a : acc) a *= inv_h;  // the 1 / h of dN/dx (cell_moments.hpp)
+      for (auto& a : acc) a *= inv_dx;  // the 1 / dx of dN/dx (cell_moments.hpp)
     // Finiteness of the new stresses, tested here where they are in cache: a NaN or an infinity in
     // a particle's -V sigma makes every moment it enters non-finite (0 * inf is NaN too); an
     // overflow of finite terms only sends the step to check_particles, which looks again.
@@ -381,12 +381,12 @@ void MpmSolver::trial_step(double dt) {
       force_[id] += mass_[id] * g;
       for (int a = 0; a < 3; ++a)
         if (mask_[id][a]) force_[id][a] = 0.0;
-      mom_new_[id] = mom_old_[id] + dt_n_ * force_[id];
+      mom_new_[id] = mom_old_[id] + h_n_ * force_[id];
     }
   });
 }
 
-double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L) {
+double MpmSolver::update_particle_stress(std::size_t p, double h, const Mat3& L) {
   auto& P = particles_;
   // Written out on the six independent components (sigma stays symmetric: it starts at zero and
   // every increment below is symmetric); the Eigen 3x3 form was a fifth of the particle work.
@@ -399,10 +399,10 @@ double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L
   const double rho_old = P.rho[p];
   Mat3& s = P.stress[p];
   if (mat.kind == Material::Kind::LinearElastic) {
-    // Mass conservation: rho^{n+1} = rho^n exp(-dt tr D).
-    const double rho_new = rho_old * exp_small(-dt * trD);
+    // Mass conservation: rho^{n+1} = rho^n exp(-h tr D).
+    const double rho_new = rho_old * exp_small(-h * trD);
     P.rho[p] = rho_new;
-    // Hypo-elastic Jaumann update (eqs. 22, 25): sigma += dt (C:D + W sigma - sigma W).
+    // Hypo-elastic Jaumann update (eqs. 22, 25): sigma += h (C:D + W sigma - sigma W).
     // Eq. (22) is printed as sigma Omega + (sigma Omega)^T; with Omega_ij = (v_i,j - v_j,i)/2 as in
     // eq. (24) the objective rotation of sigma is W sigma - sigma W, which is what is used. For
     // symmetric sigma it is J = M + M^T with M = W sigma, i.e. with W = [0 a b; -a 0 c; -b -c 0]:
@@ -413,12 +413,12 @@ double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L
     const double sxx = s(0, 0), syy = s(1, 1), szz = s(2, 2), sxy = s(0, 1), sxz = s(0, 2), syz = s(1, 2);
     const auto& lm = lame_[mat_id];  // lambda, 2 G
     const double lam_tr = lm[0] * trD;
-    const double nxx = sxx + dt * ((lam_tr + lm[1] * d[0]) + 2.0 * (a * sxy + b * sxz));
-    const double nyy = syy + dt * ((lam_tr + lm[1] * d[1]) + 2.0 * (c * syz - a * sxy));
-    const double nzz = szz + dt * ((lam_tr + lm[1] * d[2]) - 2.0 * (b * sxz + c * syz));
-    const double nxy = sxy + dt * (lm[1] * d[3] + ((a * (syy - sxx) + b * syz) + c * sxz));
-    const double nxz = sxz + dt * (lm[1] * d[4] + ((b * (szz - sxx) + a * syz) - c * sxy));
-    const double nyz = syz + dt * (lm[1] * d[5] + ((c * (szz - syy) - a * sxz) - b * sxy));
+    const double nxx = sxx + h * ((lam_tr + lm[1] * d[0]) + 2.0 * (a * sxy + b * sxz));
+    const double nyy = syy + h * ((lam_tr + lm[1] * d[1]) + 2.0 * (c * syz - a * sxy));
+    const double nzz = szz + h * ((lam_tr + lm[1] * d[2]) - 2.0 * (b * sxz + c * syz));
+    const double nxy = sxy + h * (lm[1] * d[3] + ((a * (syy - sxx) + b * syz) + c * sxz));
+    const double nxz = sxz + h * (lm[1] * d[4] + ((b * (szz - sxx) + a * syz) - c * sxy));
+    const double nyz = syz + h * (lm[1] * d[5] + ((c * (szz - syy) - a * sxz) - b * sxy));
     s(0, 0) = nxx;
     s(1, 1) = nyy;
     s(2, 2) = nzz;
@@ -428,23 +428,23 @@ double MpmSolver::update_particle_stress(std::size_t p, double dt, const Mat3& L
     return P.mass[p] / rho_new;
   }
   // Fluid (eq. 26): sigma = 2 mu D' - p I, p from the EOS with the energy equation
-  //   dE = (s_visc : D dt) V/V0 - (p^n + p^{n+1})/2 dV/V0,
+  //   dE = (s_visc : D h) V/V0 - (p^n + p^{n+1})/2 dV/V0,
   // solved exactly for E^{n+1} because both EOS are linear in E (p = a + b E).
-  // Volume ratios V/V0 = rho0/rho with V^{n+1}/V^n = exp(dt tr D): one division, off the path
+  // Volume ratios V/V0 = rho0/rho with V^{n+1}/V^n = exp(h tr D): one division, off the path
   // from tr D to the stress, instead of the chain of m/rho0, m/rho^n, m/rho^{n+1}, dV/V0 and the
   // EOS's rho/rho0 (that chain of dependent divisions was the critical path of the update).
   constexpr double kThird = 1.0 / 3.0;
-  const double rho_new = rho_old * exp_small(-dt * trD);
+  const double rho_new = rho_old * exp_small(-h * trD);
   P.rho[p] = rho_new;
   const double inv_rho0 = inv_rho0_[mat_id];
-  const double r_old = mat.rho0 / rho_old, r_new = r_old * exp_small(dt * trD);
+  const double r_old = mat.rho0 / rho_old, r_new = r_old * exp_small(h * trD);
   const double dv = r_new - r_old;
   const double mean = trD * kThird;
   const double dev[3] = {d[0] - mean, d[1] - mean, d[2] - mean};  // D' = D - tr D / 3 I
   const double dev_sq = (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2]) +
                         2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);  // D' : D'
   const double two_mu = 2.0 * mat.viscosity;
-  const double w_visc = two_mu * dev_sq * dt * 0.5 * (r_old + r_new);
+  const double w_visc = two_mu * dev_sq * h * 0.5 * (r_old + r_new);
   const double p_old = -((s(0, 0) + s(1, 1)) + s(2, 2)) * kThird;
   // Ideal gas (eq. 67): p = (gamma - 1) (rho / rho0) E, with rho / rho0 = 1 / r_new.
   const auto [pa, pb] = mat.eos == Eos::IdealGas ? std::pair<double, double>{0.0, (mat.gamma - 1.0) * (rho_new * inv_rho0)}
@@ -511,7 +511,7 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
   // give per corner sum_p m_p N_Ip v~_p and sum_p m_p N_Ip,i. Cells run in parallel (each writes
   // only its own sums); the sums are then added to the marked nodes cell by cell in ascending
   // index, so the result does not depend on the number of threads.
-  const double inv_h = 1.0 / grid_.h;
+  const double inv_dx = 1.0 / grid_.dx;
   const auto& cells = cells_around(nodes);
   around_acc_.resize(cells.size());
   auto cell_sums = [&](std::size_t k) {
@@ -537,7 +537,7 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
         const Vec3 mv = (particles_.mass[p] * N[q]) * v;
         for (int r = 0; r < 3; ++r) acc[6 * q + r] += mv[r];
         if (mass_gradient) {
-          const Vec3 g = particles_.mass[p] * corner_gradient(f, q, inv_h);
+          const Vec3 g = particles_.mass[p] * corner_gradient(f, q, inv_dx);
           for (int r = 0; r < 3; ++r) acc[6 * q + 3 + r] += g[r];
         }
       }
@@ -557,8 +557,8 @@ void MpmSolver::particle_trial_momenta(const std::vector<std::int64_t>& nodes, s
   for (auto node : nodes) marked_[node] = 0;
 }
 
-void MpmSolver::finish_step(double dt) {
-  if (dt != dt_step_) throw std::invalid_argument("MpmSolver: finish_step got another step than trial_step");
+void MpmSolver::finish_step(double h) {
+  if (h != h_step_) throw std::invalid_argument("MpmSolver: finish_step got another step than trial_step");
   auto& P = particles_;
   const std::size_t n = P.size();
   const bool impulses = !impulse_nodes_.empty();
@@ -575,13 +575,13 @@ void MpmSolver::finish_step(double dt) {
   // once for all its particles. Per cell, the reductions of this step (next critical step, eq. 21,
   // and the first invalid particle; max / min are exact, so their order does not matter); the
   // impulse work is stored per particle and summed in particle order below.
-  const double h = grid_.h, inv_h = 1.0 / h;
-  // Explicit viscous bound rho h^2 / (8 mu) as rho times a per-material factor (infinite unless a
+  const double dx = grid_.dx, inv_dx = 1.0 / dx;
+  // Explicit viscous bound rho dx^2 / (8 mu) as rho times a per-material factor (infinite unless a
   // viscous fluid): no division per particle.
   bool viscous = false;
   visc_factor_.clear();
   for (const auto& m : materials_) {
-    visc_factor_.push_back(viscous_bound(m, 1.0, h));
+    visc_factor_.push_back(viscous_bound(m, 1.0, dx));
     viscous = viscous || visc_factor_.back() < std::numeric_limits<double>::infinity();
   }
   cell_bounds_.resize(bins_.empty() ? 0 : cell_corners_.size());  // no particles: no bound (infinite step)
@@ -627,7 +627,7 @@ void MpmSolver::finish_step(double dt) {
           work_[p] = P.mass[p] * dvi.dot(P.v[p] + 0.5 * dv);  // dvi . (v^{n-1/2} + v^{n+1/2}) / 2
         }
         P.v[p] += dv;
-        P.x[p] += dt * vel;
+        P.x[p] += h * vel;
         const auto mat = P.material[p];
         double speed = 0;  // c + |v| of a fluid particle; elastic ones go into the cell's bound below
         if (elastic_[mat]) {
@@ -637,11 +637,11 @@ void MpmSolver::finish_step(double dt) {
           speed = particle_speed(materials_[mat], lame_[mat][2], P.rho[p], P.stress[p], P.v[p]);
           a.c_max = std::max(a.c_max, speed);
         }
-        if (viscous) a.dt = std::min(a.dt, P.rho[p] * visc_factor_[mat]);
-        const bool inside = grid_.contains(P.x[p], inv_h);  // false for a non-finite position too
+        if (viscous) a.h_viscous = std::min(a.h_viscous, P.rho[p] * visc_factor_[mat]);
+        const bool inside = grid_.contains(P.x[p], inv_dx);  // false for a non-finite position too
         // Still in cell c? (the computation of Grid::cell_of, as CellBins uses it)
         if (inside)
-          for (int k = 0; k < 3; ++k) a.moved = a.moved || static_cast<int>((P.x[p][k] - grid_.lo[k]) * inv_h) != c[k];
+          for (int k = 0; k < 3; ++k) a.moved = a.moved || static_cast<int>((P.x[p][k] - grid_.lo[k]) * inv_dx) != c[k];
         // One finiteness test on a sum (a NaN or an infinity in any term makes it non-finite; an
         // overflow of finite terms only sends the step to check_particles, which looks again).
         // The stresses were tested in the stress pass (cell_stress_bad_).
@@ -659,7 +659,7 @@ void MpmSolver::finish_step(double dt) {
   StepBounds acc;
   for (const auto& a : cell_bounds_) {
     acc.c_max = std::max(acc.c_max, a.c_max);
-    acc.dt = std::min(acc.dt, a.dt);
+    acc.h_viscous = std::min(acc.h_viscous, a.h_viscous);
     acc.bad = std::min(acc.bad, a.bad);
     acc.moved = acc.moved || a.moved;
   }
@@ -673,40 +673,40 @@ void MpmSolver::finish_step(double dt) {
                                      return w;
                                    },
                                    [](double a, double b) { return a + b; });
-  critical_dt_ = options_.cfl * std::min(sound_bound(acc.c_max, h), acc.dt);
-  if (acc.bad < n) check_particles(dt);
-  dt_prev_ = dt;
-  time_ += dt;
+  critical_h_ = options_.cfl * std::min(sound_bound(acc.c_max, dx), acc.h_viscous);
+  if (acc.bad < n) check_particles(h);
+  h_prev_ = h;
+  time_ += h;
   ++steps_;
 }
 
-void MpmSolver::check_particles(double dt) const {
+void MpmSolver::check_particles(double h) const {
   const auto& P = particles_;
   for (std::size_t p = 0; p < P.size(); ++p) {
     if (!P.x[p].allFinite() || !P.v[p].allFinite() || !P.stress[p].allFinite() || !std::isfinite(P.rho[p])) {
       std::ostringstream msg;
-      msg << "MpmSolver: particle " << p << " became non-finite at step " << steps_ + 1 << " (t = " << time_ + dt
+      msg << "MpmSolver: particle " << p << " became non-finite at step " << steps_ + 1 << " (t = " << time_ + h
           << "); the time step is probably above the critical step";
       throw std::runtime_error(msg.str());
     }
     if (!grid_.contains(P.x[p])) {
       std::ostringstream msg;
       msg << "MpmSolver: particle " << p << " left the background grid at (" << P.x[p].transpose()
-          << ") at t = " << time_ + dt;
+          << ") at t = " << time_ + h;
       throw std::runtime_error(msg.str());
     }
     if (!(P.rho[p] > 0)) {
       std::ostringstream msg;
-      msg << "MpmSolver: particle " << p << " has a non-positive density " << P.rho[p] << " at t = " << time_ + dt
+      msg << "MpmSolver: particle " << p << " has a non-positive density " << P.rho[p] << " at t = " << time_ + h
           << "; the time step is probably above the critical step";
       throw std::runtime_error(msg.str());
     }
   }
 }
 
-void MpmSolver::step(double dt) {
-  trial_step(dt);
-  finish_step(dt);
+void MpmSolver::step(double h) {
+  trial_step(h);
+  finish_step(h);
 }
 
 MpmEnergies MpmSolver::energies() const {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "mesh/io/vtu_writer.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/tet/tet_model.hpp"
 
 namespace tetfsi::solid {

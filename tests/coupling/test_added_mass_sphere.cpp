@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tests/coupling/sphere_fixture.hpp"
+#include "apps/fixtures/sphere_fixture.hpp"
 
 using namespace tetfsi;
 

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "tests/coupling/piston_fixture.hpp"
+#include "apps/fixtures/piston_fixture.hpp"
 
 using namespace tetfsi;
 using test::PistonSetup;
@@ -78,7 +78,7 @@ TEST(Piston, SimultaneousCouplingOscillatesAtAddedMassFrequency) {
 
 TEST(Piston, PaperSchemeAsPrintedKeepsTheFrequencyButDampsAtOmegaHOverFour) {
   // Eq. (18) as printed is Newmark β = ½, γ = 1: the amplitude decays by 1/√(1 + (ωh)²/2) a step
-  // (solid/integrator/trapezoidal.hpp), so the energy by 1/(1 + (ωh)²/2), while the frequency moves
+  // (solid/integrator/newmark.hpp), so the energy by 1/(1 + (ωh)²/2), while the frequency moves
   // by O((ωh)²) only.
   PistonSetup s;
   s.newmark = solid::NewmarkScheme::kChentanez;

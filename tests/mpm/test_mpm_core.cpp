@@ -32,7 +32,7 @@ MpmSolver make_bar(int cells, int per_cell) {
   const double L = 25, E = 100, rho = 1, v0 = 0.1;
   const double h = L / cells, beta = kPi / (2 * L), dx = h / per_cell;
   Grid g;
-  g.h = h;
+  g.dx = h;
   g.cells = {cells + 2, 1, 1};
   g.faces[0] = FaceBc::Slip;  // fixed end x = 0
   g.constrained_axes = {false, true, true};
@@ -139,7 +139,7 @@ TEST(MpmCore, CollidingDisksEnergyAndMomentum) {
   const double h = 0.05, dx = h / 2, r = 0.2, rho = 1000;
   Grid g;
   g.lo = Vec3(-0.1, -0.1, 0);
-  g.h = h;
+  g.dx = h;
   g.cells = {24, 24, 1};
   g.constrained_axes = {false, false, true};
   Particles P;

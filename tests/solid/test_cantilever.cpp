@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 
 #include "solid/analysis/linear_analysis.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/linearized_model.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
 using namespace tetfsi::solid;
@@ -59,10 +59,10 @@ TEST(Cantilever, DynamicFrequencyMatchesModalAnalysis) {
   LinearizedModel linear(*beam.model);
   const Eigen::VectorXd d = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, d);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.05 / mode.omega;
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   integ.set_displacement(1e-3 * mode.shape);
   std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
@@ -83,7 +83,7 @@ double measured_damping_ratio(NewmarkScheme scheme, double& expected) {
   LinearizedModel linear(*beam.model);
   const Eigen::VectorXd d = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, d);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.rayleigh_alpha = 0.02 * mode.omega;  // contributes zeta = 0.01
   settings.rayleigh_beta = 0.02 / mode.omega;   // contributes zeta = 0.01
   double zeta = settings.rayleigh_alpha / (2 * mode.omega) + settings.rayleigh_beta * mode.omega / 2;
@@ -92,7 +92,7 @@ double measured_damping_ratio(NewmarkScheme scheme, double& expected) {
   settings.scheme = scheme;
   if (scheme == NewmarkScheme::kChentanez) zeta += 0.25 * mode.omega * settings.time_step;
   expected = zeta;
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   integ.set_displacement(1e-3 * mode.shape);
   std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};

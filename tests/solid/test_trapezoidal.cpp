@@ -6,9 +6,9 @@
 #include <random>
 
 #include "solid/analysis/linear_analysis.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/linearized_model.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
 using namespace tetfsi::solid;
@@ -33,10 +33,10 @@ CantileverSpec small_beam() {
 TEST(Trapezoidal, LinearUndampedConservesEnergy) {
   auto beam = make_cantilever(small_beam());
   LinearizedModel linear(*beam.model);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.01;
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> dist(-1e-3, 1e-3);
@@ -66,10 +66,10 @@ TEST(Trapezoidal, PeriodElongationFollowsOmegaHSquaredOver12) {
   const Eigen::VectorXd static_shape = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, static_shape);
   for (double wh : {0.63, 0.31, 0.13}) {
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = wh / mode.omega;
     settings.scheme = NewmarkScheme::kTrapezoidal;
-    TrapezoidalIntegrator integ(linear, settings);
+    NewmarkIntegrator integ(linear, settings);
     integ.fix_nodes(beam.clamped_nodes);
     integ.set_displacement(1e-3 * mode.shape);
     std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
@@ -101,10 +101,10 @@ TEST(Trapezoidal, ChentanezSchemeMatchesItsAmplificationFactor) {
   const Eigen::VectorXd static_shape = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, static_shape);
   for (double wh : {0.3, 0.1}) {
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = wh / mode.omega;
     settings.scheme = NewmarkScheme::kChentanez;
-    TrapezoidalIntegrator integ(linear, settings);
+    NewmarkIntegrator integ(linear, settings);
     integ.fix_nodes(beam.clamped_nodes);
     integ.set_displacement(1e-3 * mode.shape);
     std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
@@ -126,13 +126,13 @@ TEST(Trapezoidal, ChentanezSchemeMatchesItsAmplificationFactor) {
 TEST(Trapezoidal, DampedRunSettlesToLinearStatics) {
   auto beam = make_cantilever(small_beam());
   LinearizedModel linear(*beam.model);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.05;
   settings.scheme = NewmarkScheme::kChentanez;  // damps the stiff modes (theta = 1/2 would not)
   settings.rayleigh_alpha = 8.0;
   settings.rayleigh_beta = 0.01;
   settings.gravity = {0, 0, -9.81};
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   const Eigen::VectorXd tip = beam.tip_load({0, 0.5, 0});
   integ.set_external_forces(tip);
@@ -147,10 +147,10 @@ TEST(Trapezoidal, DampedRunSettlesToLinearStatics) {
 TEST(Trapezoidal, PrescribedVelocityAndSolverChoice) {
   auto beam = make_cantilever(small_beam());
   for (auto kind : {SolverKind::kCholmod, SolverKind::kConjugateGradient, SolverKind::kConjugateGradientIC}) {
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = 0.01;
     settings.solver = kind;
-    TrapezoidalIntegrator integ(*beam.model, settings);
+    NewmarkIntegrator integ(*beam.model, settings);
     const Eigen::Vector3d v(0.1, 0, 0);
     integ.fix_nodes(beam.clamped_nodes, v);
     for (int n = 0; n < 10; ++n) integ.step();
@@ -168,10 +168,10 @@ TEST(Trapezoidal, PrescribedVelocityAndSolverChoice) {
 TEST(Trapezoidal, SpringMountedBodyOscillatesAtSqrtKOverM) {
   auto beam = make_cantilever(small_beam());
   const double c = 400.0;  // omega = 20 rad/s
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.005;
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(*beam.model, settings);
+  NewmarkIntegrator integ(*beam.model, settings);
   const auto& X = beam.model->reference_positions();
   const auto& m = beam.model->lumped_masses();
   for (int v = 0; v < beam.model->num_nodes(); ++v) integ.add_spring({v, X.segment<3>(3 * v), c * m[v]});

@@ -17,9 +17,9 @@
 #include "coupling/coupled_stepper.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/structured_box.hpp"
-#include "tests/coupling/block_fixture.hpp"
-#include "tests/coupling/piston_fixture.hpp"
-#include "tests/coupling/sphere_fixture.hpp"
+#include "apps/fixtures/block_fixture.hpp"
+#include "apps/fixtures/piston_fixture.hpp"
+#include "apps/fixtures/sphere_fixture.hpp"
 
 using namespace tetfsi;
 

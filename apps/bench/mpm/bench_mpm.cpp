@@ -56,7 +56,7 @@ void bench_bar() {
   const int cells = 13;
   const double h = L / cells, beta = kPi / (2 * L), c = std::sqrt(E / rho);
   mpm::Grid g;
-  g.h = h;
+  g.dx = h;
   g.cells = {cells + 2, 1, 1};
   g.faces[0] = mpm::FaceBc::Slip;
   g.constrained_axes = {false, true, true};
@@ -95,7 +95,7 @@ void bench_disks() {
   const double h = 0.05, dx = h / 2, r = 0.2, rho = 1000;
   mpm::Grid g;
   g.lo = Vec3(-0.1, -0.1, 0);
-  g.h = h;
+  g.dx = h;
   g.cells = {24, 24, 1};
   g.constrained_axes = {false, false, true};
   mpm::Particles P;

@@ -17,8 +17,8 @@
 #include "mesh/structured_box.hpp"
 #include "solid/analysis/linear_analysis.hpp"
 #include "solid/integrator/spd_solver.hpp"
-#include "solid/integrator/trapezoidal.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "solid/integrator/newmark.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid/tet/tet_model.hpp"
 
 using namespace tetfsi;
@@ -48,13 +48,13 @@ void bench_steps(int cells, int steps, SolverKind solver, int beam_ratio = 1) {
   mat.poisson_ratio = 0.3;
   mat.density = 1000;
   TetModel model(mesh, mat);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 1.0 / 30.0;
   settings.gravity = {0, 0, -9.81};
   settings.solver = solver;
   settings.cg_tolerance = 1e-8;
   settings.track_energy = false;
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   if (beam_ratio > 1)
     integ.fix_nodes(integ.nodes_in_box({-1e-9, -1, -1}, {1e-9, 2, 2}));
   else

@@ -15,7 +15,7 @@ std::unique_ptr<ExampleModel> make_gas_expansion(const GasExpansionParams& prm) 
   // Grid: quarter domain with slip symmetry planes x = 0, y = 0 and plane motion in x-y. Two cell
   // layers in z so that the membrane nodes at z = depth lie inside the (half-open) grid box.
   mpm::Grid grid = mpm::Grid::covering(mpm::Vec3(0, 0, 0), mpm::Vec3(1.6, 1.6, 2 * depth), prm.cell);
-  grid.h = prm.cell;
+  grid.dx = prm.cell;
   grid.cells[2] = std::max(2, static_cast<int>(std::lround(2 * depth / prm.cell)));
   grid.faces[0] = grid.faces[2] = grid.faces[4] = mpm::FaceBc::Slip;
   grid.constrained_axes = {false, false, true};

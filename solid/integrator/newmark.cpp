@@ -1,4 +1,4 @@
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 
 #include <chrono>
 
@@ -17,7 +17,7 @@ NewmarkScheme parse_newmark_scheme(const std::string& name) {
   throw SolidError("unknown time integration scheme '" + name + "' (expected \"chentanez\" or \"trapezoidal\")");
 }
 
-TrapezoidalIntegrator::TrapezoidalIntegrator(const ElasticModel& model, const TrapezoidalSettings& settings)
+NewmarkIntegrator::NewmarkIntegrator(const ElasticModel& model, const NewmarkSettings& settings)
     : model_(model), settings_(settings), solver_(settings.solver, settings.cg_tolerance) {
   if (!(settings_.time_step > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
   if (!(settings_.rayleigh_alpha >= 0) || !(settings_.rayleigh_beta >= 0))
@@ -32,7 +32,7 @@ TrapezoidalIntegrator::TrapezoidalIntegrator(const ElasticModel& model, const Tr
   u_next_.setZero(n);
 }
 
-void TrapezoidalIntegrator::fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity) {
+void NewmarkIntegrator::fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity) {
   for (int v : nodes) {
     if (v < 0 || v >= model_.num_nodes()) throw SolidError("fix_nodes: node " + std::to_string(v) + " out of range");
     for (int a = 0; a < 3; ++a) {
@@ -43,7 +43,7 @@ void TrapezoidalIntegrator::fix_nodes(const std::vector<int>& nodes, const Eigen
   }
 }
 
-std::vector<int> TrapezoidalIntegrator::nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+std::vector<int> NewmarkIntegrator::nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
   std::vector<int> nodes;
   const auto& X = model_.reference_positions();
   for (int v = 0; v < model_.num_nodes(); ++v) {
@@ -53,38 +53,33 @@ std::vector<int> TrapezoidalIntegrator::nodes_in_box(const Eigen::Vector3d& lo, 
   return nodes;
 }
 
-void TrapezoidalIntegrator::set_displacement(const Eigen::VectorXd& d) {
+void NewmarkIntegrator::set_displacement(const Eigen::VectorXd& d) {
   if (d.size() != d_.size() || !d.allFinite()) throw SolidError("set_displacement: wrong size or non-finite");
   d_ = d;
 }
 
-void TrapezoidalIntegrator::set_velocity(const Eigen::VectorXd& u) {
+void NewmarkIntegrator::set_velocity(const Eigen::VectorXd& u) {
   if (u.size() != u_.size() || !u.allFinite()) throw SolidError("set_velocity: wrong size or non-finite");
   for (Eigen::Index i = 0; i < u.size(); ++i) u_[i] = fixed_[i] ? prescribed_[i] : u[i];
 }
 
-void TrapezoidalIntegrator::set_uniform_velocity(const Eigen::Vector3d& v) {
+void NewmarkIntegrator::set_uniform_velocity(const Eigen::Vector3d& v) {
   set_velocity(v.replicate(model_.num_nodes(), 1));
 }
 
-void TrapezoidalIntegrator::set_time_step(double h) {
-  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
-  settings_.time_step = h;
-}
-
-void TrapezoidalIntegrator::set_external_forces(const Eigen::VectorXd& f) {
+void NewmarkIntegrator::set_external_forces(const Eigen::VectorXd& f) {
   if (f.size() != f_ext_.size() || !f.allFinite()) throw SolidError("set_external_forces: wrong size or non-finite");
   f_ext_ = f;
 }
 
-void TrapezoidalIntegrator::add_spring(const LinearSpring& s) {
+void NewmarkIntegrator::add_spring(const LinearSpring& s) {
   if (s.node < 0 || s.node >= model_.num_nodes() || !(s.stiffness >= 0) || !s.anchor.allFinite())
     throw SolidError("add_spring: bad node index, anchor or stiffness");
   springs_.push_back(s);
 }
 
-void TrapezoidalIntegrator::form_system(SparseMatrix& A, Eigen::VectorXd& b) {
-  const double h = settings_.time_step;
+void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& b) {
+  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
   const int next = step_ + 1;
   if (!model_.evaluate(d_, K_force_, &K_tangent_))
     throw SolidError("solid step " + std::to_string(next) + " (t = " + std::to_string(time_) +
@@ -123,8 +118,7 @@ void TrapezoidalIntegrator::form_system(SparseMatrix& A, Eigen::VectorXd& b) {
   stats_.inverted = model_.last_inverted_count();
 }
 
-void TrapezoidalIntegrator::advance(const Eigen::VectorXd& u_next) {
-  const double h = settings_.time_step;
+void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
   const int next = step_ + 1;
   if (u_next.size() != u_.size()) throw SolidError("advance: velocity has the wrong size");
   for (Eigen::Index i = 0; i < u_next.size(); ++i)
@@ -151,14 +145,14 @@ void TrapezoidalIntegrator::advance(const Eigen::VectorXd& u_next) {
   time_ += h;
 }
 
-const StepStats& TrapezoidalIntegrator::step() {
+const StepStats& NewmarkIntegrator::step(double h) {
   auto t0 = std::chrono::steady_clock::now();
-  form_system(A_, b_);
+  form_system(h, A_, b_);
   const double assembly = seconds_since(t0);
   u_next_ = u_;
-  solve_with_contact("solid step " + std::to_string(step_ + 1));
+  solve_with_contact(h, "solid step " + std::to_string(step_ + 1));
   const double solve_seconds = seconds_since(t0) - assembly;
-  advance(u_next_);
+  advance(h, u_next_);
   const int inverted = stats_.inverted, contacts = stats_.contacts;
   if (settings_.track_energy) stats_ = energies();
   stats_.step = step_;
@@ -171,11 +165,10 @@ const StepStats& TrapezoidalIntegrator::step() {
   return stats_;
 }
 
-void TrapezoidalIntegrator::solve_with_contact(const std::string& context) {
+void NewmarkIntegrator::solve_with_contact(double h, const std::string& context) {
   active_.clear();
   solver_.solve(A_, b_, u_next_, context);
   if (obstacles_.empty()) return;
-  const double h = settings_.time_step;
   const auto& X = model_.reference_positions();
   const int n = model_.num_nodes();
   SparseMatrix A_free;
@@ -229,7 +222,7 @@ void TrapezoidalIntegrator::solve_with_contact(const std::string& context) {
   for (auto& c : active_) c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
 }
 
-StepStats TrapezoidalIntegrator::energies() const {
+StepStats NewmarkIntegrator::energies() const {
   StepStats s;
   const auto& m = model_.lumped_masses();
   const auto& X = model_.reference_positions();

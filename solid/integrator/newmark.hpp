@@ -1,7 +1,8 @@
 #pragma once
-/// @file trapezoidal.hpp
-/// Trapezoidal-rule implicit Newmark integration with stiffness linearized at d^n
-/// (Chentanez et al. 2006, sec. 3.2 and appendix, eqs. 9-18), generic over ElasticModel.
+/// @file newmark.hpp
+/// Implicit Newmark integration with stiffness linearized at d^n (Chentanez et al. 2006, sec. 3.2
+/// and appendix, eqs. 9-18), generic over ElasticModel. By default the paper's Newmark beta = 1/2,
+/// gamma = 1 (dissipative, not the trapezoidal rule); the trapezoidal rule is the other scheme.
 ///
 /// One step, solid alone (p = 0 in eq. 4):
 ///   A u^{n+1} = b,   A = M/h + C + (h/2) K',   C = alpha M + beta K'            (eq. 18)
@@ -11,7 +12,7 @@
 ///
 /// Note on the scheme. The appendix chooses Newmark beta = 1/2, gamma = 1 (eqs. 10-13): the
 /// velocity update u^{n+1} = u^n + h a^{n+1} takes the force at d^{n+1}. That is NOT the
-/// energy-conserving trapezoidal rule (beta = 1/4, gamma = 1/2) of benchmarks.md sec. 3.6: on
+/// energy-conserving trapezoidal rule (beta = 1/4, gamma = 1/2; Newmark 1959; Hughes 2000, ch. 9): on
 /// a linear undamped mode it multiplies the amplitude by 1/sqrt(1 + (omega h)^2 / 2) per step
 /// (numerical damping ratio ~ omega h / 4 for small omega h). Both are offered, written with a
 /// weight theta on the end-of-step forces,
@@ -45,7 +46,7 @@ enum class NewmarkScheme {
 /// Parses "chentanez" or "trapezoidal". @throws SolidError otherwise.
 NewmarkScheme parse_newmark_scheme(const std::string& name);
 
-struct TrapezoidalSettings {
+struct NewmarkSettings {
   NewmarkScheme scheme = NewmarkScheme::kChentanez;
   double time_step = 1.0 / 30.0;                     ///< h [s]
   double rayleigh_alpha = 0.0;                       ///< C = alpha M + beta K' [1/s]
@@ -79,11 +80,11 @@ struct StepStats {
   int contacts = 0;              ///< nodes projected out of obstacles
 };
 
-class TrapezoidalIntegrator {
+class NewmarkIntegrator {
  public:
   /// Starts at rest (d = u = 0, t = 0). The model must outlive the integrator.
   /// @throws SolidError on h <= 0 or negative damping
-  TrapezoidalIntegrator(const ElasticModel& model, const TrapezoidalSettings& settings);
+  NewmarkIntegrator(const ElasticModel& model, const NewmarkSettings& settings);
 
   // ---- set-up ----
   /// Dirichlet: the nodes' velocity is prescribed (default: fixed in place).
@@ -95,21 +96,18 @@ class TrapezoidalIntegrator {
   void set_uniform_velocity(const Eigen::Vector3d& v);
   /// Constant external nodal forces, 3n [N] (added to M g).
   void set_external_forces(const Eigen::VectorXd& f);
-  /// Changes h for the following steps (runners shorten a step to land on a frame time).
-  /// @throws SolidError if h <= 0
-  void set_time_step(double h);
   void add_spring(const LinearSpring& spring);
   StaticObstacles& obstacles() { return obstacles_; }
 
   // ---- pieces for the coupling ----
-  /// A and b of eq. (4)/(18) at the current state (see the scheme note above). Dirichlet DOFs are eliminated
+  /// A and b of eq. (4)/(18) at the current state for a step of length h [s] (see the scheme note above). Dirichlet DOFs are eliminated
   /// symmetrically: their rows and columns are zero except the diagonal A_ii, b_i = A_ii v_i,
   /// and b of the other rows is corrected by -A_ij v_j. (The coupling must leave fixed rows
-  /// out of J.) @throws SolidError naming the step and element if the model fails at d^n.
-  void form_system(SparseMatrix& A, Eigen::VectorXd& b);
-  /// Eq. (5) with the given u^{n+1}, then Dirichlet values, contact and finiteness checks;
-  /// advances the time and step counter. @throws SolidError on non-finite values.
-  void advance(const Eigen::VectorXd& u_next);
+  /// out of J.) @throws SolidError if h <= 0, naming the step and element if the model fails at d^n.
+  void form_system(double h, SparseMatrix& A, Eigen::VectorXd& b);
+  /// Eq. (5) over a step of length h [s] with the given u^{n+1}, then Dirichlet values, contact
+  /// and finiteness checks; advances the time and step counter. @throws SolidError on non-finite values.
+  void advance(double h, const Eigen::VectorXd& u_next);
 
   // ---- whole step ----
   /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
@@ -122,7 +120,9 @@ class TrapezoidalIntegrator {
   /// (inelastic) and Coulomb friction removes up to mu |f_c| h / m of tangential velocity, f_c
   /// being the constraint force. Nodes still inside are projected (StaticObstacles::project).
   /// @throws SolidError (see above)
-  const StepStats& step();
+  const StepStats& step(double h);
+  /// One step of length settings().time_step.
+  const StepStats& step() { return step(settings_.time_step); }
 
   // ---- state ----
   const Eigen::VectorXd& displacement() const { return d_; }
@@ -132,14 +132,14 @@ class TrapezoidalIntegrator {
   int step_index() const { return step_; }
   const std::vector<char>& fixed_dofs() const { return fixed_; }
   const StepStats& last_stats() const { return stats_; }
-  const TrapezoidalSettings& settings() const { return settings_; }
+  const NewmarkSettings& settings() const { return settings_; }
   const ElasticModel& model() const { return model_; }
   /// Energies of the current state (fills the energy fields of a StepStats).
   StepStats energies() const;
 
  private:
   const ElasticModel& model_;
-  TrapezoidalSettings settings_;
+  NewmarkSettings settings_;
   Eigen::VectorXd d_, u_, f_ext_, prescribed_;
   std::vector<char> fixed_;
   std::vector<LinearSpring> springs_;
@@ -154,7 +154,7 @@ class TrapezoidalIntegrator {
   };
   std::vector<ActiveContact> active_;
   /// Solves A u = b with the contact active set (see step()); fills active_.
-  void solve_with_contact(const std::string& context);
+  void solve_with_contact(double h, const std::string& context);
   SparseMatrix K_tangent_, A_;
   Eigen::VectorXd K_force_, b_, u_next_;
   double time_ = 0;
