@@ -163,7 +163,7 @@ Eigen::VectorXd CoupledStepper::previous_pressure(const std::vector<int>& unknow
 }
 
 bool CoupledStepper::mean_constraint() const {
-  return settings_.mean_constraint && settings_.scheme == CouplingScheme::kSimultaneous;
+  return settings_.mean_constraint && settings_.scheme == CouplingScheme::kSimultaneous && !fluid_.has_free_surface();
 }
 
 CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledStepReport& report) {
@@ -198,11 +198,14 @@ CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const Sol
   const fluid::FluidMesh& fm = fluid_.mesh();
   const int n = num_solid_dofs_;
   Interface interface;
-  // Pressure unknowns: every fluid node without a prescribed pressure.
+  // Pressure unknowns: every fluid node without a prescribed pressure (p = 0 at open nodes and,
+  // for a liquid with a free surface, at the air nodes).
   interface.unknown.assign(fm.num_nodes(), -1);
+  const bool surface = free_surface();
   int m = 0;
   for (int i = 0; i < fm.num_nodes(); ++i)
-    if (fluid_.boundary().node_kind[i] != fluid::NodeKind::kOpen) interface.unknown[i] = m++;
+    if (fluid_.boundary().node_kind[i] != fluid::NodeKind::kOpen && (!surface || fluid_.liquid().is_liquid[i]))
+      interface.unknown[i] = m++;
 
   InterfaceDofs dofs;
   dofs.pressure_index.assign(mesh_.num_vertices(), -1);
@@ -245,8 +248,20 @@ CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const In
   const std::vector<int>& unknown = interface.unknown;
   const int m = static_cast<int>(interface.H_all.rows());
   FluidRows rows;
-  // P = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
   const double rho = fluid_.params().density;
+  if (free_surface()) {
+    // The liquid's rows (free_surface_projection.hpp): P = (h/ρ) Bᵀ W B, r = Σ_t a_i·v*_t − f_i −
+    // H_fixed u_fixed on the liquid nodes; the air is void, p = 0 on the surface.
+    const fluid::LiquidGeometry& liquid = fluid_.liquid();
+    rows.P = (h / rho) * fluid::wet_laplacian(fm, liquid, unknown, m);
+    const Eigen::VectorXd div_star = fluid::wet_gradient_transpose(fm, liquid, fluid_.fields().velocity) - bc.flux;
+    rows.r.resize(m);
+    for (int i = 0; i < fm.num_nodes(); ++i)
+      if (unknown[i] >= 0) rows.r[unknown[i]] = div_star[i];
+    rows.r -= interface.fixed_flux;
+    return rows;
+  }
+  // P = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
   const SparseMatrix L = fluid::assemble_laplacian(fm);
   // P is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
   // L's (sorted, compressed) columns filtered in place are P's columns in order: no sort needed.
@@ -359,6 +374,10 @@ CoupledStepReport CoupledStepper::step(double h) {
   report.step = ++step_;
   report.time = time_;
   return report;
+}
+
+bool CoupledStepper::free_surface() const {
+  return fluid_.has_free_surface() && fluid_.liquid().num_air_nodes > 0;
 }
 
 double CoupledStepper::fluid_volume() const {

@@ -15,6 +15,13 @@
 ///     paper's end-of-step constraint (CoupledSettings::mean_constraint).
 ///  7. update: fluid velocity by eq. (8), solid displacement by eq. (5).
 ///
+/// A liquid with a free surface (fluid::FluidSolver::set_liquid) takes part as itself: its pressure
+/// unknowns are the liquid nodes (p = 0 in the air), its rows the cut-tet system of
+/// fluid/liquid/free_surface_projection.hpp with the same H over the interface triangles; H's rows
+/// of air nodes drop out, so the solid feels the liquid's pressure only, and the dry side of a
+/// triangle that the surface crosses carries the linear fall of p to zero at its air vertices (a
+/// first-order waterline). CoupledSettings::mean_constraint does not apply to it.
+///
 /// The time-splitting baseline (CouplingScheme::kTimeSplitting) replaces 5 by two solves: the
 /// solid with the previous step's pressure, A u^{n+1} = b + J pⁿ, then the fluid with the new solid
 /// velocity as its boundary flux, (h/ρ) L p^{n+1} = r − H u^{n+1}. It is kept to show where it fails
@@ -138,6 +145,9 @@ class CoupledStepper {
   Eigen::VectorXd previous_pressure(const std::vector<int>& unknown, int m) const;
   /// The simultaneous scheme with CoupledSettings::mean_constraint.
   bool mean_constraint() const;
+  /// A liquid with a free surface that has air this step: its pressure unknowns are the liquid
+  /// nodes and its rows the cut-tet system (fluid/liquid/free_surface_projection.hpp).
+  bool free_surface() const;
   /// Step 1: moves (and maybe remeshes) mesh_ to the solids' current positions; remaps the
   /// solid-node and pressure maps through the new vertex numbering.
   MeshUpdateReport update_mesh_to_solids();

@@ -165,20 +165,27 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
 }
 
 StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep) {
-  if (free_surface_)
-    throw std::logic_error("FluidSolver::apply_pressure: the coupled step does not take a free surface yet");
   if (pressure.size() != mesh_.num_nodes())
     throw std::invalid_argument("FluidSolver::apply_pressure: one pressure per fluid node expected");
   pressure_ = std::move(pressure);
-  const TetVectors grad_p = gradient(mesh_, pressure_);
-  const double scale = dt / params_.density;
-  for (int t = 0; t < mesh_.num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
+  if (free_surface_) {  // u_t -= (h/rho) B_t p on the liquid, then the extension into the air
+    apply_wet_pressure(mesh_, liquid_, pressure_, dt, params_.density, fields_.velocity);
+    const double t0 = now();
+    extend_liquid_velocity();
+    rep.surface_seconds += now() - t0;
+    rep.liquid_volume = liquid_.total_volume();
+  } else {
+    const TetVectors grad_p = gradient(mesh_, pressure_);
+    const double scale = dt / params_.density;
+    for (int t = 0; t < mesh_.num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
+  }
   for (const auto& u : fields_.velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
   rep.num_tets = mesh_.num_tets();
   rep.num_nodes = mesh_.num_nodes();
-  rep.kinetic_energy = params_.density * kinetic_energy(mesh_, fields_.velocity);
+  rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_.velocity)
+                                                        : kinetic_energy(mesh_, fields_.velocity));
   return rep;
 }
 

@@ -93,7 +93,8 @@ class FluidSolver {
   /// leaving the intermediate velocity v* in fields().velocity (no projection).
   StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
   /// Eq. (8), interior part: v = v* - (h/rho) G p with the pressure p [Pa] per fluid node that the
-  /// coupled solve found; then the finiteness check and the statistics of `rep`.
+  /// coupled solve found (a free surface: v = v* - (h/rho) B p on the liquid and the extension
+  /// into the air, free_surface_projection.hpp); then the finiteness check and the statistics of `rep`.
   /// @throws std::runtime_error on NaN/Inf
   StepReport apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep);
 

@@ -107,6 +107,11 @@ class CoupledRunner : public Simulation {
     } catch (const std::exception& e) {
       throw InputError(std::string("cannot set up the coupled model: ") + e.what());
     }
+    try {
+      set_initial_liquid(js, stepper_->fluid(), log);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("/fluid/regions: ") + e.what());
+    }
 
     const auto& solids = js.at("solids");
     for (int i = 0; i < stepper_->num_solids(); ++i) {
@@ -135,12 +140,15 @@ class CoupledRunner : public Simulation {
   }
 
   std::vector<std::string> phases() const override {
+    if (stepper_->fluid().has_free_surface()) return {"remesh", "surface", "advect", "solid_assemble", "interface", "solve"};
     return {"remesh", "advect", "solid_assemble", "interface", "solve"};
   }
   std::vector<std::string> columns() const override {
-    return {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
-            "solver_iterations", "solver_residual", "solver_factor_age",
-            "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
+    std::vector<std::string> c = {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
+                                  "solver_iterations", "solver_residual", "solver_factor_age",
+                                  "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
+    if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
+    return c;
   }
   /// The scene's `dt`, or the CFL step cfl dx / u_max with dx the fluid edge length next to the
   /// solids and u_max the largest fluid or solid speed (so neither the fluid's back-trace nor the
@@ -193,6 +201,10 @@ class CoupledRunner : public Simulation {
                   double(r.pressure_unknowns), double(r.solid_dofs),
                   double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
                   r.solid_strain, r.solid_gravity_potential, r.total_energy()};
+    if (stepper_->fluid().has_free_surface()) {
+      out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
+      out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});
+    }
     return out;
   }
 
@@ -206,8 +218,7 @@ class CoupledRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    const auto& fl = stepper_->fluid();
-    out.write_grid("fluid", frame, time, fluid::make_fluid_grid(fl.mesh(), fl.fields(), fl.pressure()));
+    write_fluid_frame(out, frame, time, stepper_->fluid());
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       const auto& integrator = stepper_->solid(i);
       mesh::TetMesh deformed = stepper_->solid_mesh(i).mesh;
@@ -237,7 +248,8 @@ class CoupledRunner : public Simulation {
   std::vector<double> probe(const scene::Json& p) const override {
     const std::string kind = p.at("kind").get<std::string>();
     if (kind == "total_energy") return {last_.total_energy()};
-    if (kind == "fluid_volume") return {stepper_->fluid_volume()};
+    if (kind == "fluid_volume")
+      return {stepper_->fluid().has_free_surface() ? stepper_->fluid().liquid().total_volume() : stepper_->fluid_volume()};
     const int i = solid_index(p.at("solid").get<std::string>());
     if (i < 0) return {};
     const auto& model = stepper_->solid_model(i);

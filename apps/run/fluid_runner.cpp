@@ -49,34 +49,6 @@ Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d
   return Eigen::Vector3d::Zero();
 }
 
-/// Signed distance [m] to the union of the liquid regions of `fill: regions` (negative inside):
-/// the minimum of the shapes' distances (exact for spheres and half-spaces, and for boxes outside
-/// and inside; a union's minimum is exact outside every shape).
-std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
-                                                                     const Eigen::Vector3d& gravity) {
-  std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
-  const Eigen::Vector3d up = gravity.norm() > 0 ? Eigen::Vector3d(-gravity.normalized()) : Eigen::Vector3d::UnitZ();
-  for (const auto& r : regions) {
-    const auto type = r.at("type").get<std::string>();
-    if (type == "box") {
-      const Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
-      shapes.push_back([lo, hi](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo, hi); });
-    } else if (type == "sphere") {
-      const Eigen::Vector3d c = vec3(r.at("center"));
-      const double radius = r.at("radius").get<double>();
-      shapes.push_back([c, radius](const Eigen::Vector3d& x) { return (x - c).norm() - radius; });
-    } else {  // below
-      const double height = r.at("height").get<double>();
-      shapes.push_back([up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; });
-    }
-  }
-  return [shapes](const Eigen::Vector3d& x) {
-    double d = std::numeric_limits<double>::infinity();
-    for (const auto& s : shapes) d = std::min(d, s(x));
-    return d;
-  };
-}
-
 bool is_static(const scene::Json& motion) {
   const auto type = motion.at("type").get<std::string>();
   if (type == "translation") return vec3(motion.at("velocity")).norm() == 0.0;
@@ -149,14 +121,7 @@ class FluidRunner : public Simulation {
     fields.temperature = Eigen::VectorXd::Constant(nt, ambient_);
     try {
       solver_->initialize(complex_, fields);
-      if (f.value("fill", "domain") == "regions") {
-        fluid::LiquidOptions liquid;
-        liquid.band = 4.0 * solver_->mesh().mean_edge_length();
-        solver_->set_liquid(fluid::sample_level_set(solver_->mesh(), liquid_region_distance(f.at("regions"), params.gravity)),
-                            liquid);
-        log.info("free surface: {:.6g} m^3 of liquid in {} regions (level set band {:.4g} m)",
-                 solver_->target_liquid_volume(), f.at("regions").size(), liquid.band);
-      }
+      set_initial_liquid(js, *solver_, log);
     } catch (const std::invalid_argument& e) {
       throw RunError(std::string("fluid initialisation failed: ") + e.what());
     }
@@ -269,14 +234,7 @@ class FluidRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    auto grid = fluid::make_fluid_grid(solver_->mesh(), solver_->fields(), solver_->pressure());
-    if (solver_->has_free_surface()) {
-      fluid::add_liquid_fields(grid, solver_->mesh(), solver_->level_set(), solver_->liquid().liquid_volume);
-      std::vector<Eigen::Vector3d> vel;
-      const auto surface = fluid::liquid_surface(solver_->mesh(), solver_->level_set(), solver_->fields().velocity, &vel);
-      out.write_surface("liquid", frame, surface, vel);
-    }
-    out.write_grid("fluid", frame, time, grid);
+    write_fluid_frame(out, frame, time, *solver_);
     for (std::size_t i = 0; i < names_.size(); ++i) {
       std::vector<Eigen::Vector3d> vel;
       const auto surface = solid_surface(static_cast<int>(i), vel);

@@ -8,6 +8,7 @@
 
 #include <spdlog/logger.h>
 
+#include "apps/run/output.hpp"
 #include "apps/scene/scene.hpp"
 #include "fluid/fluid_solver.hpp"
 
@@ -30,5 +31,15 @@ struct TimedSource {
 
 /// The scene's emitters; a sphere source acts over its bounding box (logged).
 std::vector<TimedSource> timed_sources(const scene::Json& scene, spdlog::logger& log);
+
+/// With /fluid/fill "regions": makes `solver` (initialised on its first mesh) a liquid with a free
+/// surface whose level set is the signed distance to the union of /fluid/regions (level set band:
+/// 4 mean edge lengths). Other scenes: nothing. @throws std::invalid_argument if the regions hold
+/// no liquid on the mesh
+void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, spdlog::logger& log);
+
+/// Writes the fluid's frame: the grid "fluid" (with the level set and liquid fractions of a free
+/// surface) and, for a free surface, the closed liquid surface "liquid" with vertex velocities.
+void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver);
 
 }  // namespace tetfsi::run

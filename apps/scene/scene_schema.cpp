@@ -80,18 +80,25 @@ void check_shells(const Json& s, std::vector<Issue>& issues) {
                                  "the domain box, nothing outside the shell is meshed"});
 }
 
-// `fluid.fill: regions` (a free surface) needs regions; the simultaneous solve (eq. 7) does not
-// take a free surface yet.
+// `fluid.fill: regions` (a free surface) needs regions; its solids are tet FEM or kinematic, and
+// one of them may not take the name of the liquid's output.
 void check_free_surface(const Json& s, std::vector<Issue>& issues) {
   if (s["fluid"]["type"] != "liquid" || s["fluid"].value("fill", "domain") != "regions") return;
   if (s["fluid"]["regions"].empty())
     issues.push_back({"/fluid/regions", "fill \"regions\" needs at least one region (box, sphere or below)"});
-  for (std::size_t i = 0; i < s["solids"].size(); ++i)
-    if (s["solids"][i]["motion"]["type"] == "none")
-      issues.push_back({fmt::format("/solids/{}/motion/type", i),
-                        "a liquid with a free surface (fluid.fill \"regions\") takes static or kinematic solids "
-                        "only for now (a translation, rotation or path; a zero translation for a fixed one); "
-                        "deforming solids need fill \"domain\""});
+  for (std::size_t i = 0; i < s["solids"].size(); ++i) {
+    const auto& solid = s["solids"][i];
+    if (solid["motion"]["type"] == "none" && solid["model"]["type"] != "tet_fem")
+      issues.push_back({fmt::format("/solids/{}/model/type", i),
+                        "a liquid with a free surface (fluid.fill \"regions\") couples to deforming tet_fem "
+                        "solids (and static or kinematic ones); hex8 solids do not take part in the coupled solve"});
+    if (solid["name"] == "liquid")
+      issues.push_back({fmt::format("/solids/{}/name", i),
+                        "\"liquid\" names the free surface's output files (surfaces/liquid_*.ply): rename the solid"});
+  }
+  if (s.contains("coupling") && s["coupling"].value("constraint", "end_of_step") == "step_mean")
+    issues.push_back({"/coupling/constraint", "the step-mean constraint does not apply to a free surface "
+                                              "(fluid.fill \"regions\"): use \"end_of_step\""});
 }
 
 // Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.

@@ -114,42 +114,24 @@ LiquidGeometry liquid_geometry(const FluidMesh& mesh, const Eigen::VectorXd& phi
   return g;
 }
 
-double liquid_kinetic_energy(const LiquidGeometry& liquid, const TetVectors& u) {
-  double e = 0.0;
-  for (size_t t = 0; t < u.size(); ++t) e += 0.5 * liquid.liquid_volume[t] * u[t].squaredNorm();
-  return e;
-}
-
-ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBoundary& bc,
-                                      const LiquidGeometry& liquid, double dt, double density, TetVectors& u,
-                                      const SolverOptions& options) {
-  if (!(dt > 0.0) || !(density > 0.0))
-    throw std::invalid_argument("project_free_surface: time step and density must be positive");
-  const int n = mesh.num_nodes(), nt = mesh.num_tets();
-  if (static_cast<int>(u.size()) != nt || static_cast<int>(liquid.liquid_volume.size()) != nt ||
-      static_cast<int>(liquid.is_liquid.size()) != n)
-    throw std::invalid_argument("project_free_surface: velocity or liquid geometry does not match the mesh");
-  ProjectionReport rep;
-  double t0 = now();
-  // rhs_i = (rho/h) (sum_t a_i . u*_t - f_i), gathered per node over its tets (deterministic).
-  Eigen::VectorXd rhs(n);
-  tbb::parallel_for(0, n, [&](int i) {
+Eigen::VectorXd wet_gradient_transpose(const FluidMesh& mesh, const LiquidGeometry& liquid, const TetVectors& u) {
+  // Gathered per node over its tets (ascending): deterministic in parallel.
+  Eigen::VectorXd r(mesh.num_nodes());
+  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
     double s = 0.0;
     for (int t : mesh.node_tets[i]) {
       int k = 0;
       while (mesh.tets[t][k] != i) ++k;
       s += liquid.wet_moment[t][k].dot(u[t]);
     }
-    rhs[i] = (density / dt) * (s - bc.flux[i]);
+    r[i] = s;
   });
-  std::vector<int> unknown(n, -1);
-  for (int i = 0; i < n; ++i)
-    if (liquid.is_liquid[i] && bc.node_kind[i] != NodeKind::kOpen) unknown[i] = 0;
-  pin_isolated_bodies(mesh, liquid, unknown, rhs);
-  int m = 0;
-  for (int i = 0; i < n; ++i)
-    if (unknown[i] >= 0) unknown[i] = m++;
-  if (m == 0) throw std::invalid_argument("project_free_surface: no liquid node to solve for");
+  return r;
+}
+
+Eigen::SparseMatrix<double> wet_laplacian(const FluidMesh& mesh, const LiquidGeometry& liquid,
+                                          const std::vector<int>& unknown, int m) {
+  const int nt = mesh.num_tets();
   std::vector<Eigen::Triplet<double>> trip(16 * static_cast<size_t>(nt), Eigen::Triplet<double>(0, 0, 0.0));
   tbb::parallel_for(0, nt, [&](int t) {
     const double v = liquid.liquid_volume[t];
@@ -167,9 +149,53 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
   });
   Eigen::SparseMatrix<double> a(m, m);
   a.setFromTriplets(trip.begin(), trip.end());  // unused slots add 0 to (0, 0)
+  return a;
+}
+
+void apply_wet_pressure(const FluidMesh& mesh, const LiquidGeometry& liquid, const Eigen::VectorXd& pressure,
+                        double dt, double density, TetVectors& u) {
+  const double scale = dt / density;
+  tbb::parallel_for(0, mesh.num_tets(), [&](int t) {
+    const double v = liquid.liquid_volume[t];
+    if (v <= 0.0) return;
+    Eigen::Vector3d grad_p = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) grad_p += pressure[mesh.tets[t][k]] * liquid.wet_moment[t][k];
+    u[t] -= (scale / v) * grad_p;
+  });
+}
+
+double liquid_kinetic_energy(const LiquidGeometry& liquid, const TetVectors& u) {
+  double e = 0.0;
+  for (size_t t = 0; t < u.size(); ++t) e += 0.5 * liquid.liquid_volume[t] * u[t].squaredNorm();
+  return e;
+}
+
+ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBoundary& bc,
+                                      const LiquidGeometry& liquid, double dt, double density, TetVectors& u,
+                                      const SolverOptions& options) {
+  if (!(dt > 0.0) || !(density > 0.0))
+    throw std::invalid_argument("project_free_surface: time step and density must be positive");
+  const int n = mesh.num_nodes(), nt = mesh.num_tets();
+  if (static_cast<int>(u.size()) != nt || static_cast<int>(liquid.liquid_volume.size()) != nt ||
+      static_cast<int>(liquid.is_liquid.size()) != n)
+    throw std::invalid_argument("project_free_surface: velocity or liquid geometry does not match the mesh");
+  ProjectionReport rep;
+  double t0 = now();
+  // rhs_i = (rho/h) (sum_t a_i . u*_t - f_i).
+  const Eigen::VectorXd rhs = (density / dt) * (wet_gradient_transpose(mesh, liquid, u) - bc.flux);
+  std::vector<int> unknown(n, -1);
+  for (int i = 0; i < n; ++i)
+    if (liquid.is_liquid[i] && bc.node_kind[i] != NodeKind::kOpen) unknown[i] = 0;
+  Eigen::VectorXd pinned_rhs = rhs;
+  pin_isolated_bodies(mesh, liquid, unknown, pinned_rhs);
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) unknown[i] = m++;
+  if (m == 0) throw std::invalid_argument("project_free_surface: no liquid node to solve for");
+  const Eigen::SparseMatrix<double> a = wet_laplacian(mesh, liquid, unknown, m);
   Eigen::VectorXd b(m);
   for (int i = 0; i < n; ++i)
-    if (unknown[i] >= 0) b[unknown[i]] = rhs[i];
+    if (unknown[i] >= 0) b[unknown[i]] = pinned_rhs[i];
   rep.unknowns = m;
   rep.assemble_seconds = now() - t0;
 
@@ -181,25 +207,11 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
   rep.pressure = Eigen::VectorXd::Zero(n);
   for (int i = 0; i < n; ++i)
     if (unknown[i] >= 0) rep.pressure[i] = x[unknown[i]];
-  const double scale = dt / density;
-  tbb::parallel_for(0, nt, [&](int t) {
-    const double v = liquid.liquid_volume[t];
-    if (v <= 0.0) return;
-    Eigen::Vector3d grad_p = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 4; ++k) grad_p += rep.pressure[mesh.tets[t][k]] * liquid.wet_moment[t][k];
-    u[t] -= (scale / v) * grad_p;
-  });
+  apply_wet_pressure(mesh, liquid, rep.pressure, dt, density, u);
   // Weak divergence at the unknowns per unit dual volume (the measure of projection.hpp).
-  for (int i = 0; i < n; ++i) {
-    if (unknown[i] < 0) continue;
-    double s = 0.0;
-    for (int t : mesh.node_tets[i]) {
-      int k = 0;
-      while (mesh.tets[t][k] != i) ++k;
-      s += liquid.wet_moment[t][k].dot(u[t]);
-    }
-    rep.max_divergence = std::max(rep.max_divergence, std::abs(bc.flux[i] - s) / mesh.dual_volume[i]);
-  }
+  const Eigen::VectorXd div = bc.flux - wet_gradient_transpose(mesh, liquid, u);
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) rep.max_divergence = std::max(rep.max_divergence, std::abs(div[i]) / mesh.dual_volume[i]);
   return rep;
 }
 

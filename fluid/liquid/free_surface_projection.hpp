@@ -55,6 +55,20 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
                                       const LiquidGeometry& liquid, double dt, double density, TetVectors& u,
                                       const SolverOptions& options);
 
+/// (sum_t a_i . u_t)_i at every node [m^3/s]: the weak divergence of u over the wet parts, without
+/// the boundary flux (for the coupled system's fluid rows; all-liquid: G^T V u).
+Eigen::VectorXd wet_gradient_transpose(const FluidMesh& mesh, const LiquidGeometry& liquid, const TetVectors& u);
+
+/// B^T W B restricted to the nodes with unknown[i] >= 0 (numbered by unknown[], m of them):
+/// (B^T W B)_ij = sum_t a_i . a_j / |Omega_t| [m]. Parallel assembly into fixed slots: deterministic.
+Eigen::SparseMatrix<double> wet_laplacian(const FluidMesh& mesh, const LiquidGeometry& liquid,
+                                          const std::vector<int>& unknown, int m);
+
+/// u_t -= (dt/rho) B_t p on every tet with liquid (the free-surface form of Chentanez et al. 2006
+/// eq. 8), p per node (zero at air and open nodes).
+void apply_wet_pressure(const FluidMesh& mesh, const LiquidGeometry& liquid, const Eigen::VectorXd& pressure,
+                        double dt, double density, TetVectors& u);
+
 /// Kinetic energy of the liquid per unit density, 1/2 sum_t |Omega_t| |u_t|^2 [m^5/s^2].
 double liquid_kinetic_energy(const LiquidGeometry& liquid, const TetVectors& u);
 

@@ -1,6 +1,6 @@
 // bench_fluid: seconds per phase of a fluid step (advect, assemble, solve) at ~25k, 100k and 400k
 // tets, and the validation errors of tests/fluid at finer resolutions.
-//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only]   (max tets default 450000)
+//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only] [--standing-wave]   (max tets default 450000)
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -9,6 +9,7 @@
 
 #include "apps/bench/bench_support.hpp"
 #include "apps/bench/fluid/sphere_cases.hpp"
+#include "apps/bench/fluid/standing_wave.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/structured_box.hpp"
 
@@ -156,6 +157,17 @@ void sphere_cases(double h_near, double h_far, int steps) {
   }
 }
 
+/// Standing wave (standing_wave.hpp) at n cells per tank length: period against linear theory.
+void standing_wave_case(int n) {
+  tetfsi::bench::Stopwatch w;
+  const tetfsi::bench::StandingWaveResult r = tetfsi::bench::standing_wave(n);
+  tetfsi::bench::print_row(
+      "standing wave (free surface, kH = pi/2)", fmt::format("{} cells/L, {} tets, {} steps", n, r.tets, r.steps),
+      fmt::format("period {:+.2f}% vs omega^2 = g k tanh(kH); amplitude decay {:.1f}%/period; volume drift {:.1e}/step",
+                  100 * (r.period / r.period_theory - 1), 100 * r.decay_per_period, r.max_volume_drift),
+      w.seconds());
+}
+
 int main(int argc, char** argv) {
   long max_tets = 450000;
   bool sphere_only = false, scaling_only = false;
@@ -163,6 +175,11 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--max-tets") == 0 && i + 1 < argc) max_tets = std::atol(argv[i + 1]);
     if (std::strcmp(argv[i], "--sphere-only") == 0) sphere_only = true;
     if (std::strcmp(argv[i], "--scaling-only") == 0) scaling_only = true;
+    if (std::strcmp(argv[i], "--standing-wave") == 0) {
+      tetfsi::bench::print_header();
+      for (int n : {16, 32, 64}) standing_wave_case(n);
+      return 0;
+    }
   }
   tetfsi::bench::print_header();
   if (!scaling_only)
@@ -180,5 +197,6 @@ int main(int argc, char** argv) {
                         fluid::AdvectionScheme::kLinear})
       taylor_green(n, 0.05, scheme);
   hydrostatic(std::min(20, static_cast<int>(std::cbrt(max_tets / 6.0))));
+  for (int n : {16, 32, 64}) standing_wave_case(n);
   return 0;
 }
