@@ -8,6 +8,8 @@
 //    stays: the volume grows by at least the nozzle's own box and is constant after it switches off;
 //  - floating_block_ci.json: a block of half the water's density heaves about the Archimedes
 //    draft (coupled through eq. 7) without gaining energy at h = 1/120 s, and stays stable at 1/30 s;
+//  - paint_pour_ci.json: a nozzle pours onto a soft ball (coupled): the volume never falls, the
+//    liquid surfaces are closed and enclose the liquid volume, the ball sags;
 //  - a free surface with a hex8 solid is refused by validate and run alike (exit 2, naming the key).
 #include <gtest/gtest.h>
 
@@ -242,4 +244,35 @@ TEST(LiquidRun, NozzleAddsLiquidWhileOnAndTheVolumeThenStays) {
   const double added = at_switch_off - probes.at(0, "volume");
   EXPECT_GT(added, nozzle + 0.5 * flux * 0.2);
   EXPECT_LT(added, nozzle + 2.0 * flux * 0.2);
+}
+
+TEST(LiquidRun, PaintPourFallsOnTheSoftBallAndKeepsItsSurfaceClosed) {
+  // paint_pour_ci.json: the nozzle pours onto a soft ball held at its base (coupled, eq. 7). The
+  // liquid volume never falls while the nozzle is on, every frame's liquid surface is closed and
+  // encloses the liquid volume, and the ball's top moves down (its weight and the liquid's).
+  TempDir dir("liquid_paint_pour");
+  const fs::path out = dir.path() / "out";
+  int status = -1;
+  const std::string log =
+      tetfsi_cmd("run " + (fs::path(TETFSI_SOURCE_DIR) / "data/scenes/paint_pour_ci.json").string() + " --out " +
+                     out.string() + " --quiet --threads 1",
+                 &status);
+  ASSERT_EQ(status, 0) << log;
+  const Csv probes = read_csv(out / "probes.csv");
+  for (std::size_t r = 1; r < probes.rows.size(); ++r)
+    EXPECT_GE(probes.at(r, "liquid_volume"), probes.at(r - 1, "liquid_volume") * (1 - 1e-12)) << "row " << r;
+  EXPECT_GT(probes.at(probes.rows.size() - 1, "liquid_volume"), probes.at(0, "liquid_volume"));
+  EXPECT_LT(probes.at(probes.rows.size() - 1, "ball_top_y"), 0.0);
+  for (int frame = 0; frame <= 9; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "liquid_%05d.ply", frame);
+    const auto ply = read_ply(out / "surfaces" / name);
+    EXPECT_EQ(open_edges(ply), 0) << "frame " << frame;
+    // The frame at t = frame / 30 s is the probes row at that time.
+    double volume = -1;
+    for (std::size_t r = 0; r < probes.rows.size(); ++r)
+      if (std::abs(probes.at(r, "time") - frame / 30.0) < 1e-9) volume = probes.at(r, "liquid_volume");
+    ASSERT_GT(volume, 0) << "frame " << frame;
+    EXPECT_NEAR(enclosed_volume(ply), volume, 1e-5 * volume) << "frame " << frame;
+  }
 }
