@@ -90,10 +90,13 @@ struct SizingField {
   using Index = Domain::Index;
   const Tree* tree = nullptr;
   double h_near = 0.1, h_far = 0.1, grading = 0.0;
+  const std::function<double(const Eigen::Vector3d&)>* size_at = nullptr;  ///< MeshSizing::size_at
   FT operator()(const K::Point_3& p, int /*dim*/, const Index& /*index*/) const {
-    if (tree == nullptr || grading <= 0.0 || h_near == h_far) return h_far;
-    const double d = std::sqrt(tree->squared_distance(p));
-    return h_near + (h_far - h_near) * std::min(1.0, d / grading);
+    const double graded = tree == nullptr || grading <= 0.0 || h_near == h_far
+                              ? h_far
+                              : h_near + (h_far - h_near) * std::min(1.0, std::sqrt(tree->squared_distance(p)) / grading);
+    if (size_at == nullptr || !*size_at) return graded;
+    return std::min(graded, (*size_at)(Eigen::Vector3d(p.x(), p.y(), p.z())));
   }
 };
 
@@ -165,6 +168,7 @@ TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<s
   field.h_near = sizing.edge_length_near_solids > 0.0 ? sizing.edge_length_near_solids : sizing.edge_length;
   field.grading = sizing.grading_distance;
   field.tree = graded_to.empty() ? nullptr : &tree;
+  field.size_at = &sizing.size_at;
   const double facet_distance = sizing.facet_distance > 0.0 ? sizing.facet_distance : field.h_near / 10.0;
 
   namespace p = CGAL::parameters;

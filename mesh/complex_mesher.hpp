@@ -9,6 +9,7 @@
 /// CGAL resamples the input surfaces: the interface approximates the input (about 1e-3 of its
 /// size at 100k tets); it does not keep the input triangles.
 #include <Eigen/Core>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ struct MeshSizing {
   /// models (protecting a scan's scattered creases only makes slivers). 0: none. The box edges of
   /// build_complex are always kept.
   double solid_feature_angle_deg = -1.0;
+  /// A further size bound [m] at each point (e.g. finer near a liquid's surface): the size used
+  /// is the smaller of this and the graded size above. Empty: none.
+  std::function<double(const Eigen::Vector3d&)> size_at;
 };
 
 /// Meshes the box [lo, hi] filled with fluid and containing the given closed, outward-oriented,

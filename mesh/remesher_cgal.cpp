@@ -100,9 +100,16 @@ RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int
   for (std::size_t v = 0; v < to_global.size(); ++v) old_index.emplace(handles[v + 1], to_global[v]);
   const auto t_built = std::chrono::steady_clock::now();
 
-  CGAL::tetrahedral_isotropic_remeshing(
-      tr, options.target_edge_length,
-      CGAL::parameters::remesh_boundaries(false).number_of_iterations(static_cast<std::size_t>(iterations)));
+  const auto params =
+      CGAL::parameters::remesh_boundaries(false).number_of_iterations(static_cast<std::size_t>(iterations));
+  if (options.size_at) {
+    const double target = options.target_edge_length;
+    const auto& size_at = options.size_at;
+    CGAL::tetrahedral_isotropic_remeshing(
+        tr, [&](const Tr::Point& q) { return std::min(target, size_at(Eigen::Vector3d(q.x(), q.y(), q.z()))); }, params);
+  } else {
+    CGAL::tetrahedral_isotropic_remeshing(tr, options.target_edge_length, params);
+  }
   const auto t_remeshed = std::chrono::steady_clock::now();
 
   // Back to plain arrays: vertices in the order of first use by a cell (CGAL's cells first, then

@@ -80,7 +80,16 @@ class FluidRunner : public Simulation {
 
     // ---- mesh ----
     const auto& m = js.at("mesh");
-    const mesh::MeshSizing sizing = mesh_sizing(m);
+    mesh::MeshSizing sizing = mesh_sizing(m);
+    // A free surface with surface_edge_length: finer near the liquid (fluid/README.md, "Liquids").
+    if (f.at("type") == "liquid" && f.value("fill", "domain") == "regions")
+      surface_edge_ = f.at("surface_edge_length").get<double>();
+    far_edge_ = sizing.edge_length;
+    surface_grading_ = std::max(sizing.grading_distance, 3.0 * surface_edge_);
+    if (surface_edge_ > 0) {
+      const auto distance = liquid_region_distance(f.at("regions"), vec3(js.at("simulation").at("gravity")));
+      sizing.size_at = [this, distance](const Eigen::Vector3d& x) { return surface_size(std::abs(distance(x))); };
+    }
     std::vector<mesh::SurfaceMesh> surfaces;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
@@ -127,6 +136,12 @@ class FluidRunner : public Simulation {
     }
     dx_ = solver_->mesh().mean_edge_length();
     update_solid_velocity(0.0, 0.0);
+    if (surface_edge_ > 0) {
+      mark_refined_nodes();
+      log.info("free surface: edge {:.4g} m within {:.4g} m of the surface, graded to {:.4g} m over {:.4g} m; the "
+               "fluid is remeshed when the surface leaves the refined zone",
+               surface_edge_, 3.0 * surface_edge_, far_edge_, surface_grading_);
+    }
   }
 
   std::vector<std::string> phases() const override {
@@ -153,6 +168,9 @@ class FluidRunner : public Simulation {
   StepReport step(double h) override {
     time_ += h;
     Stopwatch clock;
+    remeshed_ = false;
+    if (surface_edge_ > 0) remesh_.size_at = current_surface_size();
+    if (surface_left_refined_zone_ && !moving_) remesh_for_surface();
     if (moving_) {
       std::vector<Eigen::Vector3d> target = complex_.vertices;
       for (std::size_t v = 0; v < target.size(); ++v)
@@ -165,6 +183,10 @@ class FluidRunner : public Simulation {
       mesh::QualityReport q;
       for (int attempt = 0;; ++attempt) {
         mesh::RemeshOptions opt = remesh_;
+        if (surface_left_refined_zone_) {  // the whole fluid, for the liquid surface's sizing field
+          opt.band = 0;
+          opt.remesh_only_when_needed = false;
+        }
         opt.iterations += 2 * attempt;
         if (attempt == 2) opt.band = 0;
         try {
@@ -206,6 +228,10 @@ class FluidRunner : public Simulation {
       throw RunError(fmt::format("fluid step at t = {} s failed: {}", time_, e.what()));
     }
     last_ = s;
+    if (surface_edge_ > 0) {
+      if (remeshed_) mark_refined_nodes();
+      surface_left_refined_zone_ = surface_outside_refined_zone();
+    }
     dx_ = solver_->mesh().mean_edge_length();
 
     StepReport rep;
@@ -271,6 +297,69 @@ class FluidRunner : public Simulation {
   }
 
  private:
+  /// Target edge length [m] at distance d from the liquid surface: surface_edge_length within
+  /// three of it, graded linearly to the mesh's edge length over max(grading_distance, 3 of it).
+  double surface_size(double d) const {
+    const double r = 3.0 * surface_edge_;
+    return surface_edge_ + (far_edge_ - surface_edge_) * std::clamp((d - r) / surface_grading_, 0.0, 1.0);
+  }
+  /// surface_size at the current level set, interpolated on the current fluid mesh (for CGAL's
+  /// remeshing sizing field; CGAL calls it from one thread).
+  std::function<double(const Eigen::Vector3d&)> current_surface_size() {
+    locator_ = std::make_shared<fluid::PointLocator>(solver_->mesh());
+    return [this, locator = locator_, hint = std::make_shared<int>(0)](const Eigen::Vector3d& x) {
+      const fluid::Location l = locator->locate(x, *hint);
+      *hint = l.tet;
+      double phi = 0;
+      for (int k = 0; k < 4; ++k) phi += l.bary[k] * solver_->level_set()[solver_->mesh().tets[l.tet][k]];
+      return surface_size(std::abs(phi));
+    };
+  }
+  /// Fluid nodes within the refined zone (3 surface edge lengths) of the surface now.
+  void mark_refined_nodes() {
+    const Eigen::VectorXd& phi = solver_->level_set();
+    refined_node_.assign(phi.size(), 0);
+    for (Eigen::Index i = 0; i < phi.size(); ++i) refined_node_[i] = std::abs(phi[i]) < 3.0 * surface_edge_;
+  }
+  /// True when a node within 1.5 surface edge lengths of the surface was not in the refined zone at
+  /// the last (re)mesh: the surface has moved into the coarse mesh.
+  bool surface_outside_refined_zone() const {
+    const Eigen::VectorXd& phi = solver_->level_set();
+    if (static_cast<Eigen::Index>(refined_node_.size()) != phi.size()) return true;
+    for (Eigen::Index i = 0; i < phi.size(); ++i)
+      if (std::abs(phi[i]) < 1.5 * surface_edge_ && !refined_node_[i]) return true;
+    return false;
+  }
+  /// Remeshes the whole fluid (solids frozen) with the sizing field of the current surface; the
+  /// solver carries the fields and the level set over in its next step.
+  void remesh_for_surface() {
+    mesh::RemeshOptions opt = remesh_;
+    opt.remesh_only_when_needed = false;
+    opt.band = 0;
+    opt.target_edge_length = far_edge_;
+    mesh::RemeshResult r;
+    try {
+      r = mesh::remesh_step(complex_, complex_.vertices, opt);
+    } catch (const mesh::MeshError& e) {
+      throw RunError(fmt::format("remeshing for the liquid surface at t = {} s failed: {}", time_, e.what()));
+    }
+    const mesh::QualityReport q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
+    if (q.inverted + q.degenerate > 0) {
+      log_->warn("t = {} s: remeshing for the liquid surface left {} inverted and {} flat tets; kept the old mesh",
+                 time_, q.inverted, q.degenerate);
+      return;
+    }
+    std::vector<Eigen::Vector3d> rest(r.mesh.num_vertices());
+    for (int v = 0; v < r.mesh.num_vertices(); ++v)
+      rest[v] = r.old_index[v] >= 0 ? rest_[r.old_index[v]] : r.mesh.vertices[v];
+    rest_ = std::move(rest);
+    complex_ = std::move(r.mesh);
+    min_dihedral_ = q.min_dihedral_deg;
+    remeshed_ = true;
+    update_solid_velocity(time_, 0.0);
+    log_->debug("t = {} s: remeshed for the liquid surface: {} fluid tets", time_, q.num_tets);
+  }
+
   /// Which solid each complex vertex belongs to (-1: fluid only), and the solid vertex velocities.
   void update_solid_velocity(double t, double h) {
     vertex_solid_.assign(complex_.num_vertices(), -1);
@@ -335,6 +424,10 @@ class FluidRunner : public Simulation {
   fluid::StepReport last_;
   bool moving_ = false;
   bool remeshed_ = false;  ///< last step remeshed the fluid (false: static, or moved only)
+  double surface_edge_ = 0, far_edge_ = 0, surface_grading_ = 0;  ///< liquid-surface refinement [m]
+  std::vector<char> refined_node_;           ///< per fluid node: in the refined zone at the last (re)mesh
+  bool surface_left_refined_zone_ = false;   ///< remesh for the surface at the start of the next step
+  std::shared_ptr<fluid::PointLocator> locator_;  ///< of the current fluid mesh, for current_surface_size
   double fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, dx_ = 0, time_ = 0, ambient_ = 293.15;
   double max_solid_speed_ = 0, min_dihedral_ = 0;
 };

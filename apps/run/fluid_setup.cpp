@@ -10,37 +10,6 @@
 #include "fluid/liquid/level_set.hpp"
 
 namespace tetfsi::run {
-namespace {
-
-/// Signed distance [m] to the union of the liquid regions of `fill: regions` (negative inside):
-/// the minimum of the shapes' distances (exact for spheres and half-spaces, and for boxes outside
-/// and inside; a union's minimum is exact outside every shape).
-std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
-                                                                     const Eigen::Vector3d& gravity) {
-  std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
-  const Eigen::Vector3d up = gravity.norm() > 0 ? Eigen::Vector3d(-gravity.normalized()) : Eigen::Vector3d::UnitZ();
-  for (const auto& r : regions) {
-    const auto type = r.at("type").get<std::string>();
-    if (type == "box") {
-      const Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
-      shapes.push_back([lo, hi](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo, hi); });
-    } else if (type == "sphere") {
-      const Eigen::Vector3d c = vec3(r.at("center"));
-      const double radius = r.at("radius").get<double>();
-      shapes.push_back([c, radius](const Eigen::Vector3d& x) { return (x - c).norm() - radius; });
-    } else {  // below
-      const double height = r.at("height").get<double>();
-      shapes.push_back([up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; });
-    }
-  }
-  return [shapes](const Eigen::Vector3d& x) {
-    double d = std::numeric_limits<double>::infinity();
-    for (const auto& s : shapes) d = std::min(d, s(x));
-    return d;
-  };
-}
-
-}  // namespace
 
 fluid::FluidParams fluid_params(const scene::Json& js, spdlog::logger& log) {
   const auto& f = js.at("fluid");
@@ -116,6 +85,34 @@ std::vector<TimedSource> timed_sources(const scene::Json& js, spdlog::logger& lo
     out.push_back(em);
   }
   return out;
+}
+
+/// Signed distance [m] to the union of the liquid regions of `fill: regions` (negative inside):
+/// the minimum of the shapes' distances (exact for spheres and half-spaces, and for boxes outside
+/// and inside; a union's minimum is exact outside every shape).
+std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
+                                                                     const Eigen::Vector3d& gravity) {
+  std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
+  const Eigen::Vector3d up = gravity.norm() > 0 ? Eigen::Vector3d(-gravity.normalized()) : Eigen::Vector3d::UnitZ();
+  for (const auto& r : regions) {
+    const auto type = r.at("type").get<std::string>();
+    if (type == "box") {
+      const Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
+      shapes.push_back([lo, hi](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo, hi); });
+    } else if (type == "sphere") {
+      const Eigen::Vector3d c = vec3(r.at("center"));
+      const double radius = r.at("radius").get<double>();
+      shapes.push_back([c, radius](const Eigen::Vector3d& x) { return (x - c).norm() - radius; });
+    } else {  // below
+      const double height = r.at("height").get<double>();
+      shapes.push_back([up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; });
+    }
+  }
+  return [shapes](const Eigen::Vector3d& x) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& s : shapes) d = std::min(d, s(x));
+    return d;
+  };
 }
 
 void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver) {

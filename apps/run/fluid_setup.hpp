@@ -3,6 +3,7 @@
 /// The fluid's settings from the resolved scene, shared by the runners that have a tet-mesh fluid
 /// (fluid_runner.cpp, coupled_runner.cpp): solver parameters, boundary patches of the domain box,
 /// and emitters with their switch-on and switch-off times.
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -37,6 +38,11 @@ std::vector<TimedSource> timed_sources(const scene::Json& scene, spdlog::logger&
 /// 4 mean edge lengths). Other scenes: nothing. @throws std::invalid_argument if the regions hold
 /// no liquid on the mesh
 void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, spdlog::logger& log);
+
+/// Signed distance [m] to the union of /fluid/regions (negative inside; `below` is measured along
+/// -gravity): the minimum of the shapes' distances, exact outside every shape.
+std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
+                                                                     const Eigen::Vector3d& gravity);
 
 /// Writes the fluid's frame: the grid "fluid" (with the level set and liquid fractions of a free
 /// surface) and, for a free surface, the closed liquid surface "liquid" with vertex velocities.

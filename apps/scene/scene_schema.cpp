@@ -83,7 +83,15 @@ void check_shells(const Json& s, std::vector<Issue>& issues) {
 // `fluid.fill: regions` (a free surface) needs regions; its solids are tet FEM or kinematic, and
 // one of them may not take the name of the liquid's output.
 void check_free_surface(const Json& s, std::vector<Issue>& issues) {
-  if (s["fluid"]["type"] != "liquid" || s["fluid"].value("fill", "domain") != "regions") return;
+  if (s["fluid"]["type"] != "liquid") return;
+  if (s["fluid"].value("fill", "domain") != "regions") {
+    if (s["fluid"].value("surface_edge_length", 0.0) > 0)
+      issues.push_back({"/fluid/surface_edge_length", "refines at a free surface: needs fluid.fill \"regions\""});
+    return;
+  }
+  if (s["fluid"].value("surface_edge_length", 0.0) > s["mesh"].value("edge_length", 0.1))
+    issues.push_back({"/fluid/surface_edge_length", "expected a value <= mesh.edge_length (refinement at the surface, "
+                                                    "not coarsening)"});
   if (s["fluid"]["regions"].empty())
     issues.push_back({"/fluid/regions", "fill \"regions\" needs at least one region (box, sphere or below)"});
   for (std::size_t i = 0; i < s["solids"].size(); ++i) {

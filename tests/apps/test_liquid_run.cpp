@@ -10,6 +10,8 @@
 //    draft (coupled through eq. 7) without gaining energy at h = 1/120 s, and stays stable at 1/30 s;
 //  - paint_pour_ci.json: a nozzle pours onto a soft ball (coupled): the volume never falls, the
 //    liquid surfaces are closed and enclose the liquid volume, the ball sags;
+//  - dam_break_ci with surface_edge_length: the mesh is finer at the surface and remeshed as it
+//    moves, keeping the volume;
 //  - a free surface with a hex8 solid is refused by validate and run alike (exit 2, naming the key).
 #include <gtest/gtest.h>
 
@@ -56,6 +58,24 @@ int open_edges(const PlyData& ply) {
   int open = 0;
   for (const auto& [edge, n] : count) open += n != 2;
   return open;
+}
+
+/// Mean edge length [m] of the triangles of a liquid surface that do not lie on the box [lo, hi]'s
+/// walls (the free surface and the solids' wet parts).
+double mean_free_edge(const PlyData& ply, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  auto on_wall = [&](const Eigen::Vector3d& x) {
+    return ((x - lo).cwiseAbs().array() < 1e-5).any() || ((x - hi).cwiseAbs().array() < 1e-5).any();
+  };
+  double sum = 0;
+  int n = 0;
+  for (const auto& t : ply.triangles) {
+    if (on_wall(ply.positions[t[0]]) && on_wall(ply.positions[t[1]]) && on_wall(ply.positions[t[2]])) continue;
+    for (int k = 0; k < 3; ++k) {
+      sum += (ply.positions[t[k]] - ply.positions[t[(k + 1) % 3]]).norm();
+      ++n;
+    }
+  }
+  return n > 0 ? sum / n : 0.0;
 }
 
 }  // namespace
@@ -274,5 +294,55 @@ TEST(LiquidRun, PaintPourFallsOnTheSoftBallAndKeepsItsSurfaceClosed) {
       if (std::abs(probes.at(r, "time") - frame / 30.0) < 1e-9) volume = probes.at(r, "liquid_volume");
     ASSERT_GT(volume, 0) << "frame " << frame;
     EXPECT_NEAR(enclosed_volume(ply), volume, 1e-5 * volume) << "frame " << frame;
+  }
+}
+
+TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
+  // dam_break_ci.json with fluid.surface_edge_length 0.04 m (half the mesh's 0.08 m): the fluid is
+  // remeshed as the surface moves (at least twice in 0.3 s) with the volume kept to 1e-9 through
+  // every remesh, the surface triangles are finer than on the uniform 0.08 m mesh, and the mesh
+  // has fewer than half the tets of the uniform mesh at the surface's size (dam_break.json, 0.04 m).
+  const Eigen::Vector3d lo(0, 0, 0), hi(1.6, 0.8, 0.4);
+  auto run = [](const json& scene, const std::string& name, double end_time, Csv* stats, Csv* probes,
+                std::vector<PlyData>* surfaces) {
+    TempDir dir(name);
+    const fs::path file = dir.path() / "scene.json", out = dir.path() / "out";
+    std::ofstream(file) << scene.dump(2);
+    int status = -1;
+    const std::string log = tetfsi_cmd("run " + file.string() + " --out " + out.string() + " --quiet --threads 1 " +
+                                           "--end-time " + std::to_string(end_time),
+                                       &status);
+    ASSERT_EQ(status, 0) << log;
+    *stats = read_csv(out / "stats.csv");
+    if (probes) *probes = read_csv(out / "probes.csv");
+    if (surfaces)
+      for (int frame = 0; frame <= 6; ++frame) {
+        char n[32];
+        std::snprintf(n, sizeof n, "liquid_%05d.ply", frame);
+        surfaces->push_back(read_ply(out / "surfaces" / n));
+      }
+  };
+  json adaptive = committed("dam_break_ci.json");
+  adaptive["fluid"]["surface_edge_length"] = 0.04;
+  Csv stats, probes, uniform_stats, fine_stats;
+  std::vector<PlyData> surfaces, uniform_surfaces;
+  run(adaptive, "liquid_adaptive", 0.3, &stats, &probes, &surfaces);
+  run(committed("dam_break_ci.json"), "liquid_uniform", 0.3, &uniform_stats, nullptr, &uniform_surfaces);
+  run(committed("dam_break.json"), "liquid_uniform_fine", 0.01, &fine_stats, nullptr, nullptr);
+  ASSERT_FALSE(stats.rows.empty());
+  const double v0 = probes.at(0, "liquid_volume");
+  double remeshes = 0, max_tets = 0;
+  for (std::size_t r = 0; r < stats.rows.size(); ++r) {
+    remeshes += stats.at(r, "remeshed");
+    max_tets = std::max(max_tets, stats.at(r, "tets"));
+    EXPECT_NEAR(stats.at(r, "liquid_volume"), v0, 1e-9 * v0) << "step " << r + 1;
+  }
+  EXPECT_GE(remeshes, 2.0);
+  EXPECT_LT(max_tets, 0.5 * fine_stats.at(0, "tets"));
+  for (std::size_t frame = 1; frame < surfaces.size(); ++frame) {
+    EXPECT_EQ(open_edges(surfaces[frame]), 0) << "frame " << frame;
+    EXPECT_NEAR(enclosed_volume(surfaces[frame]), v0, 1e-5 * v0) << "frame " << frame;
+    EXPECT_LT(mean_free_edge(surfaces[frame], lo, hi), mean_free_edge(uniform_surfaces[frame], lo, hi))
+        << "frame " << frame;
   }
 }

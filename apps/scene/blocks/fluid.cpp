@@ -98,7 +98,13 @@ Field fluid() {
                                            "fills `regions` and has a free surface (static or kinematic "
                                            "solids only).")
                             .def("domain"),
-                        liquid_regions()});
+                        liquid_regions(),
+                        Field::number("surface_edge_length", "m",
+                                      "With `fill: regions`: target edge length of the mesh within three of it "
+                                      "of the liquid surface, graded to `mesh.edge_length` over "
+                                      "max(`mesh.grading_distance`, three of it); the fluid is remeshed when the "
+                                      "surface leaves the refined zone. 0: a mesh that ignores the surface.")
+                            .at_least(0).def(0)});
 }
 
 }  // namespace tetfsi::scene::blocks
