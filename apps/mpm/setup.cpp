@@ -151,7 +151,13 @@ void add_bodies(Setup& s, const Json& bodies, const std::string& ptr) {
     const auto mat = make_material(b.at("material"), name, at(bp, "material"));
     const double rho = b.contains("density") ? b.at("density").get<double>() : mat.rho0;
     const double E = initial_energy(b, mat, rho, bp);
-    const FillRegion r = body_region(b.at("shape"), at(bp, "shape"));
+    FillRegion r = body_region(b.at("shape"), at(bp, "shape"));
+    if (!s.symmetry_planes.empty())  // the model is the part on the kept side of every plane
+      r.inside = [planes = s.symmetry_planes, in = r.inside](const Vec3& x) {
+        for (const auto& p : planes)
+          if (x[p.axis] < p.position) return false;
+        return !in || in(x);
+      };
     const Vec3 ext = r.hi - r.lo;
     if (!(ext.minCoeff() > 0))
       throw SetupError(at(bp, "shape"), "the shape has no volume");
@@ -164,6 +170,9 @@ void add_bodies(Setup& s, const Json& bodies, const std::string& ptr) {
     if (n == 0)
       throw SetupError(at(bp, "shape"), fmt::format("no particle of spacing {} m lies inside the shape: use a smaller "
                                                     "spacing", dx));
+    if (mat.kind == mpm::Material::Kind::Fluid)  // sigma = -p I (eq. 26 without the viscous part at rest): the
+      for (std::size_t p = first; p < s.particles.size(); ++p)  // first critical step (eq. 21) needs p
+        s.particles.stress[p] = -mat.pressure(rho, E) * mpm::Mat3::Identity();
     std::size_t outside = 0, example = first;
     for (std::size_t p = first; p < s.particles.size(); ++p)
       if (!s.grid.contains(s.particles.x[p]) && outside++ == 0) example = p;
@@ -264,12 +273,11 @@ void add_membrane(Setup& s, const Json& m, const std::string& ptr) {
     if (b.name == s.membrane_name)
       throw SetupError(at(ptr, "name"), fmt::format("\"{}\" is also the name of a body", s.membrane_name));
   const double tol = node_tolerance(s);
-  for (const auto& p : m.at("symmetry_planes")) s.symmetry_planes.push_back({axis_index(p.at("axis")), p.at("position").get<double>()});
   const double es = m.at("element_size").get<double>();
   s.membrane_mesh = clip(membrane_shape(m.at("shape"), es, at(ptr, "shape")), s.symmetry_planes, tol);
   auto& mesh = s.membrane_mesh;
   if (mesh.quads.empty())
-    throw SetupError(at(ptr, "symmetry_planes"), "no element of the membrane lies on the kept side of the symmetry planes");
+    throw SetupError("/mpm/symmetry_planes", "no element of the membrane lies on the kept side of the symmetry planes");
   if (const int bad = non_manifold_or_misoriented_edges(mesh.quads))
     throw SetupError(at(ptr, "shape"), fmt::format("{} edge(s) are shared by more than two elements or by two elements "
                                                    "of opposite orientation (the membrane must be a consistently "
@@ -291,14 +299,9 @@ void add_membrane(Setup& s, const Json& m, const std::string& ptr) {
     throw SetupError(at(ptr, "shape"), e.what());
   }
   s.membrane_fixed.assign(mesh.nodes.size(), {false, false, false});
-  for (std::size_t k = 0; k < s.symmetry_planes.size(); ++k) {
-    const auto& p = s.symmetry_planes[k];
-    int on = 0;
+  for (const auto& p : s.symmetry_planes)
     for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
-      if (std::abs(mesh.nodes[i][p.axis] - p.position) <= tol) s.membrane_fixed[i][p.axis] = ++on > 0;
-    if (on == 0)
-      throw SetupError(fmt::format("{}/symmetry_planes/{}", ptr, k), "no membrane node lies on this plane");
-  }
+      if (std::abs(mesh.nodes[i][p.axis] - p.position) <= tol) s.membrane_fixed[i][p.axis] = true;
   const auto& fixed = m.at("fixed");
   for (std::size_t k = 0; k < fixed.size(); ++k) {
     const auto ids = region_nodes(s, fixed[k].at("region"), tol);
@@ -360,6 +363,16 @@ double node_tolerance(const Setup& s) {
 Setup build_setup(const Json& m, const Vec3& gravity) {
   Setup s;
   s.grid = make_grid(m.at("grid"), "/mpm/grid");
+  const auto& planes = m.at("symmetry_planes");
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    const SymmetryPlane p{axis_index(planes[k].at("axis")), planes[k].at("position").get<double>()};
+    if (std::abs(p.position - s.grid.lo[p.axis]) > node_tolerance(s))
+      throw SetupError(fmt::format("/mpm/symmetry_planes/{}/position", k),
+                       fmt::format("a symmetry plane is the grid's lower face on its axis: expected {} (/mpm/grid/lo), "
+                                   "got {}", s.grid.lo[p.axis], p.position));
+    s.grid.faces[2 * p.axis] = mpm::FaceBc::Slip;
+    s.symmetry_planes.push_back(p);
+  }
   s.options.gravity = gravity;
   s.options.cfl = m.at("mpm_cfl").get<double>();
   s.membrane_cfl = m.at("membrane_cfl").get<double>();

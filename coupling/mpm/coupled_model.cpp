@@ -48,6 +48,7 @@ void CoupledModel::inject(double t0, double t1) {
       if (!P) P = &mpm_.particles();
       const Vec3& x = s.sites[next_[k]++ % s.sites.size()];
       P->add(s.particle_mass, x, s.velocity, s.density, s.energy, s.material);
+      P->stress.back() = -mpm_.materials()[s.material].pressure(s.density, s.energy) * mpm::Mat3::Identity();
       pending_[k] -= s.particle_mass;
       const double rho0 = mpm_.materials()[s.material].rho0;
       const double e = s.energy * s.particle_mass / rho0 + 0.5 * s.particle_mass * s.velocity.squaredNorm();

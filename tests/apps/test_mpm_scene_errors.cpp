@@ -100,12 +100,16 @@ TEST(MpmSceneErrors, ValidateAndRunRejectEachWithExit2AndThePointer) {
       {"boundary_of_closed_membrane", [](json& s) {
          s["mpm"]["membrane"]["shape"] = {{"type", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.3}}; },
        "/mpm/membrane/fixed/0/region", "no free edge"},
-      {"symmetry_plane_cuts_everything", [](json& s) {
-         s["mpm"]["membrane"]["symmetry_planes"] = {{{"axis", "x"}, {"position", 0.95}}}; },
-       "/mpm/membrane/symmetry_planes", "no element"},
-      {"symmetry_plane_misses_nodes", [](json& s) {
-         s["mpm"]["membrane"]["symmetry_planes"] = {{{"axis", "x"}, {"position", 0.05}}}; },
-       "/mpm/membrane/symmetry_planes/0", "no membrane node lies on this plane"},
+      {"symmetry_plane_inside_grid", [](json& s) {
+         s["mpm"]["symmetry_planes"] = {{{"axis", "x"}, {"position", 0.5}}}; },
+       "/mpm/symmetry_planes/0/position", "the grid's lower face"},
+      {"symmetry_plane_cuts_membrane_away", [](json& s) {
+         s["mpm"]["membrane"]["shape"]["origin"] = {0.1, 0.1, 0.05};
+         s["mpm"]["membrane"]["shape"]["u"] = {0.8, 0, 0};
+         s["mpm"]["membrane"]["shape"]["v"] = {0, 0, -0.04};
+         s["mpm"]["grid"]["lo"] = {0, 0, 0.02};
+         s["mpm"]["symmetry_planes"] = {{{"axis", "z"}, {"position", 0.02}}}; },
+       "/mpm/symmetry_planes", "no element"},
       {"spacing_above_cell", [](json& s) { s["mpm"]["bodies"][0]["spacing"] = 0.2; },
        "/mpm/bodies/0/spacing", "between cell / 6 and the cell"},
       {"huge_grid", [](json& s) { s["mpm"]["grid"]["cell"] = 1e-4; }, "/mpm/grid/cell", "nodes (at most"},

@@ -169,11 +169,6 @@ Field membrane() {
       Field::number("pressure", "Pa", "Uniform pressure on the membrane along the deformed element normal (a "
                                       "follower load, f = p S_e / 4 per node; the normal is u x v, outward for closed "
                                       "shapes).").def(0),
-      Field::array("symmetry_planes", "Planes x_axis = position: the shape is cut to the side x_axis >= position and "
-                                      "the nodes on the plane keep zero normal velocity (give the grid face `slip`).",
-                   Field::object("", "", {Field::enumeration("axis", {"x", "y", "z"}, "Normal axis.").req(),
-                                          Field::number("position", "m", "Coordinate of the plane.").def(0)}))
-          .def(Json::array()),
       Field::array("fixed", "Held nodes, per region and component.", fixed_region()).def(Json::array()),
   });
 }
@@ -221,6 +216,12 @@ Field mpm() {
       grid().req(),
       Field::array("bodies", "Particle bodies (one material each).", body()).items(1).req(),
       membrane().req(),
+      Field::array("symmetry_planes", "Symmetry planes x_axis = position, each the grid's lower face on its axis: the "
+                                      "model is the part x_axis >= position (bodies and membrane are cut to it), the "
+                                      "grid face is `slip` and the membrane nodes on the plane keep zero normal velocity.",
+                   Field::object("", "", {Field::enumeration("axis", {"x", "y", "z"}, "Normal axis.").req(),
+                                          Field::number("position", "m", "Coordinate of the plane.").def(0)}))
+          .def(Json::array()),
       Field::array("sources", "Gas inflow (airbag inflators): particles added in a region at a mass rate.", source())
           .def(Json::array()),
       contact(),
