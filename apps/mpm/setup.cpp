@@ -136,6 +136,23 @@ FillRegion body_region(const Json& shape, const std::string& ptr) {
   return {lo, hi, inside_surface(s)};
 }
 
+/// A lattice of spacing dx from lo (centres lo + (i + 1/2) dx, as mpm::sample_lattice, n layers per
+/// axis) must not put a layer on a grid node plane: such particles' far cell corners get no mass
+/// and, in contact, they jitter across the plane (cell-crossing noise; a sphere on a membrane with
+/// half its layers on planes blew up, coupling/mpm/README.md).
+void check_lattice_off_planes(const mpm::Grid& g, const Vec3& lo, const Vec3& hi, double dx, const std::string& ptr) {
+  for (int a = 0; a < 3; ++a) {
+    const int n = std::max(1, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
+    for (int i = 0; i < n; ++i) {
+      const double x = lo[a] + dx * (i + 0.5), s = (x - g.lo[a]) / g.h, f = s - std::round(s);
+      if (std::abs(f) < 1e-6)
+        throw SetupError(ptr, fmt::format("the particle layer {} = {} lies on a grid node plane (cell {} from {} = {}): "
+                                          "particles there jitter across the plane in contact; move the shape or "
+                                          "/mpm/grid/lo by half a spacing", "xyz"[a], x, g.h, "xyz"[a], g.lo[a]));
+    }
+  }
+}
+
 void add_bodies(Setup& s, const Json& bodies, const std::string& ptr) {
   const double h = s.grid.h;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -164,6 +181,7 @@ void add_bodies(Setup& s, const Json& bodies, const std::string& ptr) {
     if (!(ext.prod() / (dx * dx * dx) <= kMaxParticles))
       throw SetupError(at(bp, "spacing"), fmt::format("the body would have about {:.3g} particles (at most {:.0e}): use a "
                                                       "larger spacing", ext.prod() / (dx * dx * dx), kMaxParticles));
+    check_lattice_off_planes(s.grid, r.lo, r.hi, dx, at(bp, "shape"));
     const auto material = static_cast<std::uint16_t>(s.materials.size());
     const std::size_t first = s.particles.size();
     const std::size_t n = mpm::sample_lattice(s.particles, r.lo, r.hi, dx, rho, E, vec3(b.at("velocity")), material, r.inside);
@@ -341,6 +359,7 @@ void add_sources(Setup& s, const Json& sources, const Json& bodies, const std::s
     const double dx = bodies.at(it->material).at("spacing").get<double>();
     g.particle_mass = g.density * dx * dx * dx;
     const Vec3 lo = vec3(src.at("region").at("lo")), hi = vec3(src.at("region").at("hi"));
+    check_lattice_off_planes(s.grid, lo, hi, dx, at(sp, "region"));
     mpm::Particles sites;
     mpm::sample_lattice(sites, lo, hi, dx, 1, 0, Vec3::Zero(), 0, nullptr);
     for (const auto& x : sites.x) {

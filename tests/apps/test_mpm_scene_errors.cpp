@@ -89,6 +89,8 @@ TEST(MpmSceneErrors, ValidateAndRunRejectEachWithExit2AndThePointer) {
        "/probes/0/kind", "needs a closed membrane"},
       {"particles_outside_grid", [](json& s) { s["mpm"]["bodies"][0]["shape"]["center"] = {0.9, 0.5, 0.5}; },
        "/mpm/bodies/0/shape", "outside the grid"},
+      {"lattice_on_node_planes", [](json& s) { s["mpm"]["bodies"][0]["shape"]["radius"] = 0.175; },
+       "/mpm/bodies/0/shape", "lies on a grid node plane"},
       {"membrane_outside_grid", [](json& s) { s["mpm"]["membrane"]["shape"]["origin"] = {0.5, 0.5, 0.2}; },
        "/mpm/membrane/shape", "outside the grid"},
       {"empty_fixed_box", [](json& s) {
