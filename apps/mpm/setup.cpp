@@ -358,6 +358,11 @@ void add_sources(Setup& s, const Json& sources, const Json& bodies, const std::s
     if (!(g.t_end > g.t_start)) throw SetupError(at(sp, "end_time"), "expected end_time > start_time");
     const double dx = bodies.at(it->material).at("spacing").get<double>();
     g.particle_mass = g.density * dx * dx * dx;
+    const double count = g.mass_rate * (g.t_end - g.t_start) / g.particle_mass;
+    if (!(count <= kMaxParticles))
+      throw SetupError(at(sp, "mass_rate"), fmt::format("the source would add {:.3g} particles (at most {:.0e}): lower the "
+                                                        "mass rate or the duration, or use a larger spacing", count,
+                                                        kMaxParticles));
     const Vec3 lo = vec3(src.at("region").at("lo")), hi = vec3(src.at("region").at("hi"));
     check_lattice_off_planes(s.grid, lo, hi, dx, at(sp, "region"));
     mpm::Particles sites;

@@ -135,6 +135,11 @@ TEST(MpmSceneErrors, ValidateAndRunRejectEachWithExit2AndThePointer) {
          s["mpm"]["sources"] = {{{"body", "gas"}, {"region", {{"lo", {0.9, 0.9, 0.9}}, {"hi", {1.2, 1.2, 1.2}}}},
                                  {"mass_rate", 1.0}, {"end_time", 1e-3}}}; },
        "/mpm/sources/0/region", "outside the grid"},
+      {"source_runaway_mass_rate", [](json& s) {
+         s["mpm"]["bodies"].push_back(gas_body());
+         s["mpm"]["sources"] = {{{"body", "gas"}, {"region", {{"lo", {0.4, 0.4, 0.6}}, {"hi", {0.5, 0.5, 0.7}}}},
+                                 {"mass_rate", 1e9}, {"end_time", 1.0}}}; },
+       "/mpm/sources/0/mass_rate", "particles (at most"},
       {"pressure_on_solid", [](json& s) { s["mpm"]["bodies"][0]["pressure"] = 1e5; },
        "/mpm/bodies/0/pressure", "linear_elastic body starts unstressed"},
       {"pressure_and_energy", [](json& s) {
