@@ -175,7 +175,8 @@ void bench_scene(const std::string& scene_name, const std::string& label, double
   const auto e = model->coupling().energies();
   std::string minima;
   for (std::size_t i = 0; i < probes.size(); ++i)
-    minima += fmt::format(" {}={:.6g}", sc["probes"][i].at("name").get<std::string>(), lowest[i]);
+    if (probes[i].kind != mpm_setup::Probe::Kind::TotalEnergy && probes[i].kind != mpm_setup::Probe::Kind::BodyEnergy)
+      minima += fmt::format(" {}={:.6g}", sc["probes"][i].at("name").get<std::string>(), lowest[i]);
   fmt::print("# {} ({}): probes (scene {})\n{}", label, scene_name, scene_name, hist.str());
   bench::print_row(label,
                    fmt::format("cell {} m, {} particles, {} quads, t {}", setup.grid.h, particles0,
