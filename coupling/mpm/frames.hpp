@@ -1,6 +1,6 @@
 #pragma once
 /// @file frames.hpp
-/// VTU frames of the MPM-membrane examples with the shared writer (mesh/io/vtu_writer.hpp):
+/// VTU frames of an MPM-membrane model with the shared writer (mesh/io/vtu_writer.hpp):
 /// particles as a point cloud (VTK_VERTEX) with pressure, density, velocity; membranes as
 /// VtkCell::Quad cells with the membrane stress (global tensor, 9 components) per cell.
 #include "fluid/mpm/mpm_solver.hpp"

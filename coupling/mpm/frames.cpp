@@ -1,4 +1,4 @@
-#include "coupling/mpm/examples/frames.hpp"
+#include "coupling/mpm/frames.hpp"
 
 namespace tetfsi::mpm_contact {
 
