@@ -8,7 +8,7 @@
 namespace tetfsi::coupling::detail {
 
 /// Ŝ = P + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement P + H A⁻¹ Hᵀ,
-/// used to precondition the pressure block (methods.md §3, option 2).
+/// used to precondition the pressure block (Benzi, Golub & Liesen 2005, sec. 10.1).
 SparseMatrix approximate_schur_complement(const CoupledSystem& system);
 
 /// Throws CoupledSolveError if the residuals of (u, p) exceed the tolerance.
