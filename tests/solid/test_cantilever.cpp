@@ -8,7 +8,7 @@
 
 #include "solid/analysis/linear_analysis.hpp"
 #include "solid/integrator/newmark.hpp"
-#include "solid/linearized_model.hpp"
+#include "tests/solid/linearized_model.hpp"
 #include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
