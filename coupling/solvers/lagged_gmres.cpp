@@ -4,7 +4,7 @@
 
 #include "coupling/solvers/gmres.hpp"
 #include "coupling/solvers/schur_state.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "coupling/solvers/schur_state.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 
