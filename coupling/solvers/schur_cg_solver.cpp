@@ -84,7 +84,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
       "failed: the solid's tangent stiffness K' lost definiteness (strong compression or pre-stress) by more than "
       "M/h makes up for" +
       std::string(can_lag ? ", and GMRES preconditioned with the factor of an earlier step did not converge" : "") +
-      ". Take a smaller dt, or use coupling.solver umfpack, which does not need A to be definite");
+      ". Take a smaller time step (simulation.dt), or use coupling.solver umfpack, which does not need A to be definite");
 }
 
 CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
