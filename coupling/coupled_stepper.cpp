@@ -1,6 +1,5 @@
 #include "coupling/coupled_stepper.hpp"
 
-#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -8,13 +7,10 @@
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/amg_preconditioner.hpp"
 #include "mesh/quality.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 SparseMatrix block_diagonal(const std::vector<SparseMatrix>& blocks) {
   int n = 0;
@@ -167,7 +163,7 @@ bool CoupledStepper::mean_constraint() const {
 }
 
 CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledStepReport& report) {
-  const auto clock = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   SolidRows rows;
   std::vector<SparseMatrix> A_blocks(solids_.size());
   std::vector<Eigen::VectorXd> b_blocks(solids_.size());
@@ -188,7 +184,7 @@ CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledS
         rows.fixed_velocity[o + k] = b_blocks[i][k] / A_blocks[i].coeff(k, k);
       }
   }
-  report.solid_assemble_seconds = seconds_since(clock);
+  report.solid_assemble_seconds = clock.seconds();
   report.solid_dofs = n;
   return rows;
 }
@@ -360,12 +356,12 @@ CoupledStepReport CoupledStepper::step(double h) {
   report.mesh_update = update_mesh_to_solids();       // xⁿ: the fluid mesh follows the solids
   report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection and body forces
   SolidRows solid = assemble_solid_rows(h, report);    // eq. (4): A, b
-  const auto clock = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
   FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
   const CoupledSystem sys{std::move(solid.A), std::move(interface.H), std::move(fluid.P), std::move(solid.b),
                           std::move(fluid.r)};
-  report.interface_seconds = seconds_since(clock);
+  report.interface_seconds = clock.seconds();
   report.pressure_unknowns = sys.num_pressures();
   Eigen::VectorXd u, p;
   report.solve = solve(sys, interface.unknown, u, p);  // eq. (7)

@@ -12,8 +12,7 @@
 ///  - H, m x n: (H u)_i = ∫_Γ φ_i (u · n) dA over the interface triangles Γ, n pointing out of
 ///    the fluid: the flux the solid imposes on pressure node i (the −D₁H term of eq. 6);
 ///  - J = Hᵀ: nodal forces of the pressure, f_a = ∫_Γ φ_a p n dA. Taking J and H from the same
-///    quadrature makes the pressure's work on the solid equal the flux work on the fluid
-///    (shared/design.md, "Coupling: decided"; methods.md §3);
+///    quadrature makes the pressure's work on the solid equal the flux work on the fluid;
 ///  - L = Gᵀ V G, m x m, the P1 pressure Laplacian (symmetric positive semi-definite), so that
 ///    (h/ρ) L is the D₂G block of eq. (6) up to the sign of the weak divergence.
 ///

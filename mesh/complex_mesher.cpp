@@ -3,8 +3,7 @@
 ///
 /// Domain: CGAL::Polyhedral_complex_mesh_domain_3 with one patch per closed surface. For an
 /// outward-oriented surface CGAL 5.5.1 wants the subdomain pair as (inside, outside): box (1, 0),
-/// solid i (2 + i, 1) (shared/references/dependencies.md section 2: the header's wording is the
-/// other way round, the code is not). Sharp edges of the box and of piecewise-flat solids (facet
+/// solid i (2 + i, 1) (the header's wording is the other way round, the code is not). Sharp edges of the box and of piecewise-flat solids (facet
 /// normals differing by > kFeatureAngleDeg) are protected as features so corners are kept.
 /// Sequential mesher only (the parallel one lost subdomains in the probe); all random generators
 /// are seeded so the result is deterministic.

@@ -5,7 +5,7 @@
 /// build_complex() meshes a fluid box with every solid inside it as ONE complex
 /// (CGAL Polyhedral_complex_mesh_domain_3): fluid is subdomain kFluidSubdomain, solid i is
 /// solid_subdomain(i). Every interface triangle is therefore shared by exactly one fluid tet and
-/// one solid tet, and each solid's FEM mesh is its own subdomain's tets (shared/design.md).
+/// one solid tet, and each solid's FEM mesh is its own subdomain's tets.
 /// CGAL resamples the input surfaces: the interface approximates the input (about 1e-3 of its
 /// size at 100k tets); it does not keep the input triangles.
 #include <Eigen/Core>

@@ -7,7 +7,7 @@
 /// fixed), so that nearby fluid tets are carried along instead of inverted; (3) the fluid alone is
 /// remeshed with CGAL tetrahedral_isotropic_remeshing while the solid tets are hidden as
 /// subdomain 0 and restored after, so the interface triangles and the solid tets are kept
-/// identically (shared/references/dependencies.md, section 2); (4) the fluid's minimum dihedral
+/// identically; (4) the fluid's minimum dihedral
 /// angle is checked, and the remesh is repeated with more iterations (and a larger band, then the
 /// whole fluid) if it is below the threshold. With a band only the band, a ring of tets around it
 /// and the solids are handed to CGAL, so the cost follows the band, not the box. Optionally

@@ -4,10 +4,9 @@
 /// CGAL 5.5.1's tetrahedral_isotropic_remeshing with remesh_boundaries(false) keeps the facets
 /// between different subdomains, but still edits unselected cells that are in the complex. So the
 /// solid tets (and, with a band, the fluid tets outside it) are relabelled 0 ("outside") during
-/// the call and given back their labels afterwards, found again by their four vertices
-/// (shared/references/dependencies.md, section 2). With a band, only the region of
-/// remesh_region.hpp (band, a ring of hidden tets, the solids) is built into the triangulation; the
-/// other fluid tets are copied over unchanged.
+/// the call and given back their labels afterwards, found again by their four vertices. With a
+/// band, only the region of remesh_region.hpp (band, a ring of hidden tets, the solids) is built
+/// into the triangulation; the other fluid tets are copied over unchanged.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_3/tet_soup_to_c3t3.h>
 #include <CGAL/Tetrahedral_remeshing/Remeshing_triangulation_3.h>

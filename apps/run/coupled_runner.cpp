@@ -24,7 +24,7 @@
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
 #include "fluid/io/fluid_output.hpp"

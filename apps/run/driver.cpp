@@ -15,7 +15,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/progress.hpp"
 #include "apps/run/simulation.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/version.hpp"
 
 namespace tetfsi::run {

@@ -23,7 +23,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "fluid/advection/point_locator.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/io/fluid_output.hpp"

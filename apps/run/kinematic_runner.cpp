@@ -8,7 +8,7 @@
 #include "apps/run/scene_values.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "mesh/surface_checks.hpp"
 #include "mesh/surface_import.hpp"
 

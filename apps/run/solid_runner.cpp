@@ -17,7 +17,7 @@
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"

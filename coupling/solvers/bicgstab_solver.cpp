@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "coupling/solvers/solver_impls.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 namespace {

@@ -8,7 +8,7 @@
 ///  - `bicgstab` : BiCGSTAB on the same unsymmetric matrix, as in the paper (§3.3), preconditioned
 ///                 by the block-diagonal incomplete Cholesky diag(IC(A), IC(Ŝ)) with
 ///                 Ŝ = P + H diag(A)⁻¹ Hᵀ.
-///  - `schur_cg` : the fast path using the symmetric structure (methods.md §3, option 1): eliminate
+///  - `schur_cg` : the fast path using the symmetric structure (Benzi, Golub & Liesen 2005, sec. 5): eliminate
 ///                 u = A⁻¹(b + Hᵀp), solve the SPD Schur complement
 ///                     (P + H A⁻¹ Hᵀ) p = r − H A⁻¹ b
 ///                 by preconditioned CG with A factored once by CHOLMOD (A is the smaller, solid

@@ -4,7 +4,7 @@
 
 #include "coupling/solvers/gmres.hpp"
 #include "coupling/solvers/schur_state.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 
@@ -52,18 +52,17 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   // Each block's relative residual is at most the scaled norm, so stop at half the tolerance and
   // confirm from scratch; tighten tenfold if the scales at the guess were too loose.
   const int cap = std::min(options_.max_iterations, 3 * lag.fresh_iterations + 20);
-  double target = 0.5 * options_.tolerance;
-  bool converged = false;
-  for (int pass = 0; pass < 5 && report.iterations < cap; ++pass, target *= 0.1) {
-    const GmresResult g = right_preconditioned_gmres(apply, precondition, f, x, target, cap - report.iterations);
-    report.iterations += g.iterations;
-    if (!x.allFinite()) break;
-    report.residual = residuals(s, x.head(n), x.tail(m));
-    if (report.residual.max() <= options_.tolerance) {
-      converged = true;
-      break;
-    }
-  }
+  const bool converged = tighten_until_done(
+      0.5 * options_.tolerance,
+      [&](double target) {
+        if (report.iterations >= cap) return false;
+        const GmresResult g = right_preconditioned_gmres(apply, precondition, f, x, target, cap - report.iterations);
+        report.iterations += g.iterations;
+        if (!x.allFinite()) return false;
+        report.residual = residuals(s, x.head(n), x.tail(m));
+        return true;
+      },
+      [&] { return report.residual.max() <= options_.tolerance; });
   report.solve_seconds = clock.lap();
   if (!converged) return false;
   u = x.head(n);

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "coupling/solvers/schur_state.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 
@@ -84,7 +84,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
       "failed: the solid's tangent stiffness K' lost definiteness (strong compression or pre-stress) by more than "
       "M/h makes up for" +
       std::string(can_lag ? ", and GMRES preconditioned with the factor of an earlier step did not converge" : "") +
-      ". Take a smaller dt, or use coupling.solver umfpack, which does not need A to be definite");
+      ". Take a smaller time step (simulation.dt), or use coupling.solver umfpack, which does not need A to be definite");
 }
 
 CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
@@ -126,9 +126,8 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   const Eigen::VectorXd rhs = n > 0 ? Eigen::VectorXd(s.r - s.H * A_inv(s.b)) : s.r;
   if (p.size() != m) p = Eigen::VectorXd::Zero(m);
   const double scale = std::max(s.r.norm(), rhs.norm());
-  double target = 0.5 * options_.tolerance * (scale > 0 ? scale : 1.0);
   int it = 0;
-  for (int pass = 0; pass < 5; ++pass, target *= 0.1) {
+  auto cg_pass = [&](double target) {
     Eigen::VectorXd res = rhs - apply_S(p), z(m), dir(m);
     double rz_previous = 0;
     for (bool first = true; m > 0 && res.norm() > target && it < options_.max_iterations; ++it, first = false) {
@@ -142,10 +141,12 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
       res -= alpha * Sd;
     }
     recover_u();
-    if (!u.allFinite() || !p.allFinite()) break;
+    if (!u.allFinite() || !p.allFinite()) return false;
     report.residual = residuals(s, u, p);
-    if (report.residual.max() <= options_.tolerance || it >= options_.max_iterations) break;
-  }
+    return true;
+  };
+  tighten_until_done(0.5 * options_.tolerance * (scale > 0 ? scale : 1.0), cg_pass,
+                     [&] { return report.residual.max() <= options_.tolerance || it >= options_.max_iterations; });
   report.iterations = it;
   report.solve_seconds = clock.lap();
   if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");

@@ -8,11 +8,25 @@
 namespace tetfsi::coupling::detail {
 
 /// Ŝ = P + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement P + H A⁻¹ Hᵀ,
-/// used to precondition the pressure block (methods.md §3, option 2).
+/// used to precondition the pressure block (Benzi, Golub & Liesen 2005, sec. 10.1).
 SparseMatrix approximate_schur_complement(const CoupledSystem& system);
 
 /// Throws CoupledSolveError if the residuals of (u, p) exceed the tolerance.
 void require_converged(const CoupledSolveReport& report, double tolerance);
+
+/// Residual replacement of the iterative solvers: an inner solve from the current iterate to a
+/// target on its own (scaled or recursively updated) residual, then the true block residuals from
+/// scratch; if they miss, again with a tenfold tighter target, at most five passes.
+/// `pass(target)` runs one inner solve and returns false to stop (non-finite iterate, budget
+/// spent); `done()` says whether the block residuals are good enough. Returns whether done().
+template <class Pass, class Done>
+bool tighten_until_done(double target, Pass&& pass, Done&& done) {
+  for (int k = 0; k < 5; ++k, target *= 0.1) {
+    if (!pass(target)) return false;
+    if (done()) return true;
+  }
+  return false;
+}
 
 /// Splits the monolithic solution x = [u; p] (n + m), records its residuals in `report` and
 /// checks them against `tolerance` (throws CoupledSolveError).

@@ -1,15 +1,9 @@
 #include "solid/integrator/newmark.hpp"
 
-#include <chrono>
-
 #include "solid/solid_error.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::solid {
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 NewmarkScheme parse_newmark_scheme(const std::string& name) {
   if (name == "chentanez") return NewmarkScheme::kChentanez;
@@ -146,12 +140,12 @@ void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
 }
 
 const StepStats& NewmarkIntegrator::step(double h) {
-  auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   form_system(h, A_, b_);
-  const double assembly = seconds_since(t0);
+  const double assembly = clock.seconds();
   u_next_ = u_;
   solve_with_contact(h, "solid step " + std::to_string(step_ + 1));
-  const double solve_seconds = seconds_since(t0) - assembly;
+  const double solve_seconds = clock.seconds() - assembly;
   advance(h, u_next_);
   const int inverted = stats_.inverted, contacts = stats_.contacts;
   if (settings_.track_energy) stats_ = energies();

@@ -48,7 +48,7 @@ NewmarkScheme parse_newmark_scheme(const std::string& name);
 
 struct NewmarkSettings {
   NewmarkScheme scheme = NewmarkScheme::kChentanez;
-  double time_step = 1.0 / 30.0;                     ///< h [s]
+  double time_step = 1.0 / 30.0;                     ///< h [s] of step() (step(h) takes its own)
   double rayleigh_alpha = 0.0;                       ///< C = alpha M + beta K' [1/s]
   double rayleigh_beta = 0.0;                        ///< [s]
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s^2]

@@ -1,7 +1,6 @@
 #pragma once
 /// @file material.hpp
 /// Material parameters of a tetrahedral FEM body (keys of the scene's /solids/i/material in brackets).
-#include <string>
 
 namespace tetfsi::solid {
 
@@ -17,9 +16,6 @@ enum class ConstitutiveLaw {
   /// inversion-robust option. Same small-strain Lame parameters as kStVK.
   kStableNeoHookean,
 };
-
-/// Parses "stvk" or "stable_neohookean" (scene key "model"). @throws SolidError otherwise.
-ConstitutiveLaw parse_constitutive_law(const std::string& name);
 
 struct TetMaterial {
   double youngs_modulus = 1e6;  ///< E [Pa] ("youngs_modulus")

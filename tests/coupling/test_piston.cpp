@@ -1,4 +1,4 @@
-// Piston in a fluid-filled tube (benchmarks.md §6): the simultaneous system oscillates at
+// Piston in a fluid-filled tube (Causin, Gerbeau & Nobile 2005): the simultaneous system oscillates at
 // f = (1/2π)√(k/(m_s + ρ_f L A)); time splitting blows up when ρ_f L A / m_s > 1 and stays
 // bounded below it, for any time step.
 #include <gtest/gtest.h>

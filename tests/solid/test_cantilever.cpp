@@ -1,6 +1,6 @@
-// Cantilever against Euler-Bernoulli (benchmarks.md 3.4): static tip deflection and first
+// Cantilever against Euler-Bernoulli beam theory: static tip deflection and first
 // bending frequency converge with refinement; a Rayleigh-damped run decays at
-// zeta = alpha / (2 omega) + beta omega / 2 (benchmarks.md 3.6) within 5%.
+// zeta = alpha / (2 omega) + beta omega / 2 (Rayleigh damping) within 5%.
 // Beam: L = 1 m, 0.1 m x 0.1 m (L/b = 10), E = 1 MPa, nu = 0, rho = 1000 kg/m^3; n x m x m
 // cells with n = 10 m, 6 tets per cell. Constant-strain tets are stiff in bending, so the coarse
 // test meshes are far from the reference; the benchmark (apps/bench/solid) runs finer levels.
@@ -8,7 +8,7 @@
 
 #include "solid/analysis/linear_analysis.hpp"
 #include "solid/integrator/newmark.hpp"
-#include "solid/linearized_model.hpp"
+#include "tests/solid/linearized_model.hpp"
 #include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
@@ -75,7 +75,7 @@ TEST(Cantilever, DynamicFrequencyMatchesModalAnalysis) {
 }
 
 // Rayleigh damping: log decrement of the first-mode amplitude gives zeta within 5% of
-// alpha / (2 omega) + beta omega / 2 (benchmarks.md 3.6). With the paper's scheme (eq. 18) the
+// alpha / (2 omega) + beta omega / 2 (Rayleigh damping). With the paper's scheme (eq. 18) the
 // numerical damping of Newmark gamma = 1, about omega h / 4 [calc], adds to it.
 namespace {
 double measured_damping_ratio(NewmarkScheme scheme, double& expected) {

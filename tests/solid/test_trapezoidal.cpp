@@ -1,5 +1,5 @@
 // The trapezoidal integrator (Chentanez 2006 appendix) on the linearized cantilever:
-// energy conservation (benchmarks.md 3.6), period elongation (omega h)^2 / 12 (3.6), static
+// energy conservation (Krenk 2006), period elongation (omega h)^2 / 12 (Krenk 2006), static
 // limit of a damped run, prescribed Dirichlet velocities.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 
 #include "solid/analysis/linear_analysis.hpp"
 #include "solid/integrator/newmark.hpp"
-#include "solid/linearized_model.hpp"
+#include "tests/solid/linearized_model.hpp"
 #include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
@@ -29,7 +29,7 @@ CantileverSpec small_beam() {
 }  // namespace
 
 // Linear, undamped: the discrete energy 1/2 u^T M u + 1/2 d^T K' d is conserved to 1e-10
-// relative over 1000 steps (benchmarks.md 3.6: round-off level).
+// relative over 1000 steps (Krenk 2006: round-off level).
 TEST(Trapezoidal, LinearUndampedConservesEnergy) {
   auto beam = make_cantilever(small_beam());
   LinearizedModel linear(*beam.model);
@@ -58,7 +58,7 @@ TEST(Trapezoidal, LinearUndampedConservesEnergy) {
 }
 
 // Period elongation: started in the first mode, the discrete motion has tan(w_bar h/2) = w h/2,
-// T_bar / T = 1 + (w h)^2 / 12 + O((w h)^4) (benchmarks.md 3.6, measured there 1.03206,
+// T_bar / T = 1 + (w h)^2 / 12 + O((w h)^4) (Krenk 2006; 1.03206,
 // 1.00817, 1.00131 at w h = 0.63, 0.31, 0.13).
 TEST(Trapezoidal, PeriodElongationFollowsOmegaHSquaredOver12) {
   auto beam = make_cantilever(small_beam());
@@ -163,7 +163,7 @@ TEST(Trapezoidal, PrescribedVelocityAndSolverChoice) {
 }
 
 // Springs to fixed anchors: a body on springs k_i = c m_i moves rigidly with omega = sqrt(c)
-// (spring-mounted body, benchmarks.md 2.1 "f = sqrt(k/m) / 2 pi" without fluid); the
+// (spring-mounted body, f = sqrt(k/m) / 2 pi, without fluid); the
 // trapezoidal scheme shows exactly its discrete frequency 2/h atan(omega h / 2).
 TEST(Trapezoidal, SpringMountedBodyOscillatesAtSqrtKOverM) {
   auto beam = make_cantilever(small_beam());

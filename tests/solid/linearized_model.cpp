@@ -1,4 +1,4 @@
-#include "solid/linearized_model.hpp"
+#include "tests/solid/linearized_model.hpp"
 
 #include "solid/solid_error.hpp"
 

@@ -3,8 +3,8 @@
 /// Small-displacement (linear) version of any ElasticModel: K(d) = K0 d, K'(d) = K0, with
 /// K0 = K'(0) of the wrapped model, and strain energy 1/2 d^T K0 d. With it, the trapezoidal
 /// integrator is exactly the linear trapezoidal (Newmark beta = 1/4, gamma = 1/2) scheme, which
-/// conserves 1/2 u^T M u + 1/2 d^T K0 d (benchmarks.md sec. 3.6); used by the validation tests
-/// (energy, period, cantilever statics and modes) and by linear scenes.
+/// conserves 1/2 u^T M u + 1/2 d^T K0 d (Krenk 2006); used by the validation tests
+/// (energy, period, cantilever statics and modes).
 #include "solid/elastic_model.hpp"
 
 namespace tetfsi::solid {
