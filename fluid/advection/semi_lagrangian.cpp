@@ -37,18 +37,7 @@ FluidFields unpack(const Packed& p) {
 /// Weighted node averages of packed tet values (the reconstruction; see header); the weights are
 /// the tet volumes unless `weight` is given.
 Packed to_nodes(const FluidMesh& m, const Packed& tet_values, const std::vector<double>* weight = nullptr) {
-  const std::vector<double>& wt = weight ? *weight : m.volume;
-  Packed n(m.num_nodes());
-  tbb::parallel_for(0, m.num_nodes(), [&](int i) {
-    Eigen::Matrix<double, 5, 1> s = Eigen::Matrix<double, 5, 1>::Zero();
-    double w = 0.0;
-    for (int t : m.node_tets[i]) {
-      s += wt[t] * tet_values[t];
-      w += wt[t];
-    }
-    n[i] = s / w;
-  });
-  return n;
+  return weighted_node_average(m, tet_values, weight);
 }
 
 Eigen::Matrix<double, 5, 1> interp(const FluidMesh& m, const Packed& nodal, const Location& l) {
