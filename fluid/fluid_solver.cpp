@@ -108,13 +108,13 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc) {
     }
 }
 
-StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt) {
-  return finish(bc, dt, predict(mesh, bc, dt));
+StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h) {
+  return finish(bc, h, predict(mesh, bc, h));
 }
 
-StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt) {
+StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h) {
   if (!initialized_) throw std::logic_error("FluidSolver::step: initialize() first");
-  if (!(dt > 0.0)) throw std::invalid_argument("FluidSolver::step: dt must be positive");
+  if (!(h > 0.0)) throw std::invalid_argument("FluidSolver::step: h must be positive");
   StepReport rep;
   double t0 = now();
   // A moved (not remeshed) mesh keeps its topology: only its geometry is recomputed.
@@ -134,13 +134,13 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     weight.resize(mesh_.num_tets());
     for (int t = 0; t < mesh_.num_tets(); ++t)
       weight[t] = std::max(liquid_.liquid_volume[t], liquid_options_.air_weight * mesh_.volume[t]);
-    phi = advect_nodal(mesh_, fields_.velocity, level_set_, new_mesh, dt, nullptr, &weight);
+    phi = advect_nodal(mesh_, fields_.velocity, level_set_, new_mesh, h, nullptr, &weight);
   }
   rep.surface_seconds = now() - t0;
   t0 = now();
   AdvectionReport adv;
   const BoundaryExits exits = boundary_exits(mesh_, bc);
-  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr);
+  fields_ = advect(mesh_, fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr);
   set_mesh(mesh, std::move(new_mesh), same_topology);
   advected_velocity_ = fields_.velocity;
   rep.clamped_traces = adv.clamped + adv.outside_start;
@@ -157,26 +157,26 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   t0 = now();
   apply_sources(bc);
   if (params_.apply_gravity)
-    for (auto& u : fields_.velocity) u += dt * params_.gravity;
-  add_buoyancy(mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, dt, fields_.velocity);
-  add_vorticity_confinement(mesh_, params_.vorticity_epsilon, dt, fields_.velocity);
+    for (auto& u : fields_.velocity) u += h * params_.gravity;
+  add_buoyancy(mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, h, fields_.velocity);
+  add_vorticity_confinement(mesh_, params_.vorticity_epsilon, h, fields_.velocity);
   rep.forces_seconds = now() - t0;
   return rep;
 }
 
-StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep) {
+StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepReport rep) {
   if (pressure.size() != mesh_.num_nodes())
     throw std::invalid_argument("FluidSolver::apply_pressure: one pressure per fluid node expected");
   pressure_ = std::move(pressure);
   if (free_surface_) {  // u_t -= (h/rho) B_t p on the liquid, then the extension into the air
-    apply_wet_pressure(mesh_, liquid_, pressure_, dt, params_.density, fields_.velocity);
+    apply_wet_pressure(mesh_, liquid_, pressure_, h, params_.density, fields_.velocity);
     const double t0 = now();
     extend_liquid_velocity();
     rep.surface_seconds += now() - t0;
     rep.liquid_volume = liquid_.total_volume();
   } else {
     const TetVectors grad_p = gradient(mesh_, pressure_);
-    const double scale = dt / params_.density;
+    const double scale = h / params_.density;
     for (int t = 0; t < mesh_.num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
   }
   for (const auto& u : fields_.velocity)
@@ -189,21 +189,21 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double dt, Step
   return rep;
 }
 
-StepReport FluidSolver::project_only(const BoundaryConditions& bc, double dt) {
+StepReport FluidSolver::project_only(const BoundaryConditions& bc, double h) {
   if (!initialized_) throw std::logic_error("FluidSolver::project_only: initialize() first");
   const double t0 = now();
   boundary_ = classify_boundary(mesh_, bc);
   StepReport rep;
   rep.assemble_seconds = now() - t0;
-  return finish(bc, dt, rep);
+  return finish(bc, h, rep);
 }
 
-StepReport FluidSolver::finish(const BoundaryConditions&, double dt, StepReport rep) {
+StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport rep) {
   // A liquid that fills every node has no free surface this step: the ordinary projection.
   const bool surface = free_surface_ && liquid_.num_air_nodes > 0;
   ProjectionReport pr =
-      surface ? project_free_surface(mesh_, boundary_, liquid_, dt, params_.density, fields_.velocity, params_.solver)
-              : project(mesh_, boundary_, dt, params_.density, fields_.velocity, params_.solver);
+      surface ? project_free_surface(mesh_, boundary_, liquid_, h, params_.density, fields_.velocity, params_.solver)
+              : project(mesh_, boundary_, h, params_.density, fields_.velocity, params_.solver);
   pressure_ = std::move(pr.pressure);
   if (free_surface_) {
     const double t0 = now();

@@ -67,9 +67,9 @@ class FluidSolver {
   /// @throws std::invalid_argument if the field sizes do not match the fluid tets
   void initialize(const mesh::TetMesh& mesh, FluidFields fields = {});
 
-  /// Advances by dt [s] onto `mesh` (may differ from the previous mesh). @throws std::runtime_error
+  /// Advances by h [s] onto `mesh` (may differ from the previous mesh). @throws std::runtime_error
   /// on NaN/Inf, SolverError if the pressure solve fails.
-  StepReport step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
+  StepReport step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h);
 
   /// Makes the fluid a liquid with a free surface: `level_set` (one value per fluid node of the
   /// current mesh; liquid where < 0) is redistanced, and its liquid volume becomes the volume the
@@ -86,17 +86,17 @@ class FluidSolver {
   double target_liquid_volume() const { return target_volume_; }
 
   /// Projects the current velocity only (no advection, no forces): initial conditions, potential flow.
-  StepReport project_only(const BoundaryConditions& bc, double dt);
+  StepReport project_only(const BoundaryConditions& bc, double h);
 
   // ---- pieces for the simultaneous coupling (coupling/coupled_stepper.hpp) ----
   /// Steps 1-3 of step(): advects onto `mesh`, classifies `bc`, applies sources and body forces,
   /// leaving the intermediate velocity v* in fields().velocity (no projection).
-  StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
+  StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h);
   /// Eq. (8), interior part: v = v* - (h/rho) G p with the pressure p [Pa] per fluid node that the
   /// coupled solve found (a free surface: v = v* - (h/rho) B p on the liquid and the extension
   /// into the air, free_surface_projection.hpp); then the finiteness check and the statistics of `rep`.
   /// @throws std::runtime_error on NaN/Inf
-  StepReport apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep);
+  StepReport apply_pressure(Eigen::VectorXd pressure, double h, StepReport rep);
 
   const FluidParams& params() const { return params_; }
   const FluidMesh& mesh() const { return mesh_; }
@@ -120,7 +120,7 @@ class FluidSolver {
   /// The liquid's velocity on the tets that hold at least min_kept_fraction of liquid, extended
   /// over the others.
   void extend_liquid_velocity();
-  StepReport finish(const BoundaryConditions& bc, double dt, StepReport rep);
+  StepReport finish(const BoundaryConditions& bc, double h, StepReport rep);
   /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
   /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
   bool built_from(const mesh::TetMesh& mesh) const;

@@ -19,8 +19,8 @@ PointLocator::PointLocator(const FluidMesh& mesh) : mesh_(mesh) {
   const Eigen::Vector3d ext = (hi - lo).cwiseMax(1e-12);
   // About one cell per 2 tets: a few tets per cell on uniform meshes, memory O(T).
   const double cells_wanted = std::max(1.0, 0.5 * mesh.num_tets());
-  const double h = std::cbrt(ext.prod() / cells_wanted);
-  for (int c = 0; c < 3; ++c) dims_[c] = std::max(1, std::min(1024, static_cast<int>(std::ceil(ext[c] / h))));
+  const double dx = std::cbrt(ext.prod() / cells_wanted);
+  for (int c = 0; c < 3; ++c) dims_[c] = std::max(1, std::min(1024, static_cast<int>(std::ceil(ext[c] / dx))));
   lo_ = lo;
   cell_size_ = ext.cwiseQuotient(dims_.cast<double>());
   const size_t ncell = static_cast<size_t>(dims_.prod());

@@ -86,27 +86,27 @@ Location trace_to(const PointLocator& loc, const Eigen::Vector3d& from, const Lo
   return la;
 }
 
-/// RK2 (midpoint) foot of x0, traced for time dt (negative: forward) through the velocity
+/// RK2 (midpoint) foot of x0, traced for time h (negative: forward) through the velocity
 /// reconstructed on `vel_mesh`, as a location in `vel_mesh`; the walk starts at `hint`, which
 /// becomes the start's tet. Counts clamped traces and starts outside the fluid.
 Location trace_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
-                    const Eigen::Vector3d& x0, double dt, int& hint, int& clamped, int& outside, bool& cut) {
+                    const Eigen::Vector3d& x0, double h, int& hint, int& clamped, int& outside, bool& cut) {
   const Location l0 = locator.locate(x0, hint);
   hint = l0.tet;
   if (!l0.inside) {
     ++outside;
     return l0;
   }
-  const Eigen::Vector3d xm = x0 - 0.5 * dt * interp_velocity(vel_mesh, nodal, l0);
+  const Eigen::Vector3d xm = x0 - 0.5 * h * interp_velocity(vel_mesh, nodal, l0);
   const Location lm = trace_to(locator, x0, l0, xm, clamped);
-  return trace_to(locator, x0, l0, x0 - dt * interp_velocity(vel_mesh, nodal, lm), clamped, &cut);
+  return trace_to(locator, x0, l0, x0 - h * interp_velocity(vel_mesh, nodal, lm), clamped, &cut);
 }
 
-/// RK2 (midpoint) feet of the centroids of `targets`, traced for time dt (negative: forward) through
+/// RK2 (midpoint) feet of the centroids of `targets`, traced for time h (negative: forward) through
 /// the velocity reconstructed on `vel_mesh`; returned as locations in `vel_mesh`. `cut` (if given):
 /// 1 for the samples whose final trace was cut at the fluid boundary.
 std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
-                                 const FluidMesh& targets, double dt, AdvectionReport& rep,
+                                 const FluidMesh& targets, double h, AdvectionReport& rep,
                                  std::vector<char>* cut = nullptr) {
   if (cut) cut->assign(targets.num_tets(), 0);
   const int n = targets.num_tets();
@@ -122,7 +122,7 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
     for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
       if (same_tets) hint = t;
       bool foot_cut = false;
-      feet[t] = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), dt, hint, clamped, outside, foot_cut);
+      feet[t] = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), h, hint, clamped, outside, foot_cut);
       if (cut && foot_cut) (*cut)[t] = 1;
     }
     clamped_total += clamped;
@@ -177,7 +177,7 @@ Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
 
 }  // namespace
 
-FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
+FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
                    AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
                    const std::vector<double>* node_weight) {
   if (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets())
@@ -196,7 +196,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
       exits && std::find(exits->rule.begin(), exits->rule.end(), ExitRule::kOpen) != exits->rule.end();
   std::vector<char> cut;
   const std::vector<Location> feet =
-      trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep, any_open ? &cut : nullptr);
+      trace_feet(old_mesh, old_locator, f_nodal, new_mesh, h, rep, any_open ? &cut : nullptr);
   Packed forward(new_mesh.num_tets());
   // With node weights (a liquid), a foot in a tet that is not full of liquid reads the node
   // interpolant: the tet's own value is poorly constrained there (see node_weight).
@@ -209,7 +209,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   if (scheme == AdvectionScheme::kBfecc) {
     // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
     AdvectionReport back_rep;
-    const std::vector<Location> ahead = trace_feet(old_mesh, old_locator, f_nodal, old_mesh, -dt, back_rep);
+    const std::vector<Location> ahead = trace_feet(old_mesh, old_locator, f_nodal, old_mesh, -h, back_rep);
     const Packed forward_nodal = to_nodes(new_mesh, forward);
     const PointLocator new_locator(new_mesh);
     Packed corrected(old_mesh.num_tets());
@@ -242,7 +242,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
 }
 
 Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_velocity,
-                             const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double dt,
+                             const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double h,
                              AdvectionReport* report, const std::vector<double>* node_weight) {
   if (static_cast<int>(old_velocity.size()) != old_mesh.num_tets() || old_values.size() != old_mesh.num_nodes() ||
       (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets()))
@@ -268,8 +268,8 @@ Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_ve
       const Eigen::Vector3d& x0 = new_mesh.nodes[i];
       const Location l0 = locator.locate(x0, hint);
       outside += !l0.inside;
-      const Location lm = locator.locate(x0 - 0.5 * dt * interp_velocity(old_mesh, nodal, l0), l0.tet);
-      const Location foot = locator.locate(x0 - dt * interp_velocity(old_mesh, nodal, lm), lm.tet);
+      const Location lm = locator.locate(x0 - 0.5 * h * interp_velocity(old_mesh, nodal, l0), l0.tet);
+      const Location foot = locator.locate(x0 - h * interp_velocity(old_mesh, nodal, lm), lm.tet);
       clamped += !lm.inside || !foot.inside;
       hint = l0.tet;
       out[i] = interp(old_mesh, nodal, foot)[3];

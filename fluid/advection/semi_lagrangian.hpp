@@ -7,10 +7,10 @@
 /// Reconstruction on the old mesh: tet values are averaged to nodes with volume weights and
 /// interpolated linearly (barycentric) inside tets; the back-trace always uses this continuous
 /// velocity. Read at the foot as is (kSemiLagrangian) this averaging is a low-pass filter applied
-/// EVERY step, about 0.29 h^2 u'' per step, so the kinetic-energy loss per second grows as dt shrinks.
-/// Measured on inviscid Taylor-Green cells (test_fluid_taylor_green, h = pi/16, dt = 0.05 s, loss of
+/// EVERY step, about 0.29 dx^2 u'' per step, so the kinetic-energy loss per second grows as h shrinks.
+/// Measured on inviscid Taylor-Green cells (test_fluid_taylor_green, dx = pi/16, h = 0.05 s, loss of
 /// energy per second): semi-Lagrangian 36%, BFECC 7%, tet-linear (default) below 1%.
-/// Back-trace: explicit midpoint rule (RK2), x_mid = x - dt/2 u(x), x_back = x - dt u(x_mid),
+/// Back-trace: explicit midpoint rule (RK2), x_mid = x - h/2 u(x), x_back = x - h u(x_mid),
 /// second order in time. Clamping: when x_mid or x_back lies outside the old fluid (outside the box,
 /// inside a solid) the trace is cut back by bisection along the segment from x to the last point
 /// inside the fluid (12 halvings). A sample centroid not inside the old fluid at all (a solid moved
@@ -48,7 +48,7 @@ struct FluidFields {
 ///   its centroid, f(x) = f_t + sum_k (lambda_k(x) - 1/4) f_nodes_k  (the gradient of the node
 ///   average, anchored at the tet value; limited to the range of f_t and the 4 node values). Unlike
 ///   the continuous interpolant it is the identity for a zero displacement on the same mesh, so it
-///   does not smooth the field every step (its smoothing scales with the displacement, not with 1/dt).
+///   does not smooth the field every step (its smoothing scales with the displacement, not with 1/h).
 enum class AdvectionScheme { kSemiLagrangian, kBfecc, kLinear };
 
 struct AdvectionReport {
@@ -57,7 +57,7 @@ struct AdvectionReport {
   int backflow_feet = 0;    ///< samples whose tangential velocity was dropped at an open face (ExitRule::kOpen)
 };
 
-/// Advects `old_fields` (on `old_mesh`) to the tets of `new_mesh` over dt [s].
+/// Advects `old_fields` (on `old_mesh`) to the tets of `new_mesh` over h [s].
 /// Deterministic: samples are processed in fixed blocks. Each walk starts at tet t of the old mesh
 /// when both meshes have the same tets (the mesh only moved), else at the previous sample's tet in
 /// the block (new-mesh order is spatially coherent) or from the grid.
@@ -68,12 +68,12 @@ struct AdvectionReport {
 /// velocity the projection barely constrains, hardly enters the reconstruction; and kLinear
 /// anchors a foot at its tet's own value only where that tet's weight is its whole volume (a tet
 /// full of liquid), reading the node interpolant elsewhere.
-FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
+FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
                    AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
                    const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr);
 
 /// Advects a nodal (P1) field such as the level set of a liquid (liquid/level_set.hpp) from
-/// `old_mesh` to the nodes of `new_mesh` over dt [s]: each new node is traced back (RK2) through
+/// `old_mesh` to the nodes of `new_mesh` over h [s]: each new node is traced back (RK2) through
 /// the node-averaged `old_velocity` and reads the old field by linear interpolation at its foot.
 /// Unlike advect(), a midpoint or foot outside the old fluid is clamped to the boundary tet the
 /// walk ended in (clamped barycentric coordinates), not cut back along the trace: nodes lie on
@@ -81,7 +81,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
 /// Deterministic.
 /// `node_weight` as for advect().
 Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_velocity,
-                             const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double dt,
+                             const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double h,
                              AdvectionReport* report = nullptr, const std::vector<double>* node_weight = nullptr);
 
 }  // namespace tetfsi::fluid

@@ -5,12 +5,12 @@
 namespace tetfsi::fluid {
 
 void add_buoyancy(const FluidMesh& mesh, const Eigen::VectorXd& smoke, const Eigen::VectorXd& temperature,
-                  const Eigen::Vector3d& gravity, const BuoyancyParams& params, double dt, TetVectors& u) {
+                  const Eigen::Vector3d& gravity, const BuoyancyParams& params, double h, TetVectors& u) {
   const double g = gravity.norm();
   if (g == 0.0 || (params.alpha == 0.0 && params.beta == 0.0)) return;
   const Eigen::Vector3d up = -gravity / g;
   for (int t = 0; t < mesh.num_tets(); ++t)
-    u[t] += dt * (-params.alpha * smoke[t] + params.beta * (temperature[t] - params.ambient_temperature)) * up;
+    u[t] += h * (-params.alpha * smoke[t] + params.beta * (temperature[t] - params.ambient_temperature)) * up;
 }
 
 TetVectors vorticity(const FluidMesh& mesh, const TetVectors& u) {
@@ -24,7 +24,7 @@ TetVectors vorticity(const FluidMesh& mesh, const TetVectors& u) {
   return w;
 }
 
-void add_vorticity_confinement(const FluidMesh& mesh, double epsilon, double dt, TetVectors& u) {
+void add_vorticity_confinement(const FluidMesh& mesh, double epsilon, double h, TetVectors& u) {
   if (epsilon == 0.0) return;
   const TetVectors w = vorticity(mesh, u);
   Eigen::VectorXd mag(mesh.num_tets());
@@ -35,7 +35,7 @@ void add_vorticity_confinement(const FluidMesh& mesh, double epsilon, double dt,
     const double gn = grad_mag[t].norm();
     if (gn < 1e-300) continue;
     const Eigen::Vector3d n = grad_mag[t] / gn;
-    u[t] += dt * epsilon * std::cbrt(mesh.volume[t]) * n.cross(w[t]);
+    u[t] += h * epsilon * std::cbrt(mesh.volume[t]) * n.cross(w[t]);
   }
 }
 

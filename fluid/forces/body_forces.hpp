@@ -17,14 +17,14 @@ struct BuoyancyParams {
   double ambient_temperature = 0.0;  ///< T_ambient [K]
 };
 
-/// u_t += dt * a_t for the buoyancy above. `gravity` only gives the direction (zero: no buoyancy).
+/// u_t += h * a_t for the buoyancy above. `gravity` only gives the direction (zero: no buoyancy).
 void add_buoyancy(const FluidMesh& mesh, const Eigen::VectorXd& smoke, const Eigen::VectorXd& temperature,
-                  const Eigen::Vector3d& gravity, const BuoyancyParams& params, double dt, TetVectors& u);
+                  const Eigen::Vector3d& gravity, const BuoyancyParams& params, double h, TetVectors& u);
 
 /// Vorticity confinement (Fedkiw et al. 2001 eqs. 9-11): omega_t = curl of the P1 interpolant of the
 /// node-averaged velocity, N = grad|omega| / |grad|omega||, a_t = epsilon h_t (N x omega_t) with
-/// h_t = V_t^(1/3). u_t += dt a_t. epsilon is dimensionless; 0 disables it.
-void add_vorticity_confinement(const FluidMesh& mesh, double epsilon, double dt, TetVectors& u);
+/// h_t = V_t^(1/3). u_t += h a_t. epsilon is dimensionless; 0 disables it.
+void add_vorticity_confinement(const FluidMesh& mesh, double epsilon, double h, TetVectors& u);
 
 /// Per-tet vorticity curl(u) [1/s] of the P1 interpolant of the node-averaged velocity.
 TetVectors vorticity(const FluidMesh& mesh, const TetVectors& u);

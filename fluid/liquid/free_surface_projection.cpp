@@ -153,8 +153,8 @@ Eigen::SparseMatrix<double> wet_laplacian(const FluidMesh& mesh, const LiquidGeo
 }
 
 void apply_wet_pressure(const FluidMesh& mesh, const LiquidGeometry& liquid, const Eigen::VectorXd& pressure,
-                        double dt, double density, TetVectors& u) {
-  const double scale = dt / density;
+                        double h, double density, TetVectors& u) {
+  const double scale = h / density;
   tbb::parallel_for(0, mesh.num_tets(), [&](int t) {
     const double v = liquid.liquid_volume[t];
     if (v <= 0.0) return;
@@ -171,9 +171,9 @@ double liquid_kinetic_energy(const LiquidGeometry& liquid, const TetVectors& u) 
 }
 
 ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBoundary& bc,
-                                      const LiquidGeometry& liquid, double dt, double density, TetVectors& u,
+                                      const LiquidGeometry& liquid, double h, double density, TetVectors& u,
                                       const SolverOptions& options) {
-  if (!(dt > 0.0) || !(density > 0.0))
+  if (!(h > 0.0) || !(density > 0.0))
     throw std::invalid_argument("project_free_surface: time step and density must be positive");
   const int n = mesh.num_nodes(), nt = mesh.num_tets();
   if (static_cast<int>(u.size()) != nt || static_cast<int>(liquid.liquid_volume.size()) != nt ||
@@ -182,7 +182,7 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
   ProjectionReport rep;
   double t0 = now();
   // rhs_i = (rho/h) (sum_t a_i . u*_t - f_i).
-  const Eigen::VectorXd rhs = (density / dt) * (wet_gradient_transpose(mesh, liquid, u) - bc.flux);
+  const Eigen::VectorXd rhs = (density / h) * (wet_gradient_transpose(mesh, liquid, u) - bc.flux);
   std::vector<int> unknown(n, -1);
   for (int i = 0; i < n; ++i)
     if (liquid.is_liquid[i] && bc.node_kind[i] != NodeKind::kOpen) unknown[i] = 0;
@@ -207,7 +207,7 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
   rep.pressure = Eigen::VectorXd::Zero(n);
   for (int i = 0; i < n; ++i)
     if (unknown[i] >= 0) rep.pressure[i] = x[unknown[i]];
-  apply_wet_pressure(mesh, liquid, rep.pressure, dt, density, u);
+  apply_wet_pressure(mesh, liquid, rep.pressure, h, density, u);
   // Weak divergence at the unknowns per unit dual volume (the measure of projection.hpp).
   const Eigen::VectorXd div = bc.flux - wet_gradient_transpose(mesh, liquid, u);
   for (int i = 0; i < n; ++i)

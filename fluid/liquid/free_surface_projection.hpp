@@ -49,10 +49,10 @@ LiquidGeometry liquid_geometry(const FluidMesh& mesh, const Eigen::VectorXd& phi
 
 /// Projects u in place (see file doc); the pressure is zero at air and open nodes.
 /// ProjectionReport::max_divergence is max |(D u)_i| / dual_volume_i over the unknowns.
-/// @throws std::invalid_argument on non-positive dt or density, or sizes that do not match
+/// @throws std::invalid_argument on non-positive h or density, or sizes that do not match
 /// @throws SolverError if the pressure solve fails
 ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBoundary& bc,
-                                      const LiquidGeometry& liquid, double dt, double density, TetVectors& u,
+                                      const LiquidGeometry& liquid, double h, double density, TetVectors& u,
                                       const SolverOptions& options);
 
 /// (sum_t a_i . u_t)_i at every node [m^3/s]: the weak divergence of u over the wet parts, without
@@ -64,10 +64,10 @@ Eigen::VectorXd wet_gradient_transpose(const FluidMesh& mesh, const LiquidGeomet
 Eigen::SparseMatrix<double> wet_laplacian(const FluidMesh& mesh, const LiquidGeometry& liquid,
                                           const std::vector<int>& unknown, int m);
 
-/// u_t -= (dt/rho) B_t p on every tet with liquid (the free-surface form of Chentanez et al. 2006
+/// u_t -= (h/rho) B_t p on every tet with liquid (the free-surface form of Chentanez et al. 2006
 /// eq. 8), p per node (zero at air and open nodes).
 void apply_wet_pressure(const FluidMesh& mesh, const LiquidGeometry& liquid, const Eigen::VectorXd& pressure,
-                        double dt, double density, TetVectors& u);
+                        double h, double density, TetVectors& u);
 
 /// Kinetic energy of the liquid per unit density, 1/2 sum_t |Omega_t| |u_t|^2 [m^5/s^2].
 double liquid_kinetic_energy(const LiquidGeometry& liquid, const TetVectors& u);

@@ -26,9 +26,9 @@ double max_normalized_divergence(const FluidMesh& mesh, const ClassifiedBoundary
   return m;
 }
 
-ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, double dt, double density,
+ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, double h, double density,
                          TetVectors& u, const SolverOptions& options) {
-  if (!(dt > 0.0) || !(density > 0.0))
+  if (!(h > 0.0) || !(density > 0.0))
     throw std::invalid_argument("project: time step and density must be positive");
   if (static_cast<int>(u.size()) != mesh.num_tets())
     throw std::invalid_argument("project: velocity has " + std::to_string(u.size()) + " entries for " +
@@ -37,7 +37,7 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
   double t0 = now();
   const int n = mesh.num_nodes();
   // rhs_i = (rho/h) (G^T V u* - f)_i, so that L p = rhs.
-  Eigen::VectorXd rhs = (density / dt) * (gradient_transpose_volume(mesh, u) - bc.flux);
+  Eigen::VectorXd rhs = (density / h) * (gradient_transpose_volume(mesh, u) - bc.flux);
   std::vector<int> unknown(n, -1);
   int m = 0;
   for (int i = 0; i < n; ++i)
@@ -96,7 +96,7 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
     rep.pressure.array() -= pv / vol;
   }
   const TetVectors gp = gradient(mesh, rep.pressure);
-  for (int t = 0; t < mesh.num_tets(); ++t) u[t] -= (dt / density) * gp[t];
+  for (int t = 0; t < mesh.num_tets(); ++t) u[t] -= (h / density) * gp[t];
   rep.max_divergence = max_normalized_divergence(mesh, bc, u);
   return rep;
 }

@@ -39,11 +39,11 @@ Eigen::VectorXd weak_divergence(const FluidMesh& mesh, const ClassifiedBoundary&
 double max_normalized_divergence(const FluidMesh& mesh, const ClassifiedBoundary& bc, const TetVectors& u);
 
 /// Projects u in place (see file doc).
-/// @param dt       time step h [s], > 0
+/// @param h        time step [s], > 0
 /// @param density  rho [kg/m^3], > 0
-/// @throws std::invalid_argument on non-positive dt/density, or net inflow into a closed domain
+/// @throws std::invalid_argument on non-positive h/density, or net inflow into a closed domain
 /// @throws SolverError if the pressure solve fails
-ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, double dt, double density,
+ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, double h, double density,
                          TetVectors& u, const SolverOptions& options);
 
 }  // namespace tetfsi::fluid
