@@ -130,9 +130,13 @@ class FluidRunner : public Simulation {
     fields.temperature = Eigen::VectorXd::Constant(nt, ambient_);
     try {
       solver_->initialize(complex_, fields);
-      set_initial_liquid(js, *solver_, log);
     } catch (const std::invalid_argument& e) {
       throw RunError(std::string("fluid initialisation failed: ") + e.what());
+    }
+    try {
+      set_initial_liquid(js, *solver_, log);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("/fluid/regions: ") + e.what());
     }
     dx_ = solver_->mesh().mean_edge_length();
     update_solid_velocity(0.0, 0.0);

@@ -12,6 +12,7 @@
 //    liquid surfaces are closed and enclose the liquid volume, the ball sags;
 //  - dam_break_ci with surface_edge_length: the mesh is finer at the surface and remeshed as it
 //    moves, keeping the volume;
+//  - 14 bad values of the free-surface keys give exit 2 naming the key in validate and run alike;
 //  - a free surface with a hex8 solid is refused by validate and run alike (exit 2, naming the key).
 #include <gtest/gtest.h>
 
@@ -344,5 +345,56 @@ TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
     EXPECT_NEAR(enclosed_volume(surfaces[frame]), v0, 1e-5 * v0) << "frame " << frame;
     EXPECT_LT(mean_free_edge(surfaces[frame], lo, hi), mean_free_edge(uniform_surfaces[frame], lo, hi))
         << "frame " << frame;
+  }
+}
+
+TEST(LiquidRun, BadFreeSurfaceKeysExitTwoInValidateAndRunAlike) {
+  // Each case: a change to dam_break_ci.json (or floating_block_ci.json) and the JSON pointer the
+  // message must name. validate and run give exit 2 and name it.
+  struct Case {
+    const char* scene;
+    const char* patch;  // JSON merge patch
+    const char* pointer;
+  };
+  const Case cases[] = {
+      {"dam_break_ci.json", R"({"fluid": {"regions": []}})", "/fluid/regions"},
+      {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "box", "lo": [5, 5, 5], "hi": [6, 6, 6]}]}})",
+       "/fluid/regions"},
+      {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "sphere", "center": [9, 9, 9], "radius": 1}]}})",
+       "/fluid/regions"},
+      {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "below", "height": -1}]}})", "/fluid/regions"},
+      {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "sphere", "center": [0, 0, 0], "radius": -1}]}})",
+       "/fluid/regions/0/radius"},
+      {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "cone"}]}})", "/fluid/regions/0/type"},
+      {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "box", "lo": [1, 1, 1], "hi": [0, 0, 0]}]}})",
+       "/fluid/regions/0/hi"},
+      {"dam_break_ci.json", R"({"fluid": {"surface_edge_length": 0.5}})", "/fluid/surface_edge_length"},
+      {"dam_break_ci.json", R"({"fluid": {"surface_edge_length": -0.01}})", "/fluid/surface_edge_length"},
+      {"dam_break_ci.json", R"({"fluid": {"fill": "domain", "surface_edge_length": 0.04}})",
+       "/fluid/surface_edge_length"},
+      {"dam_break_ci.json", R"({"fluid": {"fill": "puddle"}})", "/fluid/fill"},
+      {"floating_block_ci.json", R"({"solids": [{"name": "liquid", "geometry": {"type": "box", "size": [0.2, 0.1, 0.2]},
+          "material": {"density": 500, "youngs_modulus": 1e6, "poissons_ratio": 0.3},
+          "placement": {"translation": [0, 0.27, 0]}}], "probes": []})",
+       "/solids/0/name"},
+      {"floating_block_ci.json", R"({"coupling": {"constraint": "step_mean"}})", "/coupling/constraint"},
+      {"floating_block_ci.json", R"({"fluid": {"surface_edge_length": 0.02}})", "/fluid/surface_edge_length"},
+  };
+  TempDir dir("liquid_bad_keys");
+  int index = 0;
+  for (const Case& c : cases) {
+    json scene = committed(c.scene);
+    scene.merge_patch(json::parse(c.patch));
+    const fs::path file = dir.path() / ("bad_" + std::to_string(index++) + ".json");
+    std::ofstream(file) << scene.dump(2);
+    int validate_status = -1, run_status = -1;
+    const std::string validate = tetfsi_cmd("validate " + file.string(), &validate_status);
+    const std::string run = tetfsi_cmd("run " + file.string() + " --out " + (dir.path() / "out").string() +
+                                           " --quiet --end-time 0.02",
+                                       &run_status);
+    EXPECT_EQ(validate_status, 2) << c.patch << "\n" << validate;
+    EXPECT_EQ(run_status, 2) << c.patch << "\n" << run;
+    EXPECT_NE(validate.find(c.pointer), std::string::npos) << c.patch << "\n" << validate;
+    EXPECT_NE(run.find(c.pointer), std::string::npos) << c.patch << "\n" << run;
   }
 }
