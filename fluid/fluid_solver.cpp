@@ -1,10 +1,12 @@
 #include "fluid/fluid_solver.hpp"
 
+#include "fluid/advection/point_locator.hpp"
 #include "fluid/liquid/level_set.hpp"
 #include "fluid/liquid/velocity_extension.hpp"
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -134,13 +136,19 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     weight.resize(mesh_.num_tets());
     for (int t = 0; t < mesh_.num_tets(); ++t)
       weight[t] = std::max(liquid_.liquid_volume[t], liquid_options_.air_weight * mesh_.volume[t]);
-    phi = advect_nodal(mesh_, fields_.velocity, level_set_, new_mesh, h, nullptr, &weight);
+  }
+  // One point locator of the old mesh serves the level set's and the fields' back-traces.
+  std::optional<PointLocator> old_locator;
+  if (free_surface_) {
+    old_locator.emplace(mesh_);
+    phi = advect_nodal(mesh_, fields_.velocity, level_set_, new_mesh, h, nullptr, &weight, &*old_locator);
   }
   rep.surface_seconds = now() - t0;
   t0 = now();
   AdvectionReport adv;
   const BoundaryExits exits = boundary_exits(mesh_, bc);
-  fields_ = advect(mesh_, fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr);
+  fields_ = advect(mesh_, fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr,
+                   old_locator ? &*old_locator : nullptr);
   set_mesh(mesh, std::move(new_mesh), same_topology);
   advected_velocity_ = fields_.velocity;
   rep.clamped_traces = adv.clamped + adv.outside_start;

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <optional>
 #include <stdexcept>
 
 namespace tetfsi::fluid {
@@ -179,7 +180,7 @@ Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
 
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
                    AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
-                   const std::vector<double>* node_weight) {
+                   const std::vector<double>* node_weight, const PointLocator* given_locator) {
   if (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets())
     throw std::invalid_argument("advect: node-average weights do not match the old mesh's tet count");
   if (exits && exits->rule.size() != old_mesh.boundary_faces.size())
@@ -190,7 +191,9 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   AdvectionReport rep;
   const Packed f = pack(old_fields);
   const Packed f_nodal = to_nodes(old_mesh, f, node_weight);
-  const PointLocator old_locator(old_mesh);
+  std::optional<PointLocator> own_locator;
+  if (!given_locator) own_locator.emplace(old_mesh);
+  const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
   // Which traces were cut at the boundary matters only where some face is open (apply_exits).
   const bool any_open =
       exits && std::find(exits->rule.begin(), exits->rule.end(), ExitRule::kOpen) != exits->rule.end();
@@ -243,7 +246,8 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
 
 Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_velocity,
                              const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double h,
-                             AdvectionReport* report, const std::vector<double>* node_weight) {
+                             AdvectionReport* report, const std::vector<double>* node_weight,
+                             const PointLocator* given_locator) {
   if (static_cast<int>(old_velocity.size()) != old_mesh.num_tets() || old_values.size() != old_mesh.num_nodes() ||
       (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets()))
     throw std::invalid_argument("advect_nodal: old velocity, values or weights do not match the old mesh");
@@ -251,7 +255,9 @@ Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_ve
   for (int t = 0; t < old_mesh.num_tets(); ++t) velocity[t] << old_velocity[t], 0.0, 0.0;
   Packed nodal = to_nodes(old_mesh, velocity, node_weight);
   for (int i = 0; i < old_mesh.num_nodes(); ++i) nodal[i][3] = old_values[i];
-  const PointLocator locator(old_mesh);
+  std::optional<PointLocator> own_locator;
+  if (!given_locator) own_locator.emplace(old_mesh);
+  const PointLocator& locator = given_locator ? *given_locator : *own_locator;
   const int n = new_mesh.num_nodes();
   // A moved mesh keeps its nodes: node i's walk starts at one of its old tets.
   const bool same_nodes = n == old_mesh.num_nodes() && new_mesh.tets == old_mesh.tets;

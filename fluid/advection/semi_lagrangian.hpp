@@ -68,9 +68,11 @@ struct AdvectionReport {
 /// velocity the projection barely constrains, hardly enters the reconstruction; and kLinear
 /// anchors a foot at its tet's own value only where that tet's weight is its whole volume (a tet
 /// full of liquid), reading the node interpolant elsewhere.
+/// `old_locator`: a PointLocator of old_mesh to use (nullptr: one is built).
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
                    AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
-                   const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr);
+                   const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr,
+                   const PointLocator* old_locator = nullptr);
 
 /// Advects a nodal (P1) field such as the level set of a liquid (liquid/level_set.hpp) from
 /// `old_mesh` to the nodes of `new_mesh` over h [s]: each new node is traced back (RK2) through
@@ -79,9 +81,10 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
 /// walk ended in (clamped barycentric coordinates), not cut back along the trace: nodes lie on
 /// the walls, and cutting would stop a wall node whose velocity points outward at all.
 /// Deterministic.
-/// `node_weight` as for advect().
+/// `node_weight` and `old_locator` as for advect().
 Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_velocity,
                              const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double h,
-                             AdvectionReport* report = nullptr, const std::vector<double>* node_weight = nullptr);
+                             AdvectionReport* report = nullptr, const std::vector<double>* node_weight = nullptr,
+                             const PointLocator* old_locator = nullptr);
 
 }  // namespace tetfsi::fluid

@@ -253,10 +253,11 @@ void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band) {
   }
   const TriangleGrid grid(s, 0.5 * band);
   Eigen::VectorXd out(phi.size());
-  // The advected phi is a distance moved by at most a few cells: a node with |phi| beyond twice
-  // the band cannot be within the band of the surface; it takes +-band without a query.
+  // Only nodes inside the band need the query: a node that had the clamped value +-band and
+  // whose foot stayed where every value was clamped still reads +-band, and is at least a band
+  // from the surface up to the step's motion, which the clamp does not see.
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    const double d = std::abs(phi[i]) >= 2.0 * band ? band : grid.distance(mesh.nodes[i], band);
+    const double d = std::abs(phi[i]) >= band ? band : grid.distance(mesh.nodes[i], band);
     out[i] = phi[i] < 0.0 ? -d : d;
   });
   // A liquid node on the surface itself (d = 0) would turn to air: keep it liquid by a hair.
