@@ -14,6 +14,7 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mesh_3/Dump_c3t3.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_polyhedron_3.h>
@@ -21,6 +22,8 @@
 #include <CGAL/Polyhedral_complex_mesh_domain_3.h>
 #include <CGAL/Polyhedron_incremental_builder_3.h>
 #include <CGAL/Random.h>
+#include <CGAL/assertions.h>
+#include <CGAL/exceptions.h>
 #include <CGAL/make_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
 
@@ -44,6 +47,20 @@ using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, D
 using Criteria = CGAL::Mesh_criteria_3<Tr>;
 using Triangles = std::vector<K::Triangle_3>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>>>;
+}  // namespace
+}  // namespace tetfsi::mesh
+
+/// On some failures (a point "already inserted on surface", a null sizing field) CGAL Mesh_3 dumps
+/// its complex as dump-bug.* into the working directory before it throws. tetfsi reports the
+/// failure as a MeshError instead and writes nothing outside its output folder, so the dump is
+/// switched off for the complex type used here.
+template <>
+struct CGAL::Dump_c3t3<tetfsi::mesh::C3t3> {
+  void dump_c3t3(const tetfsi::mesh::C3t3&, const std::string&) const {}
+};
+
+namespace tetfsi::mesh {
+namespace {
 
 constexpr double kFeatureAngleDeg = 60.0;  ///< sharp-edge angle of the box and of flat solids [deg]
 /// Sliver removal targets [deg of dihedral angle]: perturbation moves vertices of tets under
@@ -135,10 +152,9 @@ void seed_every_surface(C3t3& c3t3, const Domain& domain, const Criteria& criter
 /// Runs Mesh_3 on the given surfaces with subdomain pairs (inside, outside) and converts the
 /// complex to a TetMesh: vertices compacted (numbered in order of first use by a complex cell),
 /// tets positively oriented, labels = CGAL subdomain indices.
-TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<std::string>& names,
-                   const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
-                   const Triangles& graded_to, const MeshSizing& sizing) {
-  check_sizing(sizing);
+TetMesh mesh_3_unguarded(const std::vector<SurfaceMesh>& surfaces, const std::vector<std::string>& names,
+                         const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
+                         const Triangles& graded_to, const MeshSizing& sizing) {
   CGAL::get_default_random() = CGAL::Random(kSeed);
   CGAL::Random rng(kSeed);
 
@@ -199,6 +215,23 @@ TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<s
     out.subdomain.push_back(static_cast<int>(c3t3.subdomain_index(c)));
   }
   return out;
+}
+
+/// mesh_3_unguarded with CGAL's failures (assertions, preconditions, errors: CGAL throws them as
+/// CGAL::Failure_exception) turned into a MeshError: they come from input CGAL cannot mesh in
+/// double precision (coordinates far from the origin compared with the sizes, sizes near the
+/// smallest double), which the scene checks refuse first (apps/run/preflight.hpp).
+TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<std::string>& names,
+                   const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
+                   const Triangles& graded_to, const MeshSizing& sizing) {
+  check_sizing(sizing);
+  try {
+    return mesh_3_unguarded(surfaces, names, pairs, feature_angles, graded_to, sizing);
+  } catch (const CGAL::Failure_exception& e) {
+    throw MeshError("CGAL Mesh_3 failed on this input (" + e.message() + (e.expression().empty() ? "" : ": " + e.expression()) +
+                    "); the sizes (mesh.edge_length, facet_distance) or coordinates are out of the range the mesher "
+                    "resolves in double precision");
+  }
 }
 
 void append_triangles(const SurfaceMesh& s, Triangles& out) {

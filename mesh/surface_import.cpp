@@ -9,9 +9,11 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
+#include "mesh/io/ply_reader.hpp"
 
 namespace tetfsi::mesh {
 
@@ -31,9 +33,48 @@ void apply_placement(SurfaceMesh& surface, const Placement& placement) {
   for (auto& v : surface.vertices) v = R * (placement.unit_scale * v) + placement.translation;
 }
 
+namespace {
+
+/// Joins vertices at identical positions (exact comparison: the file's own values), as assimp's
+/// JoinIdenticalVertices does for the other formats.
+SurfaceMesh join_identical_vertices(const SurfaceMesh& in) {
+  SurfaceMesh s;
+  std::map<std::array<double, 3>, int> index_of;
+  std::vector<int> to(in.vertices.size());
+  for (std::size_t i = 0; i < in.vertices.size(); ++i) {
+    const auto& p = in.vertices[i];
+    auto [it, inserted] = index_of.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, s.num_vertices());
+    if (inserted) s.vertices.push_back(p);
+    to[i] = it->second;
+  }
+  for (const auto& t : in.triangles) s.triangles.push_back({to[t[0]], to[t[1]], to[t[2]]});
+  return s;
+}
+
+bool starts_like_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[5] = {};
+  in.read(head, 5);
+  return io::looks_like_ply(std::string_view(head, static_cast<std::size_t>(in.gcount())));
+}
+
+}  // namespace
+
 SurfaceMesh import_surface(const std::string& path, const Placement& placement) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw MeshError(path + ": file not found");
+  if (!std::filesystem::exists(path, ec)) throw MeshError(path + ": file not found");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw MeshError(path + ": not a regular file (a folder, FIFO or device cannot be a surface)");
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > kMaxSurfaceBytes)
+    throw MeshError(path + ": " + (ec ? ec.message() : std::to_string(bytes) + " bytes; surface files of more "
+                                                          "than 1 GiB are refused"));
+  // PLY files never reach assimp (its PLY reader loops or aborts on cut files, ply_reader.hpp).
+  if (starts_like_ply(path)) {
+    SurfaceMesh s = join_identical_vertices(io::read_ply(path));
+    apply_placement(s, placement);
+    return s;
+  }
 
   Assimp::Importer importer;
   // Drop everything but positions so that JoinIdenticalVertices joins by position alone (STL and
@@ -59,6 +100,9 @@ SurfaceMesh import_surface(const std::string& path, const Placement& placement) 
     for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
       const aiVector3D& p = mesh->mVertices[i];
       const std::array<double, 3> key{p.x, p.y, p.z};
+      if (!std::isfinite(key[0]) || !std::isfinite(key[1]) || !std::isfinite(key[2]))
+        throw MeshError(path + ": vertex " + std::to_string(i) + " of mesh " + std::to_string(m) +
+                        " has a non-finite coordinate");
       auto [it, inserted] = index_of.emplace(key, s.num_vertices());
       if (inserted) s.vertices.emplace_back(key[0], key[1], key[2]);
       local[i] = it->second;

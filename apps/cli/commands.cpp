@@ -7,6 +7,7 @@
 
 #include "apps/run/driver.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/preflight.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/scene/docs.hpp"
 #include "apps/scene/scene.hpp"
@@ -18,11 +19,19 @@
 namespace tetfsi::cli {
 namespace {
 
-int validate(const std::string& file, bool print_resolved) {
-  const auto scene = scene::load_scene(file);
+/// `tetfsi validate`: the scene checks and every check of run::preflight (the ones `tetfsi run`
+/// makes before it meshes), so that both give the same verdict.
+int validate(const run::RunOptions& opt, bool print_resolved) {
+  const auto scene = run::load_with_overrides(opt);
+  run::PreflightOptions checks;
+  checks.max_tets = opt.max_tets;
+  const auto report = run::preflight(scene, checks);
+  for (const auto& w : report.warnings) std::cerr << "warning: " << w << "\n";
   if (print_resolved) std::cout << scene.json.dump(2) << "\n";
-  std::cout << fmt::format("{}: valid ({} solid(s), fluid: {})\n", file, scene["solids"].size(),
-                           scene["fluid"]["type"].get<std::string>());
+  std::cout << fmt::format("{}: valid ({} solid(s), fluid: {}; runner {}, about {:.3g} tets, at least {:.3g} steps, "
+                           "{:.3g} frames, about {:.3g} GB of output)\n",
+                           opt.scene_file.string(), scene["solids"].size(), scene["fluid"]["type"].get<std::string>(),
+                           report.runner, report.tets, report.steps, report.frames, report.output_bytes / 1e9);
   return 0;
 }
 
@@ -60,17 +69,26 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   auto* run = app.add_subcommand("run", "Run a scene: writes .pvd/.vtu frames, surfaces, stats.csv, "
                                         "probes.csv and run.log into the output folder");
   run->add_option("scene", opt.scene_file, "Scene file (JSON)")->required();
-  run->add_option("--out,-o", opt.out_dir, "Output folder; created if missing, earlier files are kept")
+  run->add_option("--out,-o", opt.out_dir, "Output folder; created if missing; the frames, .pvd and CSV files of an earlier run in it are removed, other files are kept")
       ->capture_default_str();
   auto* end_opt = run->add_option("--end-time", end_time, "Stop at this simulated time [s] (overrides the scene)");
   auto* thr_opt = run->add_option("--threads,-j", threads, "Worker threads; 0 = all cores (overrides the scene)");
   run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+  double max_tets = 0;
+  const std::string max_tets_help = fmt::format(
+      "Refuse scenes whose mesh is estimated above this many tets (default: half of this machine's memory at {:.0f} "
+      "bytes per tet: {:.3g})", run::kBytesPerTet, run::default_max_tets());
+  auto* run_tets = run->add_option("--max-tets", max_tets, max_tets_help)->check(CLI::PositiveNumber);
 
-  std::string validate_file;
-  auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any)");
-  val->add_option("scene", validate_file, "Scene file (JSON)")->required();
+  run::RunOptions vopt;
+  auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any): the same "
+                                             "checks as `run` makes before meshing");
+  val->add_option("scene", vopt.scene_file, "Scene file (JSON)")->required();
   bool print_resolved = false;
   val->add_flag("--resolved", print_resolved, "Also print the scene with every default filled in");
+  double vend_time = 0, vmax_tets = 0;
+  auto* vend_opt = val->add_option("--end-time", vend_time, "Check with this end time [s] (as `run --end-time`)");
+  auto* val_tets = val->add_option("--max-tets", vmax_tets, max_tets_help)->check(CLI::PositiveNumber);
 
   std::string mesh_in, mesh_out;
   double edge = 0.1, scale = 1.0;
@@ -92,13 +110,18 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   if (*run) {
     if (*end_opt) opt.end_time = end_time;
     if (*thr_opt) opt.threads = threads;
+    if (*run_tets) opt.max_tets = max_tets;
     opt.command_line = command_line;
     run::run_scene(opt);
     if (!opt.quiet) std::cout << fmt::format("output in {}/ (open the .pvd files in ParaView; see run.log)\n",
                                              opt.out_dir.string());
     return 0;
   }
-  if (*val) return validate(validate_file, print_resolved);
+  if (*val) {
+    if (*vend_opt) vopt.end_time = vend_time;
+    if (*val_tets) vopt.max_tets = vmax_tets;
+    return validate(vopt, print_resolved);
+  }
   if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale);
   if (*sch) {
     std::cout << scene::schema_markdown(scene::scene_schema());

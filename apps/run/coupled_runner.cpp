@@ -19,6 +19,7 @@
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/fluid_probe.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -247,6 +248,9 @@ class CoupledRunner : public Simulation {
     const std::string kind = p.at("kind").get<std::string>();
     if (kind == "total_energy") return {last_.total_energy()};
     if (kind == "fluid_volume") return {stepper_->fluid_volume()};
+    if (kind == "fluid_kinetic_energy") return {last_.fluid_kinetic};
+    if (kind == "fluid_point") return {fluid_point_value(stepper_->fluid(), p)};
+    if (!p.contains("solid")) return {};
     const int i = solid_index(p.at("solid").get<std::string>());
     if (i < 0) return {};
     const auto& model = stepper_->solid_model(i);
@@ -301,7 +305,8 @@ RunnerEntry coupled_runner() {
               if (!is_deformable_tet(solid)) return false;
             return true;
           },
-          [] { return std::make_unique<CoupledRunner>(); }};
+          [] { return std::make_unique<CoupledRunner>(); },
+          {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy"}};
 }
 
 }  // namespace tetfsi::run

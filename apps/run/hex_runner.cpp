@@ -338,7 +338,8 @@ RunnerEntry hex_runner() {
             }
             return any;
           },
-          [] { return std::make_unique<HexRunner>(); }};
+          [] { return std::make_unique<HexRunner>(); },
+          {"point_displacement", "total_energy"}};
 }
 
 }  // namespace tetfsi::run

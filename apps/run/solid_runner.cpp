@@ -236,7 +236,8 @@ RunnerEntry solid_runner() {
               if (deforms_as(solid, "tet_fem")) return true;
             return false;
           },
-          [] { return std::make_unique<SolidRunner>(); }};
+          [] { return std::make_unique<SolidRunner>(); },
+          {"point_displacement", "solid_volume", "total_energy"}};
 }
 
 }  // namespace tetfsi::run

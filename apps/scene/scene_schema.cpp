@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cctype>
 #include <map>
 #include <set>
 
@@ -80,22 +82,77 @@ void check_shells(const Json& s, std::vector<Issue>& issues) {
                                  "the domain box, nothing outside the shell is meshed"});
 }
 
-// Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.
-void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
-  std::set<std::string> names;
+constexpr std::size_t kMaxNameLength = 64;
+
+/// A name that is safe as a file name on every file system and as a CSV column: 1 to 64 of
+/// A-Z a-z 0-9 _ -, starting with a letter or digit (no dot, so no "stats.csv" or "..").
+bool safe_name(const std::string& name) {
+  if (name.empty() || name.size() > kMaxNameLength || name[0] == '-' || name[0] == '_') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string shown(const std::string& name) {
+  return name.size() <= kMaxNameLength ? name : name.substr(0, kMaxNameLength) + "...";
+}
+
+// Solid names name output files (<name>.pvd, <name>/, surfaces/<name>_*.ply): safe, unique
+// without regard to case (case-insensitive file systems), and none of the other objects a run
+// writes. Probe names are probes.csv columns: safe, unique after the _x/_y/_z expansion.
+void check_names(const Json& s, std::vector<Issue>& issues, std::set<std::string>& names) {
+  static const std::set<std::string> reserved = {"fluid", "particles", "membrane", "surfaces"};
+  std::set<std::string> folded;
   for (std::size_t i = 0; i < s["solids"].size(); ++i) {
     const auto name = s["solids"][i]["name"].get<std::string>();
-    if (name.empty() || name.find_first_of("/\\ ") != std::string::npos)
-      issues.push_back({fmt::format("/solids/{}/name", i),
-                        "expected a non-empty name without spaces or slashes (it names output files)"});
-    else if (!names.insert(name).second)
-      issues.push_back({fmt::format("/solids/{}/name", i), fmt::format("duplicate solid name \"{}\"", name)});
+    const std::string ptr = fmt::format("/solids/{}/name", i);
+    if (!safe_name(name))
+      issues.push_back({ptr, fmt::format("expected 1 to {} letters, digits, '_' or '-' (starting with a letter or "
+                                         "digit; the name is used in output file names), got \"{}\" ({} characters)",
+                                         kMaxNameLength, shown(name), name.size())});
+    else if (reserved.count(lower(name)))
+      issues.push_back({ptr, fmt::format("\"{}\" is the name of another output of a run (fluid, particles, membrane, "
+                                         "surfaces): choose another name", name)});
+    else if (!folded.insert(lower(name)).second)
+      issues.push_back({ptr, fmt::format("duplicate solid name \"{}\" (names are compared without regard to case: "
+                                         "they name files)", name)});
+    names.insert(name);
   }
+  std::set<std::string> columns = {"time"};
+  for (std::size_t i = 0; i < s["probes"].size(); ++i) {
+    const auto& p = s["probes"][i];
+    const auto name = p["name"].get<std::string>();
+    const std::string ptr = fmt::format("/probes/{}/name", i);
+    if (!safe_name(name)) {
+      issues.push_back({ptr, fmt::format("expected 1 to {} letters, digits, '_' or '-' (the name is a probes.csv "
+                                         "column), got \"{}\"", kMaxNameLength, shown(name))});
+      continue;
+    }
+    std::vector<std::string> cols = {name};
+    if (p["kind"] == "point_displacement") cols = {name + "_x", name + "_y", name + "_z"};
+    for (const auto& c : cols)
+      if (!columns.insert(lower(c)).second) {
+        issues.push_back({ptr, fmt::format("probes.csv would have two columns \"{}\" (probe names must be unique, "
+                                           "and differ from \"time\")", c)});
+        break;
+      }
+  }
+}
+
+// Checks across blocks: names are safe and unique, probes name existing solids, a fluid needs a domain.
+void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
+  std::set<std::string> names;
+  check_names(s, issues, names);
   for (std::size_t i = 0; i < s["probes"].size(); ++i) {
     const auto& p = s["probes"][i];
     if (p.contains("solid") && !names.count(p["solid"].get<std::string>()))
       issues.push_back({fmt::format("/probes/{}/solid", i),
-                        fmt::format("no solid named \"{}\" in /solids", p["solid"].get<std::string>())});
+                        fmt::format("no solid named \"{}\" in /solids", shown(p["solid"].get<std::string>()))});
   }
   check_mpm(s, issues);
   check_shells(s, issues);
