@@ -128,7 +128,7 @@ class Validator {
 
     Json out = Json::object();
     for (const auto& [key, val] : v.items()) {
-      auto m = std::find_if(members.begin(), members.end(), [&](const Field* x) { return x->key == key; });
+      auto m = std::find_if(members.begin(), members.end(), [&k = key](const Field* x) { return x->key == k; });
       if (m != members.end()) continue;
       std::string owner;  // a variant that has this key
       for (const auto& [name, extra] : f.variants)
