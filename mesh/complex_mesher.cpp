@@ -14,7 +14,6 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Mesh_3/Dump_c3t3.h>
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_polyhedron_3.h>
@@ -29,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -47,20 +47,6 @@ using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr, Domain::Corner_index, D
 using Criteria = CGAL::Mesh_criteria_3<Tr>;
 using Triangles = std::vector<K::Triangle_3>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>>>;
-}  // namespace
-}  // namespace tetfsi::mesh
-
-/// On some failures (a point "already inserted on surface", a null sizing field) CGAL Mesh_3 dumps
-/// its complex as dump-bug.* into the working directory before it throws. tetfsi reports the
-/// failure as a MeshError instead and writes nothing outside its output folder, so the dump is
-/// switched off for the complex type used here.
-template <>
-struct CGAL::Dump_c3t3<tetfsi::mesh::C3t3> {
-  void dump_c3t3(const tetfsi::mesh::C3t3&, const std::string&) const {}
-};
-
-namespace tetfsi::mesh {
-namespace {
 
 constexpr double kFeatureAngleDeg = 60.0;  ///< sharp-edge angle of the box and of flat solids [deg]
 /// Sliver removal targets [deg of dihedral angle]: perturbation moves vertices of tets under
@@ -225,9 +211,20 @@ TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<s
                    const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
                    const Triangles& graded_to, const MeshSizing& sizing) {
   check_sizing(sizing);
+  // On some failures (a point "already inserted on surface") CGAL 5.5 Mesh_3 dumps its complex as
+  // dump-bug.mesh and dump-bug.binary.cgal into the working directory before it throws, whatever
+  // the build flags. tetfsi writes nothing outside its output folder: dumps that were not there
+  // before are removed. (Switching the dump off by specialising CGAL::Dump_c3t3 for this complex
+  // type changed the meshes themselves: seen 6419 instead of 6489 tets for bar_compare_ci.)
+  static const char* const dumps[] = {"dump-bug.mesh", "dump-bug.binary.cgal", "dump-bug-c3t3.polylines.txt"};
+  bool existed[3];
+  for (int k = 0; k < 3; ++k) existed[k] = std::filesystem::exists(dumps[k]);
   try {
     return mesh_3_unguarded(surfaces, names, pairs, feature_angles, graded_to, sizing);
   } catch (const CGAL::Failure_exception& e) {
+    std::error_code ignored;
+    for (int k = 0; k < 3; ++k)
+      if (!existed[k]) std::filesystem::remove(dumps[k], ignored);
     throw MeshError("CGAL Mesh_3 failed on this input (" + e.message() + (e.expression().empty() ? "" : ": " + e.expression()) +
                     "); the sizes (mesh.edge_length, facet_distance) or coordinates are out of the range the mesher "
                     "resolves in double precision");

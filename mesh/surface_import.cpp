@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -51,11 +52,16 @@ SurfaceMesh join_identical_vertices(const SurfaceMesh& in) {
   return s;
 }
 
-bool starts_like_ply(const std::string& path) {
+/// A PLY file by its extension or its first three bytes: either way it goes to io::read_ply, never
+/// to assimp (whose PLY reader also leaks on a file that starts with "ply" but no line break).
+bool is_ply(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") return true;
   std::ifstream in(path, std::ios::binary);
-  char head[5] = {};
-  in.read(head, 5);
-  return io::looks_like_ply(std::string_view(head, static_cast<std::size_t>(in.gcount())));
+  char head[3] = {};
+  in.read(head, 3);
+  return in.gcount() == 3 && std::string_view(head, 3) == "ply";
 }
 
 }  // namespace
@@ -70,7 +76,7 @@ SurfaceMesh import_surface(const std::string& path, const Placement& placement) 
     throw MeshError(path + ": " + (ec ? ec.message() : std::to_string(bytes) + " bytes; surface files of more "
                                                           "than 1 GiB are refused"));
   // PLY files never reach assimp (its PLY reader loops or aborts on cut files, ply_reader.hpp).
-  if (starts_like_ply(path)) {
+  if (is_ply(path)) {
     SurfaceMesh s = join_identical_vertices(io::read_ply(path));
     apply_placement(s, placement);
     return s;

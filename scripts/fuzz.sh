@@ -37,7 +37,11 @@ for t in "${targets[@]}"; do
   esac
   echo "== $t"
   start=$(date +%s)
-  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
+  # assimp 5.2 leaks memory on some malformed files (reported in docs/reliability.md): leak
+  # detection is off for the target that runs it.
+  leaks=1
+  [ "$t" = fuzz_surface ] && leaks=0
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=$leaks \
     "$build/fuzz/$t" "$build/corpus/$corpus" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$build/findings/$t-" 2>&1 | tee "$build/$t.log" | grep -E "^#[0-9]+ +(DONE|pulse)|stat::|ERROR|SUMMARY" || true
   echo "$t: $(( $(date +%s) - start )) s; findings: $(ls "$build/findings" | grep -c "^$t-" || true)"

@@ -20,6 +20,7 @@
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/fluid_probe.hpp"
+#include "apps/run/watchdog.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -59,6 +60,7 @@ class CoupledRunner : public Simulation {
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
     const mesh::MeshSizing sizing = mesh_sizing(m);
+    watchdog_ = watchdog_settings(js.at("simulation"));
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
@@ -206,6 +208,14 @@ class CoupledRunner : public Simulation {
     return out;
   }
 
+  std::string unphysical() const override {
+    for (int i = 0; i < stepper_->num_solids(); ++i) {
+      auto what = inverted_tets(stepper_->solid_model(i), stepper_->solid(i).displacement(), names_[i], i, watchdog_);
+      if (!what.empty()) return what;
+    }
+    return "";
+  }
+
   std::string non_finite() const override {
     for (int i = 0; i < stepper_->num_solids(); ++i)
       if (!stepper_->solid(i).displacement().allFinite()) return fmt::format("solid '{}' displacement", names_[i]);
@@ -285,6 +295,7 @@ class CoupledRunner : public Simulation {
   }
 
   std::unique_ptr<coupling::CoupledStepper> stepper_;
+  WatchdogSettings watchdog_;
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;

@@ -287,7 +287,9 @@ class HexRunner : public Simulation {
       throw InputError(fmt::format("{}: {}", ptr, e.what()));
     }
     std::vector<int> count(b.model->num_nodes(), 0), nodes;
-    for (int dof : b.bc.fixed_dofs) ++count[dof / 3];
+    std::vector<char> fixed(3 * b.model->num_nodes(), 0);  // overlapping regions fix a dof twice
+    for (int dof : b.bc.fixed_dofs)
+      if (!fixed[dof]) fixed[dof] = 1, ++count[dof / 3];
     for (int n = 0; n < b.model->num_nodes(); ++n) {
       if (count[n] == 3) nodes.push_back(n);
       else if (count[n] > 0)

@@ -267,8 +267,9 @@ class Checker {
 
   /// Tet count of a CGAL Mesh_3 mesh: a regular tet of edge h has volume h^3 / (6 sqrt 2), so a
   /// region of volume V meshed at size h holds about 6 sqrt(2) V / h^3 tets (the data/scenes meshes
-  /// hold 0.65 to 0.8 of that). A solid is meshed at the smaller of its size and its mean
-  /// thickness 2V/A (a slab thinner than the edge length needs edges as short as it is thick),
+  /// hold 0.3 to 0.7 of this estimate). A solid is meshed at the smaller of its size and its
+  /// thickness 3V/A (1.5 t for a slab of thickness t, a/2 for a cube, r for a sphere: a slab
+  /// thinner than the edge length needs edges about as short as it is thick),
   /// plus a layer of A / h^2 surface facets; with grading, a band of width grading_distance around
   /// each solid is meshed at the mean of the near and far sizes.
   double estimate_tets() {
@@ -292,12 +293,12 @@ class Checker {
       const auto& p = placed_[i];
       if (!p.ok || js_["solids"][i]["model"]["type"] == "hex8" || runner_->name == "kinematic") continue;  // not tet-meshed
       const double h_solid = fluid ? near : far;  // the solid runner meshes each solid at edge_length
-      const double thickness = p.area > 0 ? 2 * p.volume / p.area : h_solid;
+      const double thickness = p.area > 0 ? 3 * p.volume / p.area : h_solid;
       const double h = std::min(h_solid, thickness);
       const std::string name = solid_name(i);
       if (thickness < h_solid)
         count(kTetsPerCube * (p.volume / std::pow(h, 3) + p.area / (h * h)), fmt::format("/solids/{}/geometry", i),
-              fmt::format("solid '{}', {:.3g} m thick on average (2 volume / area), thinner than the edge length "
+              fmt::format("solid '{}', about {:.3g} m thick (3 volume / area), thinner than the edge length "
                           "{:g} m, so meshed at its thickness", name, thickness, h_solid));
       else
         count(kTetsPerCube * (p.volume / std::pow(h, 3) + p.area / (h * h)),

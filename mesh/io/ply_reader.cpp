@@ -210,10 +210,6 @@ int find_property(const Element& e, std::initializer_list<const char*> names) {
 
 }  // namespace
 
-bool looks_like_ply(std::string_view head) {
-  return head.substr(0, 4) == "ply\n" || head.substr(0, 5) == "ply\r\n";
-}
-
 SurfaceMesh parse_ply(std::string_view content, const std::string& name) {
   const Header h = parse_header(content, name);
   const std::string_view body = content.substr(h.body_start);
@@ -280,8 +276,7 @@ SurfaceMesh parse_ply(std::string_view content, const std::string& name) {
     const std::size_t a = polygon_start[f], b = polygon_start[f + 1];
     for (std::size_t j = a; j < b; ++j)
       if (!(indices[j] >= 0 && indices[j] < nv))
-        throw MeshError(name + ": PLY: face " + std::to_string(f) + " refers to vertex " +
-                        std::to_string(static_cast<long long>(indices[j])) + " of " +
+        throw MeshError(name + ": PLY: face " + std::to_string(f) + " refers to vertex " + number_text(indices[j]) + " of " +
                         std::to_string(s.vertices.size()));
     for (std::size_t j = a + 1; j + 1 < b; ++j)
       s.triangles.push_back({int(indices[a]), int(indices[j]), int(indices[j + 1])});

@@ -27,7 +27,4 @@ SurfaceMesh parse_ply(std::string_view content, const std::string& name);
 /// @throws MeshError naming the file
 SurfaceMesh read_ply(const std::string& path);
 
-/// True if the content starts with the PLY magic line ("ply" followed by a line break).
-bool looks_like_ply(std::string_view head);
-
 }  // namespace tetfsi::mesh::io

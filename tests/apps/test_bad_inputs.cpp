@@ -64,11 +64,12 @@ std::string write(const fs::path& dir, const std::string& name, const json& s) {
 
 /// validate and run (tiny end time) both exit 2, naming `fragment`; nothing is written in `dir`
 /// but the scene, the output folder and the files the case made.
-void expect_refused(const fs::path& dir, const std::string& scene, const std::string& fragment) {
+void expect_refused(const fs::path& dir, const std::string& scene, const std::string& fragment,
+                    const std::string& end_time = " --end-time 1e-3") {
   SCOPED_TRACE(scene);
   const auto before = std::distance(fs::directory_iterator(dir), fs::directory_iterator());
-  const Result v = tetfsi_in(dir, "validate " + scene);
-  const Result r = tetfsi_in(dir, "run " + scene + " --out out --quiet --threads 1 --end-time 1e-3");
+  const Result v = tetfsi_in(dir, "validate " + scene + end_time);
+  const Result r = tetfsi_in(dir, "run " + scene + " --out out --quiet --threads 1" + end_time);
   EXPECT_EQ(v.status, 2) << v.out;
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_NE(v.out.find(fragment), std::string::npos) << v.out;
@@ -85,11 +86,11 @@ struct Case {
   std::string fragment;  ///< "<name>.json: <pointer>" or the file the message must name
 };
 
-void expect_all_refused(const std::vector<Case>& cases) {
+void expect_all_refused(const std::vector<Case>& cases, const std::string& end_time = " --end-time 1e-3") {
   tetfsi::test::TempDir dir("bad_inputs");
   for (const auto& c : cases) {
     const std::string file = write(dir.path(), c.name, c.scene());
-    expect_refused(dir.path(), file, c.fragment.empty() ? c.name + ".json" : c.name + ".json: " + c.fragment);
+    expect_refused(dir.path(), file, c.fragment.empty() ? c.name + ".json" : c.name + ".json: " + c.fragment, end_time);
     fs::remove(file);
   }
 }
@@ -109,6 +110,51 @@ TEST(BadInputs, CoordinatesAndSizesOutOfRangeAreRefusedBeforeMeshing) {
       {"huge_box", [] { auto s = solid_scene(); s["solids"][0]["geometry"]["size"] = {1e30, 1e30, 1e30}; return s; },
        "/solids/0/geometry"},
   });
+}
+
+// Runaways of issue 18 (each ran for minutes or until bad_alloc): refused at once with the
+// estimate and the key to change, by validate and run alike (no --end-time override here).
+TEST(BadInputs, RunawayResourcesAreRefusedWithTheEstimate) {
+  expect_all_refused(
+      {
+          {"edge_1e-5", [] { auto s = solid_scene(); s["mesh"]["edge_length"] = 1e-5; return s; },
+           "/mesh/edge_length: the mesh would have about"},
+          {"fine_fluid", [] {
+             auto s = coupled_scene();
+             s["mesh"]["edge_length"] = 2e-3;
+             s["mesh"]["edge_length_near_solids"] = 1e-3;
+             return s;
+           },
+           "/mesh/edge_length: the mesh would have about"},
+          {"thin_sheet",
+           [] { auto s = solid_scene(); s["solids"][0]["geometry"]["size"] = {1.0, 1e-7, 0.1}; return s; },
+           "/solids/0/geometry: the mesh would have about"},
+          {"dt_1e-300", [] { auto s = solid_scene(); s["simulation"]["dt"] = 1e-300; return s; },
+           "/simulation/dt: the run would take at least"},
+          {"end_1e300", [] { auto s = solid_scene(); s["simulation"]["end_time"] = 1e300; return s; },
+           "/simulation/dt: the run would take at least"},
+          {"frame_rate_1e9", [] { auto s = solid_scene(); s["simulation"]["frame_rate"] = 1e9; return s; },
+           "/simulation/frame_rate: the run would take at least"},
+          {"hex_cells", [] {
+             auto s = solid_scene();
+             s["solids"][0]["model"] = {{"type", "hex8"}, {"nx", 2000}, {"ny", 2000}, {"nz", 2000}};
+             return s;
+           }, "/solids: the mesh would have about 8e+09"},
+          {"output_gb", [] {
+             auto s = solid_scene();
+             s["simulation"]["end_time"] = 10;
+             s["simulation"]["frame_rate"] = 100;
+             s["export"] = {{"max_output_gb", 1e-6}};
+             return s;
+           }, "/simulation/frame_rate: the output would take about"},
+      },
+      "");
+  // --max-tets lowers the limit; the default one is named.
+  tetfsi::test::TempDir dir("max_tets");
+  const std::string scene = write(dir.path(), "small", solid_scene());
+  expect_refused(dir.path(), scene + " --max-tets 10", "small.json: /mesh/edge_length: the mesh would have about");
+  const Result ok = tetfsi_in(dir.path(), "validate " + scene);
+  EXPECT_EQ(ok.status, 0) << ok.out;
 }
 
 TEST(BadInputs, BrokenPlySurfacesAreRefusedBeforeAssimpSeesThem) {
