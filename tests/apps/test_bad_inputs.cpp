@@ -288,3 +288,28 @@ TEST(BadInputs, HugeUnknownKeyIsNotEchoedWhole) {
   EXPECT_NE(v.out.find("unknown key"), std::string::npos) << v.out.substr(0, 500);
   EXPECT_LT(v.out.size(), 4000u);
 }
+
+// The output folder (apps/run/output.hpp): orphan *.tmp.<pid> files of a killed run are removed
+// at the start of a run; a rerun removes the earlier run's frames, .pvd and CSV files (a shorter
+// run left stale frames beside its .pvd), and keeps every other file.
+TEST(BadInputs, RerunCleansOrphansAndStaleFramesButKeepsOtherFiles) {
+  tetfsi::test::TempDir dir("output_folder");
+  const fs::path out = dir.path() / "out";
+  auto s = solid_scene();
+  s["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0.1, 0, 0}}};  // kinematic: no meshing
+  s["simulation"] = {{"end_time", 0.2}, {"dt", 0.05}, {"frame_rate", 10}};
+  const std::string scene = write(dir.path(), "short", s);
+  for (const auto& d : {out / "box", out / "old", out / "surfaces"}) fs::create_directories(d);
+  for (const auto& f : {out / "run.log", out / "old.pvd", out / "old" / "old_00000.vtu", out / "box" / "box_00007.vtu",
+                        out / "surfaces" / "box_00007.ply", out / "box" / "box_00001.vtu.tmp.4242",
+                        out / "stats.csv.tmp.17", out / "notes.txt", out / "box" / "mine.txt"})
+    std::ofstream(f) << "x";
+  const Result r = tetfsi_in(dir.path(), "run " + scene + " --out out --quiet");
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const auto& gone : {out / "old.pvd", out / "old", out / "box" / "box_00007.vtu", out / "surfaces" / "box_00007.ply",
+                           out / "box" / "box_00001.vtu.tmp.4242", out / "stats.csv.tmp.17"})
+    EXPECT_FALSE(fs::exists(gone)) << gone;
+  for (const auto& kept : {out / "notes.txt", out / "box" / "mine.txt", out / "box" / "box_00002.vtu", out / "box.pvd"})
+    EXPECT_TRUE(fs::exists(kept)) << kept;
+  EXPECT_FALSE(fs::exists(out / "box" / "box_00003.vtu"));  // frames 0..2 of this run only
+}
