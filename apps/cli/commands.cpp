@@ -14,6 +14,7 @@
 #include "apps/version.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
+#include "mesh/surface_checks.hpp"
 #include "mesh/io/vtu_writer.hpp"
 
 namespace tetfsi::cli {
@@ -35,10 +36,18 @@ int validate(const run::RunOptions& opt, bool print_resolved) {
   return 0;
 }
 
-int mesh_command(const std::string& in, const std::string& out, double edge, double scale) {
+int mesh_command(const std::string& in, const std::string& out, double edge, double scale, double max_tets) {
   std::vector<std::string> warnings;
   const auto surface = run::import_checked(in, scale, warnings);
   for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
+  double area = 0;
+  for (const auto& t : surface.triangles)
+    area += 0.5 * (surface.vertices[t[1]] - surface.vertices[t[0]]).cross(surface.vertices[t[2]] - surface.vertices[t[0]]).norm();
+  const double estimate = run::estimate_solid_tets(mesh::enclosed_volume(surface), area, edge);
+  if (!(estimate <= max_tets))
+    throw run::InputError(fmt::format("{}: the mesh would have about {:.3g} tets at --edge-length {:g} m, more than the "
+                                      "limit of {:.3g} (--max-tets): raise --edge-length or --max-tets",
+                                      in, estimate, edge, max_tets));
   mesh::MeshSizing sizing;
   sizing.edge_length = edge;
   mesh::TetMesh tets;
@@ -98,6 +107,8 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   msh->add_option("output", mesh_out, "Output .vtu file")->required();
   msh->add_option("--edge-length", edge, "Target edge length [m]")->capture_default_str()->check(CLI::PositiveNumber);
   msh->add_option("--unit-scale", scale, "Metres per file unit (0.01 for cm)")->capture_default_str()->check(CLI::PositiveNumber);
+  double mmax_tets = 0;
+  auto* msh_tets = msh->add_option("--max-tets", mmax_tets, max_tets_help)->check(CLI::PositiveNumber);
 
   auto* sch = app.add_subcommand("schema", "Print the scene key reference (Markdown; docs/scene_format.md)");
 
@@ -122,7 +133,7 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
     if (*val_tets) vopt.max_tets = vmax_tets;
     return validate(vopt, print_resolved);
   }
-  if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale);
+  if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale, *msh_tets ? mmax_tets : run::default_max_tets());
   if (*sch) {
     std::cout << scene::schema_markdown(scene::scene_schema());
     return 0;

@@ -153,6 +153,8 @@ class Checker {
         add(ptr, e.what());
       } catch (const mesh::MeshError& e) {
         add(ptr, e.what());
+      } catch (const std::exception& e) {  // e.g. a CGAL failure in the surface checks
+        add(ptr, std::string("the surface could not be checked: ") + e.what());
       }
     }
   }
@@ -294,16 +296,15 @@ class Checker {
       if (!p.ok || js_["solids"][i]["model"]["type"] == "hex8" || runner_->name == "kinematic") continue;  // not tet-meshed
       const double h_solid = fluid ? near : far;  // the solid runner meshes each solid at edge_length
       const double thickness = p.area > 0 ? 3 * p.volume / p.area : h_solid;
-      const double h = std::min(h_solid, thickness);
       const std::string name = solid_name(i);
       if (thickness < h_solid)
-        count(kTetsPerCube * (p.volume / std::pow(h, 3) + p.area / (h * h)), fmt::format("/solids/{}/geometry", i),
+        count(estimate_solid_tets(p.volume, p.area, h_solid), fmt::format("/solids/{}/geometry", i),
               fmt::format("solid '{}', about {:.3g} m thick (3 volume / area), thinner than the edge length "
                           "{:g} m, so meshed at its thickness", name, thickness, h_solid));
       else
-        count(kTetsPerCube * (p.volume / std::pow(h, 3) + p.area / (h * h)),
+        count(estimate_solid_tets(p.volume, p.area, h_solid),
               fluid && near < far ? "/mesh/edge_length_near_solids" : "/mesh/edge_length",
-              fmt::format("solid '{}' at edge length {:g} m", name, h));
+              fmt::format("solid '{}' at edge length {:g} m", name, h_solid));
       if (fluid && grading > 0 && near < far)
         count(kTetsPerCube * p.area * grading / std::pow(0.5 * (near + far), 3), "/mesh/grading_distance",
               fmt::format("the graded band of {:g} m around solid '{}'", grading, name));
@@ -367,6 +368,12 @@ class Checker {
 };
 
 }  // namespace
+
+double estimate_solid_tets(double volume, double area, double h) {
+  constexpr double kTetsPerCube = 8.485;  // 6 sqrt 2
+  const double hs = area > 0 ? std::min(h, 3 * volume / area) : h;
+  return kTetsPerCube * (volume / std::pow(hs, 3) + area / (hs * hs));
+}
 
 double default_max_tets() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);

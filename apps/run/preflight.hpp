@@ -45,6 +45,10 @@ struct PreflightReport {
 /// The default tet limit: half the physical memory divided by kBytesPerTet.
 double default_max_tets();
 
+/// Estimated tets of one closed solid of volume V and area A meshed alone at edge length h
+/// (see estimate_tets in preflight.cpp): 6 sqrt(2) (V / h_s^3 + A / h_s^2), h_s = min(h, 3V/A).
+double estimate_solid_tets(double volume, double area, double edge_length);
+
 /// Runs every check. @throws scene::SceneError listing every problem with its JSON pointer
 PreflightReport preflight(const scene::Scene& scene, const PreflightOptions& options = {});
 

@@ -44,13 +44,7 @@ Reduction make_reduction(const HexModel& model, const BoundaryConditions& bc) {
     }
     used[dof] = 1;
   };
-  // Overlapping `fixed` regions fix a dof twice, which is no contradiction (an edge node of two
-  // clamped faces); a prescribed displacement on a dof already fixed or prescribed is one.
-  for (int dof : bc.fixed_dofs) {
-    if (dof >= 0 && dof < ndof && used[dof]) continue;
-    claim(dof, "fixed dofs");
-    r.dof_map[dof] = -1;
-  }
+  for (int dof : bc.fixed_dofs) { claim(dof, "fixed dofs"); r.dof_map[dof] = -1; }
   for (const auto& [dof, value] : bc.prescribed) {
     claim(dof, "prescribed displacement");
     r.dof_map[dof] = -1;
