@@ -20,11 +20,14 @@
 #include <CGAL/Polyhedral_complex_mesh_domain_3.h>
 #include <CGAL/Polyhedron_incremental_builder_3.h>
 #include <CGAL/Random.h>
+#include <CGAL/assertions.h>
+#include <CGAL/exceptions.h>
 #include <CGAL/make_mesh_3.h>
 #include <CGAL/refine_mesh_3.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -137,10 +140,9 @@ void seed_every_surface(C3t3& c3t3, const Domain& domain, const Criteria& criter
 /// Runs Mesh_3 on the given surfaces with subdomain pairs (inside, outside) and converts the
 /// complex to a TetMesh: vertices compacted (numbered in order of first use by a complex cell),
 /// tets positively oriented, labels = CGAL subdomain indices.
-TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<std::string>& names,
-                   const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
-                   const Triangles& graded_to, const MeshSizing& sizing) {
-  check_sizing(sizing);
+TetMesh mesh_3_unguarded(const std::vector<SurfaceMesh>& surfaces, const std::vector<std::string>& names,
+                         const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
+                         const Triangles& graded_to, const MeshSizing& sizing) {
   CGAL::get_default_random() = CGAL::Random(kSeed);
   CGAL::Random rng(kSeed);
 
@@ -202,6 +204,34 @@ TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<s
     out.subdomain.push_back(static_cast<int>(c3t3.subdomain_index(c)));
   }
   return out;
+}
+
+/// mesh_3_unguarded with CGAL's failures (assertions, preconditions, errors: CGAL throws them as
+/// CGAL::Failure_exception) turned into a MeshError: they come from input CGAL cannot mesh in
+/// double precision (coordinates far from the origin compared with the sizes, sizes near the
+/// smallest double), which the scene checks refuse first (apps/run/preflight.hpp).
+TetMesh run_mesh_3(const std::vector<SurfaceMesh>& surfaces, const std::vector<std::string>& names,
+                   const std::vector<std::pair<int, int>>& pairs, const std::vector<double>& feature_angles,
+                   const Triangles& graded_to, const MeshSizing& sizing) {
+  check_sizing(sizing);
+  // On some failures (a point "already inserted on surface") CGAL 5.5 Mesh_3 dumps its complex as
+  // dump-bug.mesh and dump-bug.binary.cgal into the working directory before it throws, whatever
+  // the build flags. tetfsi writes nothing outside its output folder: dumps that were not there
+  // before are removed. (Switching the dump off by specialising CGAL::Dump_c3t3 for this complex
+  // type changed the meshes themselves: seen 6419 instead of 6489 tets for bar_compare_ci.)
+  static const char* const dumps[] = {"dump-bug.mesh", "dump-bug.binary.cgal", "dump-bug-c3t3.polylines.txt"};
+  bool existed[3];
+  for (int k = 0; k < 3; ++k) existed[k] = std::filesystem::exists(dumps[k]);
+  try {
+    return mesh_3_unguarded(surfaces, names, pairs, feature_angles, graded_to, sizing);
+  } catch (const CGAL::Failure_exception& e) {
+    std::error_code ignored;
+    for (int k = 0; k < 3; ++k)
+      if (!existed[k]) std::filesystem::remove(dumps[k], ignored);
+    throw MeshError("CGAL Mesh_3 failed on this input (" + e.message() + (e.expression().empty() ? "" : ": " + e.expression()) +
+                    "); the sizes (mesh.edge_length, facet_distance) or coordinates are out of the range the mesher "
+                    "resolves in double precision");
+  }
 }
 
 void append_triangles(const SurfaceMesh& s, Triangles& out) {

@@ -4,7 +4,10 @@
 #include "mesh/remesh_region.hpp"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <numeric>
+#include <set>
 
 #include "mesh/incidence.hpp"
 #include "mesh/interface.hpp"  // kTetFaceVertices
@@ -145,6 +148,46 @@ std::vector<int> non_manifold_vertices(const std::vector<std::array<int, 3>>& hu
 
 }  // namespace
 
+bool region_is_ball(const TetMesh& mesh, const std::vector<char>& region) {
+  // Euler characteristic of the region, chi = V - E + F - C, and of its hull surface,
+  // chi_h = V_h - E_h + F_h, from the distinct vertices, edges and faces of the region's tets.
+  using Edge = std::array<int, 2>;
+  using Face = std::array<int, 3>;
+  std::set<int> vertices, hull_vertices;
+  std::set<Edge> edges, hull_edges;
+  std::map<Face, int> faces;  // face -> number of region tets having it
+  long cells = 0;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (!region[t]) continue;
+    ++cells;
+    const auto& v = mesh.tets[t];
+    for (int a = 0; a < 4; ++a) {
+      vertices.insert(v[a]);
+      for (int b = a + 1; b < 4; ++b) edges.insert({std::min(v[a], v[b]), std::max(v[a], v[b])});
+    }
+    for (int skip = 0; skip < 4; ++skip) {
+      Face f{};
+      for (int k = 0, n = 0; k < 4; ++k)
+        if (k != skip) f[n++] = v[k];
+      std::sort(f.begin(), f.end());
+      ++faces[f];
+    }
+  }
+  long hull_faces = 0;
+  for (const auto& [f, count] : faces) {
+    if (count != 1) continue;
+    ++hull_faces;
+    for (int a = 0; a < 3; ++a) {
+      hull_vertices.insert(f[a]);
+      const int b = f[(a + 1) % 3];
+      hull_edges.insert({std::min(f[a], b), std::max(f[a], b)});
+    }
+  }
+  const long chi = long(vertices.size()) - long(edges.size()) + long(faces.size()) - cells;
+  const long chi_hull = long(hull_vertices.size()) - long(hull_edges.size()) + hull_faces;
+  return cells > 0 && chi == 1 && chi_hull == 2;
+}
+
 std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band, int max_rounds) {
   const int n = mesh.num_vertices();
   // Vertex -> incident tets (compressed rows).
@@ -165,7 +208,7 @@ std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band
     if (touched[v]) add_star(v);
   for (int round = 0; round < max_rounds; ++round) {
     const std::vector<int> bad = non_manifold_vertices(hull_triangles(mesh, region));
-    if (bad.empty()) return region;
+    if (bad.empty()) return region_is_ball(mesh, region) ? region : std::vector<char>{};
     for (int v : bad) add_star(v);
   }
   return {};

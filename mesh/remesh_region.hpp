@@ -22,8 +22,18 @@ std::vector<int> vertex_kinds(const TetMesh& mesh);
 /// if band <= 0). Seeds: the vertices flagged in `seeds`, or every solid vertex if it is empty.
 std::vector<char> band_tets(const TetMesh& mesh, double band, const std::vector<char>& seeds = {});
 
+/// True if the tets flagged in `region` form a topological ball: the region's Euler characteristic
+/// V - E + F - C is 1 and its hull's V - E + F is 2 (a sphere). Coned to CGAL's infinite vertex a
+/// ball gives a triangulated 3-sphere, whose Euler relation V - E + F - C = 0
+/// Triangulation_data_structure_3::is_valid checks; a region in two pieces, with a tunnel or
+/// with a cavity breaks it (seen in MeshUpdate.RemeshingEveryStepKeepsTheSolidAndItsVertices with
+/// CGAL's checks on: the broken triangulation went into the remesher unnoticed in Release).
+/// @pre the hull of the region is a 2-manifold (band_region grows it until it is)
+bool region_is_ball(const TetMesh& mesh, const std::vector<char>& region);
+
 /// Per tet: 1 if CGAL gets it (see the file comment). Returns an empty vector if no manifold region
-/// was found within `max_rounds` growth rounds (then the caller hands CGAL the whole mesh).
+/// that is a ball (region_is_ball) was found within `max_rounds` growth rounds (then the caller
+/// hands CGAL the whole mesh).
 std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band, int max_rounds = 8);
 
 }  // namespace tetfsi::mesh

@@ -10,6 +10,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_3/tet_soup_to_c3t3.h>
 #include <CGAL/Tetrahedral_remeshing/Remeshing_triangulation_3.h>
+#include <CGAL/exceptions.h>
 #include <CGAL/tetrahedral_remeshing.h>
 
 #include <algorithm>
@@ -34,10 +35,8 @@ Key sorted(std::array<int, 4> k) {
   return k;
 }
 
-}  // namespace
-
-RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
-                          const std::vector<char>& seeds) {
+RemeshResult remesh_fluid_unguarded(const TetMesh& mesh, const RemeshOptions& options, int iterations,
+                                    const std::vector<char>& seeds) {
   if (!(options.target_edge_length > 0.0)) throw MeshError("remesh: target_edge_length must be > 0");
   const auto t_start = std::chrono::steady_clock::now();
   const int n = mesh.num_vertices();
@@ -166,6 +165,18 @@ RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int
   for (int t = 0; t < mesh.num_tets(); ++t)
     result.report.remeshed_fluid_tets += mesh.subdomain[t] == kFluidSubdomain && selected[t];
   return result;
+}
+
+}  // namespace
+
+RemeshResult remesh_fluid(const TetMesh& mesh, const RemeshOptions& options, int iterations,
+                          const std::vector<char>& seeds) {
+  try {
+    return remesh_fluid_unguarded(mesh, options, iterations, seeds);
+  } catch (const CGAL::Failure_exception& e) {  // a CGAL assertion, precondition or error
+    throw MeshError("remesh: CGAL tetrahedral remeshing failed (" + e.message() +
+                    (e.expression().empty() ? "" : ": " + e.expression()) + ")");
+  }
 }
 
 }  // namespace tetfsi::mesh

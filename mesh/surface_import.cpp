@@ -7,11 +7,17 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
+#include "mesh/io/ply_reader.hpp"
 
 namespace tetfsi::mesh {
 
@@ -31,10 +37,100 @@ void apply_placement(SurfaceMesh& surface, const Placement& placement) {
   for (auto& v : surface.vertices) v = R * (placement.unit_scale * v) + placement.translation;
 }
 
+namespace {
+
+/// Joins vertices at identical positions (exact comparison: the file's own values), as assimp's
+/// JoinIdenticalVertices does for the other formats.
+SurfaceMesh join_identical_vertices(const SurfaceMesh& in) {
+  SurfaceMesh s;
+  std::map<std::array<double, 3>, int> index_of;
+  std::vector<int> to(in.vertices.size());
+  for (std::size_t i = 0; i < in.vertices.size(); ++i) {
+    const auto& p = in.vertices[i];
+    auto [it, inserted] = index_of.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, s.num_vertices());
+    if (inserted) s.vertices.push_back(p);
+    to[i] = it->second;
+  }
+  for (const auto& t : in.triangles) s.triangles.push_back({to[t[0]], to[t[1]], to[t[2]]});
+  return s;
+}
+
+/// A PLY file by its extension or its first three bytes: either way it goes to io::read_ply, never
+/// to assimp (whose PLY reader also leaks on a file that starts with "ply" but no line break).
+bool is_ply(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") return true;
+  std::ifstream in(path, std::ios::binary);
+  char head[3] = {};
+  in.read(head, 3);
+  return in.gcount() == 3 && std::string_view(head, 3) == "ply";
+}
+
+/// OFF files (by extension or first token) state their vertex and face counts up front, and
+/// assimp 5.2 reserves memory for them before reading any: a file claiming 4e40 vertices took
+/// 16 GB in 30 s (found by fuzz_surface). Each vertex line takes at least 6 bytes ("0 0 0\n") and
+/// each face line 8 ("3 0 1 2\n"); counts the file cannot hold are refused before assimp sees it.
+void check_off_counts(const std::string& path, std::uintmax_t bytes) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::ifstream in(path, std::ios::binary);
+  std::string head(4096, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  std::istringstream words(head);
+  std::string token;
+  words >> token;
+  const bool off = ext == ".off" || (token.size() >= 3 && token.compare(token.size() - 3, 3, "OFF") == 0);
+  if (!off) return;
+  // Skip the OFF token (if any) and comment lines, then read the counts as written.
+  std::string line;
+  std::istringstream lines(head);
+  double counts[2] = {0, 0};
+  int found = 0;
+  bool first = true;
+  while (found < 2 && std::getline(lines, line)) {
+    std::istringstream ws(line);
+    std::string w;
+    while (found < 2 && ws >> w) {
+      if (w[0] == '#') break;
+      if (first && w.size() >= 3 && w.compare(w.size() - 3, 3, "OFF") == 0) { first = false; continue; }
+      first = false;
+      char* end = nullptr;
+      const double x = std::strtod(w.c_str(), &end);
+      if (end == w.c_str()) return;  // not a count: assimp reports the syntax error
+      counts[found++] = x;
+    }
+  }
+  if (found < 2) return;
+  if (!(counts[0] >= 0 && counts[1] >= 0 && 6 * counts[0] + 8 * counts[1] <= double(bytes)))
+  {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "%.6g vertices and %.6g faces, more than its %ju bytes can hold", counts[0],
+                  counts[1], bytes);
+    throw MeshError(path + ": OFF header claims " + msg + " (the file is cut or malformed)");
+  }
+}
+
+}  // namespace
+
 SurfaceMesh import_surface(const std::string& path, const Placement& placement) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw MeshError(path + ": file not found");
+  if (!std::filesystem::exists(path, ec)) throw MeshError(path + ": file not found");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw MeshError(path + ": not a regular file (a folder, FIFO or device cannot be a surface)");
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > kMaxSurfaceBytes)
+    throw MeshError(path + ": " + (ec ? ec.message() : std::to_string(bytes) + " bytes; surface files of more "
+                                                          "than 1 GiB are refused"));
+  // PLY files never reach assimp (its PLY reader loops or aborts on cut files, ply_reader.hpp).
+  if (is_ply(path)) {
+    SurfaceMesh s = join_identical_vertices(io::read_ply(path));
+    apply_placement(s, placement);
+    return s;
+  }
 
+  check_off_counts(path, bytes);
   Assimp::Importer importer;
   // Drop everything but positions so that JoinIdenticalVertices joins by position alone (STL and
   // others give every face its own vertices with their own normals).
@@ -59,6 +155,9 @@ SurfaceMesh import_surface(const std::string& path, const Placement& placement) 
     for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
       const aiVector3D& p = mesh->mVertices[i];
       const std::array<double, 3> key{p.x, p.y, p.z};
+      if (!std::isfinite(key[0]) || !std::isfinite(key[1]) || !std::isfinite(key[2]))
+        throw MeshError(path + ": vertex " + std::to_string(i) + " of mesh " + std::to_string(m) +
+                        " has a non-finite coordinate");
       auto [it, inserted] = index_of.emplace(key, s.num_vertices());
       if (inserted) s.vertices.emplace_back(key[0], key[1], key[2]);
       local[i] = it->second;

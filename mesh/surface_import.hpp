@@ -3,6 +3,7 @@
 /// Import of triangle surfaces with assimp (OBJ, PLY, STL, glTF/GLB, FBX, OFF, and whatever else
 /// assimp reads) and their placement in the scene.
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 
 #include "mesh/surface_mesh.hpp"
@@ -25,10 +26,15 @@ Eigen::Matrix3d placement_rotation(const Eigen::Vector3d& rotation_deg);
 /// is positive). @throws MeshError if unit_scale <= 0 or a value is not finite
 void apply_placement(SurfaceMesh& surface, const Placement& placement);
 
+/// Largest surface file read [bytes]; bigger files are refused before they are opened.
+constexpr std::uintmax_t kMaxSurfaceBytes = std::uintmax_t(1) << 30;
+
 /// Reads every mesh of the file (node transforms applied), keeps its triangles (polygons are
 /// triangulated, points and lines dropped), joins vertices at identical positions within and across
 /// meshes, then applies the placement. Does not check the surface: call validate_surface().
-/// @throws MeshError naming the file and the cause (missing file, unreadable format, no triangles)
+/// PLY files (recognised by their first line) are read by io::read_ply, every other format by assimp.
+/// @throws MeshError naming the file and the cause (missing or non-regular file, over
+///         kMaxSurfaceBytes, unreadable format, non-finite coordinates, no triangles)
 SurfaceMesh import_surface(const std::string& path, const Placement& placement = {});
 
 }  // namespace tetfsi::mesh

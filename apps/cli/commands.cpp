@@ -7,29 +7,47 @@
 
 #include "apps/run/driver.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/preflight.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/scene/docs.hpp"
 #include "apps/scene/scene.hpp"
 #include "apps/version.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
+#include "mesh/surface_checks.hpp"
 #include "mesh/io/vtu_writer.hpp"
 
 namespace tetfsi::cli {
 namespace {
 
-int validate(const std::string& file, bool print_resolved) {
-  const auto scene = scene::load_scene(file);
+/// `tetfsi validate`: the scene checks and every check of run::preflight (the ones `tetfsi run`
+/// makes before it meshes), so that both give the same verdict.
+int validate(const run::RunOptions& opt, bool print_resolved) {
+  const auto scene = run::load_with_overrides(opt);
+  run::PreflightOptions checks;
+  checks.max_tets = opt.max_tets;
+  const auto report = run::preflight(scene, checks);
+  for (const auto& w : report.warnings) std::cerr << "warning: " << w << "\n";
   if (print_resolved) std::cout << scene.json.dump(2) << "\n";
-  std::cout << fmt::format("{}: valid ({} solid(s), fluid: {})\n", file, scene["solids"].size(),
-                           scene["fluid"]["type"].get<std::string>());
+  std::cout << fmt::format("{}: valid ({} solid(s), fluid: {}; runner {}, about {:.3g} tets, at least {:.3g} steps, "
+                           "{:.3g} frames, about {:.3g} GB of output)\n",
+                           opt.scene_file.string(), scene["solids"].size(), scene["fluid"]["type"].get<std::string>(),
+                           report.runner, report.tets, report.steps, report.frames, report.output_bytes / 1e9);
   return 0;
 }
 
-int mesh_command(const std::string& in, const std::string& out, double edge, double scale) {
+int mesh_command(const std::string& in, const std::string& out, double edge, double scale, double max_tets) {
   std::vector<std::string> warnings;
   const auto surface = run::import_checked(in, scale, warnings);
   for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
+  double area = 0;
+  for (const auto& t : surface.triangles)
+    area += 0.5 * (surface.vertices[t[1]] - surface.vertices[t[0]]).cross(surface.vertices[t[2]] - surface.vertices[t[0]]).norm();
+  const double estimate = run::estimate_solid_tets(mesh::enclosed_volume(surface), area, edge);
+  if (!(estimate <= max_tets))
+    throw run::InputError(fmt::format("{}: the mesh would have about {:.3g} tets at --edge-length {:g} m, more than the "
+                                      "limit of {:.3g} (--max-tets): raise --edge-length or --max-tets",
+                                      in, estimate, edge, max_tets));
   mesh::MeshSizing sizing;
   sizing.edge_length = edge;
   mesh::TetMesh tets;
@@ -60,17 +78,26 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   auto* run = app.add_subcommand("run", "Run a scene: writes .pvd/.vtu frames, surfaces, stats.csv, "
                                         "probes.csv and run.log into the output folder");
   run->add_option("scene", opt.scene_file, "Scene file (JSON)")->required();
-  run->add_option("--out,-o", opt.out_dir, "Output folder; created if missing, earlier files are kept")
+  run->add_option("--out,-o", opt.out_dir, "Output folder; created if missing; the frames, .pvd and CSV files of an earlier run in it are removed, other files are kept")
       ->capture_default_str();
   auto* end_opt = run->add_option("--end-time", end_time, "Stop at this simulated time [s] (overrides the scene)");
   auto* thr_opt = run->add_option("--threads,-j", threads, "Worker threads; 0 = all cores (overrides the scene)");
   run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+  double max_tets = 0;
+  const std::string max_tets_help = fmt::format(
+      "Refuse scenes whose mesh is estimated above this many tets (default: half of this machine's memory at {:.0f} "
+      "bytes per tet: {:.3g})", run::kBytesPerTet, run::default_max_tets());
+  auto* run_tets = run->add_option("--max-tets", max_tets, max_tets_help)->check(CLI::PositiveNumber);
 
-  std::string validate_file;
-  auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any)");
-  val->add_option("scene", validate_file, "Scene file (JSON)")->required();
+  run::RunOptions vopt;
+  auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any): the same "
+                                             "checks as `run` makes before meshing");
+  val->add_option("scene", vopt.scene_file, "Scene file (JSON)")->required();
   bool print_resolved = false;
   val->add_flag("--resolved", print_resolved, "Also print the scene with every default filled in");
+  double vend_time = 0, vmax_tets = 0;
+  auto* vend_opt = val->add_option("--end-time", vend_time, "Check with this end time [s] (as `run --end-time`)");
+  auto* val_tets = val->add_option("--max-tets", vmax_tets, max_tets_help)->check(CLI::PositiveNumber);
 
   std::string mesh_in, mesh_out;
   double edge = 0.1, scale = 1.0;
@@ -80,6 +107,8 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   msh->add_option("output", mesh_out, "Output .vtu file")->required();
   msh->add_option("--edge-length", edge, "Target edge length [m]")->capture_default_str()->check(CLI::PositiveNumber);
   msh->add_option("--unit-scale", scale, "Metres per file unit (0.01 for cm)")->capture_default_str()->check(CLI::PositiveNumber);
+  double mmax_tets = 0;
+  auto* msh_tets = msh->add_option("--max-tets", mmax_tets, max_tets_help)->check(CLI::PositiveNumber);
 
   auto* sch = app.add_subcommand("schema", "Print the scene key reference (Markdown; docs/scene_format.md)");
 
@@ -92,14 +121,19 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   if (*run) {
     if (*end_opt) opt.end_time = end_time;
     if (*thr_opt) opt.threads = threads;
+    if (*run_tets) opt.max_tets = max_tets;
     opt.command_line = command_line;
     run::run_scene(opt);
     if (!opt.quiet) std::cout << fmt::format("output in {}/ (open the .pvd files in ParaView; see run.log)\n",
                                              opt.out_dir.string());
     return 0;
   }
-  if (*val) return validate(validate_file, print_resolved);
-  if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale);
+  if (*val) {
+    if (*vend_opt) vopt.end_time = vend_time;
+    if (*val_tets) vopt.max_tets = vmax_tets;
+    return validate(vopt, print_resolved);
+  }
+  if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale, *msh_tets ? mmax_tets : run::default_max_tets());
   if (*sch) {
     std::cout << scene::schema_markdown(scene::scene_schema());
     return 0;

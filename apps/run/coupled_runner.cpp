@@ -19,6 +19,8 @@
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/fluid_probe.hpp"
+#include "apps/run/watchdog.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -47,6 +49,7 @@ class CoupledRunner : public Simulation {
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
     const mesh::MeshSizing sizing = mesh_sizing(m);
+    watchdog_ = watchdog_settings(js.at("simulation"));
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
@@ -208,6 +211,14 @@ class CoupledRunner : public Simulation {
     return out;
   }
 
+  std::string unphysical() const override {
+    for (int i = 0; i < stepper_->num_solids(); ++i) {
+      auto what = inverted_tets(stepper_->solid_model(i), stepper_->solid(i).displacement(), names_[i], i, watchdog_);
+      if (!what.empty()) return what;
+    }
+    return "";
+  }
+
   std::string non_finite() const override {
     for (int i = 0; i < stepper_->num_solids(); ++i)
       if (!stepper_->solid(i).displacement().allFinite()) return fmt::format("solid '{}' displacement", names_[i]);
@@ -250,6 +261,9 @@ class CoupledRunner : public Simulation {
     if (kind == "total_energy") return {last_.total_energy()};
     if (kind == "fluid_volume")
       return {stepper_->fluid().has_free_surface() ? stepper_->fluid().liquid().total_volume() : stepper_->fluid_volume()};
+    if (kind == "fluid_kinetic_energy") return {last_.fluid_kinetic};
+    if (kind == "fluid_point") return {fluid_point_value(stepper_->fluid(), p)};
+    if (!p.contains("solid")) return {};
     const int i = solid_index(p.at("solid").get<std::string>());
     if (i < 0) return {};
     const auto& model = stepper_->solid_model(i);
@@ -284,6 +298,7 @@ class CoupledRunner : public Simulation {
   }
 
   std::unique_ptr<coupling::CoupledStepper> stepper_;
+  WatchdogSettings watchdog_;
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;
@@ -304,7 +319,8 @@ RunnerEntry coupled_runner() {
               if (!is_deformable_tet(solid)) return false;
             return true;
           },
-          [] { return std::make_unique<CoupledRunner>(); }};
+          [] { return std::make_unique<CoupledRunner>(); },
+          {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy"}};
 }
 
 }  // namespace tetfsi::run

@@ -1,5 +1,6 @@
 #include "apps/run/driver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <tbb/info.h>
 
 #include "apps/run/errors.hpp"
+#include "apps/run/preflight.hpp"
 #include "apps/run/progress.hpp"
 #include "apps/run/simulation.hpp"
 #include "support/stopwatch.hpp"
@@ -82,6 +84,7 @@ class Driver {
     }
 
     check_finite(*sim, 0, 0.0);
+    check_probes_answer(*sim);
     Stopwatch io;
     write_frame(*sim, out, 0, 0.0);
     double t_output = io.seconds();
@@ -100,6 +103,7 @@ class Driver {
     const double end = scene_["simulation"].at("end_time").get<double>();
     const double frame_dt = 1.0 / scene_["simulation"].at("frame_rate").get<double>();
     const double eps = 1e-12 * std::max(end, frame_dt);
+    const long max_steps = scene_["simulation"].at("max_steps").get<long>();
     Progress progress(end, !opt_.quiet);
     double t = 0;
     long step = 0;
@@ -121,10 +125,17 @@ class Driver {
         const double remaining = target - t;
         const bool lands = remaining <= h_max * (1 + 1e-9);
         const double h = lands ? remaining : remaining < 1.5 * h_max ? 0.5 * remaining : h_max;
+        if (step >= max_steps)
+          throw InputError(fmt::format("step {} (t = {:.6g} s of {:.6g} s): the run reached /simulation/max_steps = {} "
+                                       "before its end time (the step follows the CFL condition: {:.3g} s); raise "
+                                       "/simulation/max_steps, or shorten /simulation/end_time. Frames written so far "
+                                       "are intact.", step, t, end, max_steps, h_max));
         StepReport r = sim->step(h);
         t = lands && r.dt == h ? target : t + r.dt;
         ++step;
         check_finite(*sim, step, t);
+        check_physics(*sim, step, t);
+        check_row_finite(sim->columns(), r.values, step, t);
         io.restart();
         if (t >= next_frame - eps) write_frame(*sim, out, ++frame, t);
         record_probes(*sim, out, t);
@@ -156,19 +167,49 @@ class Driver {
         step, t, bad));
   }
 
+  /// The physics watchdog of the runner (Simulation::unphysical), with the step and time.
+  void check_physics(const Simulation& sim, long step, double t) {
+    const std::string what = sim.unphysical();
+    if (what.empty()) return;
+    throw RunError(fmt::format("step {} (t = {:.6g} s): {}. Nothing of this step was written; earlier frames are "
+                               "intact.", step, t, what));
+  }
+
+  /// A model statistic that is not finite (e.g. an energy that overflowed while the state is still
+  /// finite) stops the run before its stats.csv row is written.
+  void check_row_finite(const std::vector<std::string>& names, const std::vector<double>& values, long step, double t) {
+    for (std::size_t k = 0; k < values.size(); ++k)
+      if (!std::isfinite(values[k]))
+        throw RunError(fmt::format("step {} (t = {:.6g} s): the statistic {} is {}: the simulation diverged. Nothing "
+                                   "of this step was written; earlier frames are intact. Try a smaller time step "
+                                   "(simulation.dt or simulation.cfl) or check the loads and material parameters.",
+                                   step, t, k < names.size() ? names[k] : std::to_string(k), values[k]));
+  }
+
+  /// Every probe of the scene is answered by this runner (preflight checks the kinds; this
+  /// catches a runner that declares a kind it cannot give for this scene).
+  void check_probes_answer(const Simulation& sim) {
+    const auto& probes = scene_["probes"];
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      if (sim.probe(probes[i]).size() != probe_columns(probes[i]).size())
+        throw InputError(fmt::format("/probes/{}/kind: the runner of this scene has no probe \"{}\" here",
+                                     i, probes[i]["kind"].get<std::string>()));
+  }
+
   void record_probes(const Simulation& sim, Output& out, double t) {
     const auto& probes = scene_["probes"];
     if (probes.empty()) return;
     std::vector<double> row = {t};
     for (std::size_t i = 0; i < probes.size(); ++i) {
       auto values = sim.probe(probes[i]);
-      const auto cols = probe_columns(probes[i]);
-      if (values.size() != cols.size()) {
-        if (warned_.insert(i).second)
-          log_.warn("probe /probes/{} ('{}', kind {}) is not supported by this runner; its column is NaN",
-                    i, probes[i]["name"].get<std::string>(), probes[i]["kind"].get<std::string>());
-        values.assign(cols.size(), std::nan(""));
-      }
+      for (double v : values)
+        if (std::isinf(v))
+          throw RunError(fmt::format("t = {:.6g} s: probe /probes/{} ('{}') is {}: the simulation diverged; nothing "
+                                     "of this step was written", t, i, probes[i]["name"].get<std::string>(), v));
+      // NaN: no value (a fluid_point outside the fluid); written as an empty cell.
+      if (std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); }) && warned_.insert(i).second)
+        log_.warn("t = {:.6g} s: probe /probes/{} ('{}') has no value (outside the fluid?); its cells are left empty "
+                  "while it has none", t, i, probes[i]["name"].get<std::string>());
       row.insert(row.end(), values.begin(), values.end());
     }
     out.probes_row(row);
@@ -182,16 +223,28 @@ class Driver {
 
 }  // namespace
 
-void run_scene(const RunOptions& opt) {
+scene::Scene load_with_overrides(const RunOptions& opt) {
   scene::Scene scene = scene::load_scene(opt.scene_file);
   if (opt.end_time) {
-    if (!(*opt.end_time > 0)) throw InputError(fmt::format("--end-time: expected a number > 0, got {}", *opt.end_time));
+    if (!(*opt.end_time > 0) || !std::isfinite(*opt.end_time))
+      throw InputError(fmt::format("--end-time: expected a finite number > 0, got {}", *opt.end_time));
     scene.json["simulation"]["end_time"] = *opt.end_time;
   }
   if (opt.threads) {
-    if (*opt.threads < 0) throw InputError(fmt::format("--threads: expected an integer >= 0, got {}", *opt.threads));
+    if (*opt.threads < 0 || *opt.threads > 1024)
+      throw InputError(fmt::format("--threads: expected an integer from 0 to 1024, got {}", *opt.threads));
     scene.json["simulation"]["threads"] = *opt.threads;
   }
+  if (opt.max_tets && !(*opt.max_tets >= 1))
+    throw InputError(fmt::format("--max-tets: expected a number >= 1, got {}", *opt.max_tets));
+  return scene;
+}
+
+void run_scene(const RunOptions& opt) {
+  scene::Scene scene = load_with_overrides(opt);
+  PreflightOptions checks;
+  checks.max_tets = opt.max_tets;
+  const PreflightReport report = preflight(scene, checks);
   std::error_code ec;
   fs::create_directories(opt.out_dir, ec);
   if (ec || !fs::is_directory(opt.out_dir))
@@ -207,9 +260,16 @@ void run_scene(const RunOptions& opt) {
   log->info("tetfsi {}", TETFSI_VERSION);
   if (!opt.command_line.empty()) log->info("command: {}", opt.command_line);
   log->info("scene: {}", fs::absolute(opt.scene_file).string());
+  const OutputCleanup cleaned = clean_output_folder(opt.out_dir, reused);
   if (reused)
-    log->warn("{} holds an earlier run: files with the same names are replaced, other files are kept",
-              opt.out_dir.string());
+    log->warn("{} holds an earlier run: its frames, .pvd and CSV files ({} file(s)) were removed, other files are kept",
+              opt.out_dir.string(), cleaned.earlier_run_files);
+  if (cleaned.temporary_files > 0)
+    log->info("removed {} orphan temporary file(s) of an interrupted run", cleaned.temporary_files);
+  for (const auto& w : report.warnings) log->warn("{}", w);
+  log->info("checks: runner {}, about {:.3g} tets (limit {:.3g}), at least {:.3g} steps (limit {}), {:.3g} frames, "
+            "about {:.3g} GB of output", report.runner, report.tets, report.max_tets, report.steps,
+            scene["simulation"].at("max_steps").get<long long>(), report.frames, report.output_bytes / 1e9);
   const int threads = scene["simulation"].at("threads").get<int>();
   const int used = threads > 0 ? threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);

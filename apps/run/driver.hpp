@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "apps/scene/scene.hpp"
+
 namespace tetfsi::run {
 
 struct RunOptions {
@@ -16,9 +18,16 @@ struct RunOptions {
   std::optional<int> threads;      ///< overrides /simulation/threads
   bool quiet = false;              ///< no progress line
   std::string command_line;        ///< recorded in run.log
+  std::optional<double> max_tets;  ///< --max-tets (default: from the machine's memory, preflight.hpp)
 };
 
-/// Runs a scene. Returns normally on success.
+/// Loads the scene and applies the command-line overrides (--end-time, --threads).
+/// @throws scene::SceneError / InputError (exit 2)
+scene::Scene load_with_overrides(const RunOptions& options);
+
+/// Runs a scene: loads it, runs every check of preflight.hpp (the same as `tetfsi validate`),
+/// prepares the output folder (output.hpp: orphan temporary files and the frames of an earlier
+/// run are removed), then steps the runner. Returns normally on success.
 /// @throws scene::SceneError / InputError (exit 2), RunError (exit 1)
 void run_scene(const RunOptions& options);
 

@@ -18,6 +18,7 @@
 #include <limits>
 #include <map>
 
+#include "apps/run/fluid_probe.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
@@ -282,22 +283,7 @@ class FluidRunner : public Simulation {
       return {v};
     }
     if (kind != "fluid_point") return {};
-    const auto& fm = solver_->mesh();
-    const fluid::PointLocator locator(fm);
-    const auto loc = locator.locate(vec3(p.at("point")), 0);
-    if (!loc.inside) return {std::numeric_limits<double>::quiet_NaN()};
-    const auto q = p.at("quantity").get<std::string>();
-    const auto& fl = solver_->fields();
-    if (q == "pressure") {
-      double v = 0;
-      for (int k = 0; k < 4; ++k) v += loc.bary[k] * solver_->pressure()[fm.tets[loc.tet][k]];
-      return {v};
-    }
-    if (q == "smoke") return {fl.smoke[loc.tet]};
-    if (q == "temperature") return {fl.temperature[loc.tet]};
-    const Eigen::Vector3d u = fl.velocity[loc.tet];
-    if (q == "speed") return {u.norm()};
-    return {u[q.back() - 'x']};
+    return {fluid_point_value(*solver_, p)};
   }
 
  private:
@@ -450,7 +436,8 @@ RunnerEntry fluid_runner() {
               if (solid.at("motion").at("type") == "none") return false;  // deformable: coupled runner
             return true;
           },
-          [] { return std::make_unique<FluidRunner>(); }};
+          [] { return std::make_unique<FluidRunner>(); },
+          {"fluid_point", "fluid_kinetic_energy", "fluid_volume"}};
 }
 
 }  // namespace tetfsi::run

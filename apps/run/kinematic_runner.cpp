@@ -54,7 +54,7 @@ class KinematicRunner : public Simulation {
     double vertices = 0, vmax = 0;
     for (const auto& b : bodies_) {
       vertices += b.now.num_vertices();
-      for (const auto& v : b.velocity) vmax = std::max(vmax, v.norm());
+      for (const auto& v : b.velocity) vmax = std::max(vmax, v.stableNorm());  // no overflow of |v|^2
     }
     r.values = {vertices, vmax};
     return r;
@@ -134,7 +134,8 @@ RunnerEntry kinematic_runner() {
               if (solid.at("motion").at("type") == "none") return false;
             return true;
           },
-          [] { return std::make_unique<KinematicRunner>(); }};
+          [] { return std::make_unique<KinematicRunner>(); },
+          {"point_displacement", "solid_volume"}};
 }
 
 }  // namespace tetfsi::run

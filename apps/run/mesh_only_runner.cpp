@@ -137,7 +137,8 @@ class MeshOnlyRunner : public Simulation {
 RunnerEntry mesh_only_runner() {
   return {"mesh_only", "meshes the scene and exports frame 0 (no physics yet)",
           [](const scene::Scene&) { return true; },
-          [] { return std::make_unique<MeshOnlyRunner>(); }};
+          [] { return std::make_unique<MeshOnlyRunner>(); },
+          {"solid_volume"}};
 }
 
 }  // namespace tetfsi::run

@@ -1,5 +1,8 @@
 #include "apps/run/output.hpp"
 
+#include <cmath>
+#include <regex>
+
 #include <fmt/format.h>
 
 #include "apps/run/errors.hpp"
@@ -30,8 +33,47 @@ void open_csv(std::ofstream& f, const fs::path& path, const std::vector<std::str
 
 std::string csv_row(const std::vector<double>& row) {
   std::string line;
-  for (std::size_t i = 0; i < row.size(); ++i) line += fmt::format("{}{:.17g}", i ? "," : "", row[i]);
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    if (i) line += ',';
+    if (std::isfinite(row[i])) line += fmt::format("{:.17g}", row[i]);
+  }
   return line + "\n";
+}
+
+OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
+  static const std::regex temporary(R"(.+\.tmp\.[0-9]+)");
+  static const std::regex surface_frame(R"(.+_[0-9]{5}\.(ply|obj))");
+  OutputCleanup done;
+  std::error_code ec;
+  auto remove = [&](const fs::path& p, int& count) {
+    if (fs::remove(p, ec)) ++count;
+  };
+  std::vector<fs::path> folders;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_directory(ec)) {
+      folders.push_back(e.path());
+    } else if (e.is_regular_file(ec)) {
+      if (std::regex_match(name, temporary)) remove(e.path(), done.temporary_files);
+      else if (earlier_run && (e.path().extension() == ".pvd" || name == "stats.csv" || name == "probes.csv"))
+        remove(e.path(), done.earlier_run_files);
+    }
+  }
+  for (const auto& folder : folders) {
+    const std::string object = folder.filename().string();
+    const std::regex frame(std::regex_replace(object, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
+                           R"(_[0-9]{5}\.vtu)");
+    const int before = done.earlier_run_files;
+    for (const auto& e : fs::directory_iterator(folder, ec)) {
+      if (!e.is_regular_file(ec)) continue;
+      const std::string name = e.path().filename().string();
+      if (std::regex_match(name, temporary)) remove(e.path(), done.temporary_files);
+      else if (earlier_run && (std::regex_match(name, frame) || (object == "surfaces" && std::regex_match(name, surface_frame))))
+        remove(e.path(), done.earlier_run_files);
+    }
+    if (done.earlier_run_files > before && fs::is_empty(folder, ec)) fs::remove(folder, ec);
+  }
+  return done;
 }
 
 Output::Output(fs::path dir, scene::Json export_cfg) : dir_(std::move(dir)), cfg_(std::move(export_cfg)) {

@@ -3,7 +3,9 @@
 /// The output folder of a run: per-object .pvd collections with a .vtu per frame, per-frame
 /// surfaces (PLY/OBJ), stats.csv and probes.csv. Every frame file is written atomically (temp
 /// file + rename) and a .pvd only lists frames already complete, so an interrupted run leaves
-/// whole frames. Files of earlier runs that this run does not rewrite are never deleted.
+/// whole frames. Before a run writes anything, clean_output_folder removes orphan temporary files
+/// (of a killed run) and, in a folder that holds an earlier run, that run's frames, .pvd and CSV
+/// files, so no stale frame is left beside the new .pvd; other files are never deleted.
 #include <Eigen/Core>
 #include <filesystem>
 #include <fstream>
@@ -51,7 +53,20 @@ class Output {
   std::ofstream stats_, probes_;
 };
 
-/// One CSV row of numbers (17 significant digits, so values read back exactly).
+/// What clean_output_folder removed.
+struct OutputCleanup {
+  int temporary_files = 0;    ///< *.tmp.<pid> files of interrupted atomic writes
+  int earlier_run_files = 0;  ///< frames (<object>/<object>_NNNNN.vtu, surfaces/<object>_NNNNN.ply|obj),
+                              ///< *.pvd, stats.csv, probes.csv of an earlier run
+};
+
+/// Prepares an output folder: removes orphan temporary files (everywhere in `dir` and its
+/// sub-folders) and, if `earlier_run` (the folder holds a run.log), the files an earlier run wrote
+/// (the names listed in OutputCleanup), and sub-folders left empty by that. Other files stay.
+OutputCleanup clean_output_folder(const std::filesystem::path& dir, bool earlier_run);
+
+/// One CSV row of numbers (17 significant digits, so values read back exactly); a non-finite
+/// value (a probe without a value) is an empty cell.
 std::string csv_row(const std::vector<double>& row);
 
 }  // namespace tetfsi::run

@@ -42,6 +42,10 @@ class Simulation {
   /// Reports the first non-finite value of the state ("solid 'ball' position of vertex 12"), or
   /// "" if the state is finite. Called after each step, before anything is written.
   virtual std::string non_finite() const = 0;
+  /// The physics watchdog (/simulation/watchdog): "" if the state is physical, else a diagnosis
+  /// naming the object and the key to change (inverted tets of a deforming solid, energy from
+  /// nowhere). Called after each step, after non_finite(), before anything is written.
+  virtual std::string unphysical() const { return ""; }
   /// Writes the current state as frame `frame` at time `time`.
   virtual void write_frame(Output& out, int frame, double time) = 0;
   /// Values of one probe (resolved JSON of /probes/i); empty if this model does not support it.
@@ -56,6 +60,8 @@ struct RunnerEntry {
   std::string summary;                                  ///< for run.log
   std::function<bool(const scene::Scene&)> accepts;     ///< can it run this scene?
   std::function<std::unique_ptr<Simulation>()> create;
+  /// Probe kinds (/probes/i/kind) its probe() answers; empty: every kind the scene checks allow.
+  std::vector<std::string> probe_kinds = {};
 };
 
 /// Every runner, most specific first; the first that accepts a scene runs it (runners.cpp).

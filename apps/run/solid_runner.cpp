@@ -19,6 +19,7 @@
 #include "apps/run/solid_springs.hpp"
 #include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
+#include "apps/run/watchdog.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
 #include "solid/integrator/newmark.hpp"
@@ -36,7 +37,13 @@ struct Body {
   std::unique_ptr<solid::NewmarkIntegrator> integrator;
   mesh::SurfaceMesh surface;      ///< boundary of the tet mesh, at rest
   std::vector<int> surface_nodes; ///< tet-mesh node of each surface vertex
+  int index = 0;                  ///< /solids/index
+  std::string scheme;             ///< /solids/index/integrator/scheme
+  EnergyWatch energy;             ///< energy balance (watchdog.hpp)
 };
+
+/// Kinetic + strain + spring energy of a state [J] (the part that is not gravitational).
+double mechanical(const solid::StepStats& e) { return e.kinetic + e.strain + e.spring; }
 
 bool deforms_as(const scene::Json& solid, const char* model) {
   return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == model;
@@ -106,12 +113,26 @@ class SolidRunner : public Simulation {
       for (const auto& bx : obs.at("boxes")) integ.obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
       integ.obstacles().set_friction(obs.at("friction").get<double>());
       b.surface = boundary_surface(tets, &b.surface_nodes);
+      b.index = static_cast<int>(i);
+      b.scheme = s.at("integrator").at("scheme").get<std::string>();
+      {
+        // Energy scale floor m |g| L, and at least 1e-12 J so that a body at rest far from any load
+        // does not turn round-off into "energy from nowhere".
+        const Eigen::VectorXd& X = b.model->reference_positions();
+        const Eigen::Map<const Eigen::Matrix3Xd> P(X.data(), 3, X.size() / 3);
+        const double size = (P.rowwise().maxCoeff() - P.rowwise().minCoeff()).norm();
+        const double mass = b.model->lumped_masses().sum();
+        const auto e = integ.energies();
+        const double g = vec3(js.at("simulation").at("gravity")).norm();
+        b.energy = EnergyWatch(e.total(), mechanical(e), std::max(mass * g * size, 1e-12));
+      }
       log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
                s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),
                mat["constitutive"].get<std::string>());
       bodies_.push_back(std::move(b));
     }
     log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), h_);
+    watchdog_ = watchdog_settings(sim);
   }
 
   std::vector<std::string> phases() const override { return {"assemble", "solve"}; }
@@ -134,6 +155,7 @@ class SolidRunner : public Simulation {
         throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
                                    stvk ? " (in the scene: material.constitutive \"neohookean\")" : ""));
       }
+      b.energy.record(st.total(), mechanical(st));
       assemble += st.assembly_seconds;
       solve += st.solve_seconds;
       const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
@@ -153,6 +175,15 @@ class SolidRunner : public Simulation {
         if (!std::isfinite(d[i])) return fmt::format("solid '{}': displacement of node {}", b.name, i / 3);
         if (!std::isfinite(u[i])) return fmt::format("solid '{}': velocity of node {}", b.name, i / 3);
       }
+    }
+    return "";
+  }
+
+  std::string unphysical() const override {
+    for (const auto& b : bodies_) {
+      auto what = inverted_tets(*b.model, b.integrator->displacement(), b.name, b.index, watchdog_);
+      if (what.empty()) what = b.energy.check(b.name, b.index, b.scheme, watchdog_);
+      if (!what.empty()) return what;
     }
     return "";
   }
@@ -208,6 +239,7 @@ class SolidRunner : public Simulation {
  private:
   std::vector<Body> bodies_;
   double h_ = 0;
+  WatchdogSettings watchdog_;
 };
 
 }  // namespace
@@ -220,7 +252,8 @@ RunnerEntry solid_runner() {
               if (deforms_as(solid, "tet_fem")) return true;
             return false;
           },
-          [] { return std::make_unique<SolidRunner>(); }};
+          [] { return std::make_unique<SolidRunner>(); },
+          {"point_displacement", "solid_volume", "total_energy"}};
 }
 
 }  // namespace tetfsi::run

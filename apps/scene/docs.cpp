@@ -86,7 +86,19 @@ std::string schema_markdown(const Field& schema) {
       "where the key says `_deg`). Unknown keys are errors. Keys with a default may be left out;\n"
       "`tetfsi validate SCENE` checks a file, and run.log shows the scene with every default filled\n"
       "in. Relative file paths are resolved from the scene file's folder. Each section below is one\n"
-      "object, named by its JSON pointer (`*` stands for any array index).\n";
+      "object, named by its JSON pointer (`*` stands for any array index).\n\n"
+      "`tetfsi validate` and `tetfsi run` make the same checks before anything is meshed (so they\n"
+      "give the same verdict; docs/reliability.md): a scene file is a regular file of at most 8 MiB;\n"
+      "solid and probe names are 1 to 64 of `A-Z a-z 0-9 _ -` (solid names are output file names and\n"
+      "not `fluid`, `particles`, `membrane` or `surfaces`; probe names are probes.csv columns), unique;\n"
+      "surface files are read and checked (closed, manifold, oriented, not self-intersecting);\n"
+      "coordinates (domain, placed solids, inflows, emitters) lie within 1e6 m and 1e8 edge lengths\n"
+      "of the origin; solids lie inside the domain and do not overlap; the runner that runs the scene\n"
+      "has every probe kind asked for. Resource guards: the estimated tet count must not exceed\n"
+      "`--max-tets` (default: half of the machine's memory at 4096 bytes per tet), the estimated\n"
+      "number of steps `simulation.max_steps`, the estimated output size `export.max_output_gb`.\n"
+      "While running, `simulation.watchdog` stops a run that inverts tets or makes energy from\n"
+      "nowhere, and no non-finite number is written to any output file.\n";
   w.object(schema, "");
   return w.out;
 }

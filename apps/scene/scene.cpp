@@ -11,11 +11,23 @@
 namespace tetfsi::scene {
 namespace {
 
+/// At most `n` characters of `text` (a huge key in a pointer or message is not echoed whole).
+std::string clip(const std::string& text, std::size_t n) {
+  return text.size() <= n ? text : text.substr(0, n) + fmt::format("... ({} characters)", text.size());
+}
+
 std::string format_issues(const std::string& file, const std::vector<Issue>& issues) {
   std::string s;
-  for (const auto& i : issues)
-    s += (s.empty() ? "" : "\n") + (i.pointer.empty() ? fmt::format("{}: {}", file, i.message)
-                                                     : fmt::format("{}: {}: {}", file, i.pointer, i.message));
+  std::size_t shown = 0;
+  for (const auto& i : issues) {
+    if (++shown > kMaxIssuesShown) {
+      s += fmt::format("\n{}: ... and {} more problem(s)", file, issues.size() - kMaxIssuesShown);
+      break;
+    }
+    const std::string pointer = clip(i.pointer, 200), message = clip(i.message, 600);
+    s += (s.empty() ? "" : "\n") + (pointer.empty() ? fmt::format("{}: {}", file, message)
+                                                   : fmt::format("{}: {}: {}", file, pointer, message));
+  }
   return s;
 }
 
@@ -106,17 +118,27 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& file) {
 }
 
 Scene load_scene(const std::filesystem::path& file) {
+  namespace fs = std::filesystem;
+  const std::string name = file.filename().string();
   std::error_code ec;
-  if (std::filesystem::is_directory(file, ec))
-    throw SceneError(file.filename().string(),
-                     {{"", fmt::format("{} is a folder; expected a scene file (.json)", file.string())}});
+  const auto status = fs::status(file, ec);
+  if (fs::is_directory(status))
+    throw SceneError(name, {{"", fmt::format("{} is a folder; expected a scene file (.json)", file.string())}});
+  if (fs::exists(status) && !fs::is_regular_file(status))  // a FIFO would block, /dev/zero never ends
+    throw SceneError(name, {{"", fmt::format("{} is not a regular file (a FIFO, socket or device); expected a "
+                                             "scene file (.json)", file.string())}});
   std::ifstream in(file, std::ios::binary);
-  if (!in)
-    throw SceneError(file.filename().string(),
-                     {{"", fmt::format("cannot read the scene file {}", file.string())}});
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_scene(ss.str(), file);
+  if (!in || !fs::exists(status))
+    throw SceneError(name, {{"", fmt::format("cannot read the scene file {}", file.string())}});
+  // Read at most one byte more than allowed, whatever the file system says about the size.
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxSceneBytes)
+    throw SceneError(name, {{"", fmt::format("{} is larger than {} MiB; a scene file holds keys and values, "
+                                             "geometry belongs in surface files (solids/i/geometry/file)",
+                                             file.string(), kMaxSceneBytes >> 20)}});
+  return parse_scene(text, file);
 }
 
 }  // namespace tetfsi::scene

@@ -31,7 +31,13 @@ class SceneError : public std::runtime_error {
   std::vector<Issue> issues_;
 };
 
-/// Reads, parses and validates a scene file.
+/// Largest scene file read [bytes] (a scene holds keys and values; geometry is in surface files).
+constexpr std::size_t kMaxSceneBytes = std::size_t(8) << 20;
+/// Problems listed by SceneError::what() (all are kept in issues()).
+constexpr std::size_t kMaxIssuesShown = 50;
+
+/// Reads, parses and validates a scene file. Only regular files of at most kMaxSceneBytes are
+/// read (a FIFO or device is refused before it is opened for reading).
 /// @throws SceneError on unreadable files, JSON syntax errors (with line and column) and every
 ///         schema violation
 Scene load_scene(const std::filesystem::path& file);

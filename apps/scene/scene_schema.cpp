@@ -1,5 +1,7 @@
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -78,8 +80,8 @@ void check_shells(const Json& s, std::vector<Issue>& issues) {
                                  "the domain box, nothing outside the shell is meshed"});
 }
 
-// `fluid.fill: regions` (a free surface) needs regions; its solids are tet FEM or kinematic, and
-// one of them may not take the name of the liquid's output.
+// `fluid.fill: regions` (a free surface) needs regions that hold liquid in the domain; its solids
+// are tet FEM or kinematic.
 void check_free_surface(const Json& s, std::vector<Issue>& issues) {
   if (s["fluid"]["type"] != "liquid") return;
   if (s["fluid"].value("fill", "domain") != "regions") {
@@ -140,31 +142,83 @@ void check_free_surface(const Json& s, std::vector<Issue>& issues) {
       issues.push_back({fmt::format("/solids/{}/model/type", i),
                         "a liquid with a free surface (fluid.fill \"regions\") couples to deforming tet_fem "
                         "solids (and static or kinematic ones); hex8 solids do not take part in the coupled solve"});
-    if (solid["name"] == "liquid")
-      issues.push_back({fmt::format("/solids/{}/name", i),
-                        "\"liquid\" names the free surface's output files (surfaces/liquid_*.ply): rename the solid"});
   }
   if (s.contains("coupling") && s["coupling"].value("constraint", "end_of_step") == "step_mean")
     issues.push_back({"/coupling/constraint", "the step-mean constraint does not apply to a free surface "
                                               "(fluid.fill \"regions\"): use \"end_of_step\""});
 }
 
-// Checks across blocks: names are unique, probes name existing solids, a fluid needs a domain.
-void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
-  std::set<std::string> names;
+constexpr std::size_t kMaxNameLength = 64;
+
+/// A name that is safe as a file name on every file system and as a CSV column: 1 to 64 of
+/// A-Z a-z 0-9 _ -, starting with a letter or digit (no dot, so no "stats.csv" or "..").
+bool safe_name(const std::string& name) {
+  if (name.empty() || name.size() > kMaxNameLength || name[0] == '-' || name[0] == '_') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string shown(const std::string& name) {
+  return name.size() <= kMaxNameLength ? name : name.substr(0, kMaxNameLength) + "...";
+}
+
+// Solid names name output files (<name>.pvd, <name>/, surfaces/<name>_*.ply): safe, unique
+// without regard to case (case-insensitive file systems), and none of the other objects a run
+// writes. Probe names are probes.csv columns: safe, unique after the _x/_y/_z expansion.
+void check_names(const Json& s, std::vector<Issue>& issues, std::set<std::string>& names) {
+  static const std::set<std::string> reserved = {"fluid", "liquid", "particles", "membrane", "surfaces"};
+  std::set<std::string> folded;
   for (std::size_t i = 0; i < s["solids"].size(); ++i) {
     const auto name = s["solids"][i]["name"].get<std::string>();
-    if (name.empty() || name.find_first_of("/\\ ") != std::string::npos)
-      issues.push_back({fmt::format("/solids/{}/name", i),
-                        "expected a non-empty name without spaces or slashes (it names output files)"});
-    else if (!names.insert(name).second)
-      issues.push_back({fmt::format("/solids/{}/name", i), fmt::format("duplicate solid name \"{}\"", name)});
+    const std::string ptr = fmt::format("/solids/{}/name", i);
+    if (!safe_name(name))
+      issues.push_back({ptr, fmt::format("expected 1 to {} letters, digits, '_' or '-' (starting with a letter or "
+                                         "digit; the name is used in output file names), got \"{}\" ({} characters)",
+                                         kMaxNameLength, shown(name), name.size())});
+    else if (reserved.count(lower(name)))
+      issues.push_back({ptr, fmt::format("\"{}\" is the name of another output of a run (fluid, particles, membrane, "
+                                         "surfaces): choose another name", name)});
+    else if (!folded.insert(lower(name)).second)
+      issues.push_back({ptr, fmt::format("duplicate solid name \"{}\" (names are compared without regard to case: "
+                                         "they name files)", name)});
+    names.insert(name);
   }
+  std::set<std::string> columns = {"time"};
+  for (std::size_t i = 0; i < s["probes"].size(); ++i) {
+    const auto& p = s["probes"][i];
+    const auto name = p["name"].get<std::string>();
+    const std::string ptr = fmt::format("/probes/{}/name", i);
+    if (!safe_name(name)) {
+      issues.push_back({ptr, fmt::format("expected 1 to {} letters, digits, '_' or '-' (the name is a probes.csv "
+                                         "column), got \"{}\"", kMaxNameLength, shown(name))});
+      continue;
+    }
+    std::vector<std::string> cols = {name};
+    if (p["kind"] == "point_displacement") cols = {name + "_x", name + "_y", name + "_z"};
+    for (const auto& c : cols)
+      if (!columns.insert(lower(c)).second) {
+        issues.push_back({ptr, fmt::format("probes.csv would have two columns \"{}\" (probe names must be unique, "
+                                           "and differ from \"time\")", c)});
+        break;
+      }
+  }
+}
+
+// Checks across blocks: names are safe and unique, probes name existing solids, a fluid needs a domain.
+void check_scene(const Json& s, const std::string&, std::vector<Issue>& issues) {
+  std::set<std::string> names;
+  check_names(s, issues, names);
   for (std::size_t i = 0; i < s["probes"].size(); ++i) {
     const auto& p = s["probes"][i];
     if (p.contains("solid") && !names.count(p["solid"].get<std::string>()))
       issues.push_back({fmt::format("/probes/{}/solid", i),
-                        fmt::format("no solid named \"{}\" in /solids", p["solid"].get<std::string>())});
+                        fmt::format("no solid named \"{}\" in /solids", shown(p["solid"].get<std::string>()))});
   }
   check_mpm(s, issues);
   check_shells(s, issues);

@@ -24,6 +24,9 @@ bool has_required_member(const Field& f) {
   return std::any_of(f.members.begin(), f.members.end(), [](const Field& m) { return m.required; });
 }
 
+/// Largest magnitude of an Integer key: every integer of the scene is read as a C++ int.
+constexpr double kMaxInteger = 2147483647.0;
+
 bool in_range(const Field& f, double x) {
   return (!f.gt || x > *f.gt) && (!f.ge || x >= *f.ge) && (!f.lt || x < *f.lt) &&
          (!f.le || x <= *f.le);
@@ -42,6 +45,11 @@ class Validator {
                                  : (v.is_number_integer() ||
                                     (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>()));
         if (!ok_type || !in_range(f, v.get<double>())) return bad(ptr, f, v);
+        if (f.kind == Kind::Integer && !(std::fabs(v.get<double>()) <= kMaxInteger)) {
+          issues_.push_back({ptr, fmt::format("expected {}, got {}: integers are limited to +-{} here",
+                                              f.expectation(), describe(v), kMaxInteger)});
+          return Json();
+        }
         return f.kind == Kind::Integer ? Json(v.get<long long>()) : v;
       }
       case Kind::Bool:
@@ -120,18 +128,18 @@ class Validator {
 
     Json out = Json::object();
     for (const auto& [key, val] : v.items()) {
-      auto m = std::find_if(members.begin(), members.end(), [&](const Field* x) { return x->key == key; });
+      auto m = std::find_if(members.begin(), members.end(), [&k = key](const Field* x) { return x->key == k; });
       if (m != members.end()) continue;
       std::string owner;  // a variant that has this key
       for (const auto& [name, extra] : f.variants)
         for (const auto& e : extra)
           if (e.key == key && owner.empty()) owner = name;
       if (!tag_known && !owner.empty()) continue;  // reported through the tag instead
-      std::string msg = fmt::format("unknown key \"{}\"", key);
+      std::string msg = fmt::format("unknown key \"{}\"", key.size() <= 64 ? key : key.substr(0, 64) + "...");
       if (!owner.empty()) {
         msg += fmt::format(" for {} \"{}\" (it belongs to {} \"{}\")", f.tag,
                            v.at(f.tag).get<std::string>(), f.tag, owner);
-      } else if (auto hint = closest_match(key, allowed); !hint.empty()) {
+      } else if (auto hint = key.size() <= 64 ? closest_match(key, allowed) : ""; !hint.empty()) {
         msg += fmt::format("; did you mean \"{}\"?", hint);
       } else {
         std::string list;

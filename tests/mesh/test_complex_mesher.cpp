@@ -5,6 +5,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+
+#include <unistd.h>
 
 #include "mesh/complex_mesher.hpp"
 #include "mesh/interface.hpp"
@@ -162,4 +165,30 @@ TEST(ComplexMesher, BadInputsAreNamed) {
   MeshSizing zero;
   zero.edge_length = 0.0;
   EXPECT_THROW(build_complex({-1, -1, -1}, {1, 1, 1}, {}, zero), MeshError);
+}
+
+// A size CGAL cannot resolve (a denormal edge length) makes Mesh_3 fail an internal check; that
+// failure is a MeshError, and CGAL's debug dump (dump-bug.*) is not written into the working
+// directory (it was, before CGAL's dump was switched off in complex_mesher.cpp).
+TEST(ComplexMesher, CgalFailuresAreMeshErrorsAndWriteNoFiles) {
+  namespace fs = std::filesystem;
+  const fs::path cwd = fs::current_path();
+  const fs::path dir = fs::temp_directory_path() / ("tetfsi_cgal_failure_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::current_path(dir);
+  tetfsi::mesh::MeshSizing sizing;
+  sizing.edge_length = 1e-320;
+  sizing.facet_distance = 0.005;
+  bool mesh_error = false;
+  try {
+    tetfsi::mesh::mesh_solid(tetfsi::mesh::make_box({1.0, 0.1, 0.1}), sizing);
+  } catch (const tetfsi::mesh::MeshError& e) {
+    mesh_error = std::string(e.what()).find("CGAL Mesh_3 failed") != std::string::npos;
+  } catch (...) {
+  }
+  const bool empty = fs::is_empty(dir);
+  fs::current_path(cwd);
+  fs::remove_all(dir);
+  EXPECT_TRUE(mesh_error);
+  EXPECT_TRUE(empty) << "CGAL wrote files into the working directory";
 }

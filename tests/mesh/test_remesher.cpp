@@ -3,12 +3,15 @@
 // threshold, and the complex stays conforming and fills the box.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
 #include <set>
 
 #include "mesh/complex_mesher.hpp"
 #include "mesh/interface.hpp"
 #include "mesh/primitives.hpp"
 #include "mesh/quality.hpp"
+#include "mesh/remesh_region.hpp"
 #include "mesh/remesher.hpp"
 #include "mesh/sliver_perturbation.hpp"
 #include "mesh/structured_box.hpp"
@@ -187,4 +190,26 @@ TEST(Remesher, TooLargeAStepIsAnError) {
   RemeshOptions options;
   // 0.4 m moves the sphere (r = 0.25) through the box wall at 0.6: tets must invert.
   EXPECT_THROW(remesh_step(mesh, translated_solid(mesh, {0.4, 0, 0}), options), MeshError);
+}
+
+// region_is_ball (remesh_region.hpp): CGAL's build_triangulation cones the hull of the region to
+// one infinite vertex, which is a valid triangulation (Euler relation V - E + F - C = 0) only if
+// the region is a ball. Two separate slabs, a block with a tunnel and a hollow block are not.
+TEST(RemeshRegion, OnlyBallsAreHandedToCgal) {
+  using tetfsi::mesh::region_is_ball;
+  const auto box = tetfsi::mesh::structured_box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(3.0), 3, 3, 3);
+  auto region = [&](const std::function<bool(int, int, int)>& keep) {
+    std::vector<char> r(box.tets.size(), 0);
+    for (int t = 0; t < box.num_tets(); ++t) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int v : box.tets[t]) c += box.vertices[v] / 4.0;
+      r[t] = keep(int(std::floor(c.x())), int(std::floor(c.y())), int(std::floor(c.z())));
+    }
+    return r;
+  };
+  EXPECT_TRUE(region_is_ball(box, region([](int, int, int) { return true; })));
+  EXPECT_TRUE(region_is_ball(box, region([](int i, int, int) { return i == 0; })));
+  EXPECT_FALSE(region_is_ball(box, region([](int i, int, int) { return i != 1; })));                // two slabs
+  EXPECT_FALSE(region_is_ball(box, region([](int i, int j, int) { return !(i == 1 && j == 1); })));  // tunnel
+  EXPECT_FALSE(region_is_ball(box, region([](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); })));  // cavity
 }

@@ -157,3 +157,19 @@ TEST(SurfaceImport, ErrorsNameTheFileAndTheCause) {
     EXPECT_NE(std::string(e.what()).find(lines), std::string::npos) << e.what();
   }
 }
+
+// An OFF file whose header claims more vertices than its bytes can hold is refused before assimp
+// reserves memory for them (a claim of 4e40 vertices took 16 GB in 30 s; found by fuzz_surface).
+TEST(SurfaceImport, OffCountsBeyondTheFileAreRefusedBeforeAssimp) {
+  tetfsi::test::TempDir dir("off_counts");
+  const auto file = dir.path() / "claims.off";
+  std::ofstream(file) << "OFF\n50000000 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  try {
+    tetfsi::mesh::import_surface(file.string());
+    FAIL() << "expected a MeshError";
+  } catch (const tetfsi::mesh::MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("claims.off: OFF header claims 5e+07 vertices"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir.path() / "tetra.off") << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  EXPECT_EQ(tetfsi::mesh::import_surface((dir.path() / "tetra.off").string()).num_triangles(), 4);
+}

@@ -107,6 +107,9 @@ Field output() {
                          "Per-frame solid surfaces for Blender/Houdini (PLY carries per-vertex velocity).")
           .def("ply"),
       Field::integer("every_n_frames", "Write every n-th frame only.").at_least(1).def(1),
+      Field::number("max_output_gb", "GB",
+                    "Largest estimated size of the output folder (frames x frame size + stats rows); a scene "
+                    "that would write more is refused before it starts.").greater(0).def(20),
   });
 }
 

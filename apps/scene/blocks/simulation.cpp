@@ -13,7 +13,21 @@ Field simulation() {
       Field::number("frame_rate", "1/s", "Output frames per simulated second.").greater(0).def(30),
       Field::vector("gravity", 3, "m/s^2", "Gravitational acceleration.").def({0, -9.81, 0}),
       Field::integer("threads", "Worker threads; 0 uses every core. `--threads` overrides it.")
-          .at_least(0).def(0),
+          .at_least(0).at_most(1024).def(0),
+      Field::integer("max_steps", "Largest number of steps the run may take; a scene whose end_time, dt or "
+                     "frame_rate asks for more is refused before it starts, and a run whose CFL step makes it "
+                     "take more stops (exit 2). Raise it for long runs.")
+          .at_least(1).def(1000000),
+      Field::object("watchdog", "Stops a run that goes unphysical (exit 1, with the object, the step and the key "
+                    "to change); non-finite values always stop it.", {
+          Field::boolean("allow_inverted", "Keep running when tets of a deforming tet solid invert (volume <= 0); "
+                         "by default the first inverted tet stops the run.").def(false),
+          Field::number("max_energy_growth", "",
+                        "Solid-only tet scenes: largest rise of the total energy (kinetic + elastic + gravitational) "
+                        "above its start, as a fraction of the energy scale (the largest kinetic + elastic energy so "
+                        "far, at least m |g| L for each solid of mass m and size L); the loads are conservative, so a "
+                        "rise is energy from nowhere. Raise it to let such a run continue.")
+              .greater(0).def(0.5)}),
   });
 }
 

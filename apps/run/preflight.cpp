@@ -1,0 +1,388 @@
+#include "apps/run/preflight.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include "apps/run/errors.hpp"
+#include "apps/run/scene_values.hpp"
+#include "apps/run/simulation.hpp"
+#include "apps/run/solid_geometry.hpp"
+#include "mesh/complex_mesher.hpp"
+#include "mesh/surface_checks.hpp"
+
+namespace tetfsi::run {
+namespace {
+
+using scene::Issue;
+using scene::Json;
+
+/// A placed solid surface with what the estimates need.
+struct Placed {
+  bool ok = false;              ///< read and checked
+  mesh::SurfaceMesh surface;
+  Eigen::Vector3d lo, hi;       ///< bounding box [m]
+  double volume = 0, area = 0;  ///< [m^3], [m^2]
+};
+
+double surface_area(const mesh::SurfaceMesh& s) {
+  double a = 0;
+  for (const auto& t : s.triangles)
+    a += 0.5 * (s.vertices[t[1]] - s.vertices[t[0]]).cross(s.vertices[t[2]] - s.vertices[t[0]]).norm();
+  return a;
+}
+
+bool boxes_overlap(const Eigen::Vector3d& alo, const Eigen::Vector3d& ahi, const Eigen::Vector3d& blo,
+                   const Eigen::Vector3d& bhi) {
+  return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
+}
+
+double max_abs(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+}
+
+std::string gb(double bytes) {
+  if (bytes < 1e6) return fmt::format("{:.3g} kB", bytes / 1e3);
+  if (bytes < 1e9) return fmt::format("{:.3g} MB", bytes / 1e6);
+  return fmt::format("{:.3g} GB", bytes / 1e9);
+}
+
+class Checker {
+ public:
+  Checker(const scene::Scene& scene, const PreflightOptions& opt) : scene_(scene), js_(scene.json), opt_(opt) {}
+
+  PreflightReport run() {
+    check_scalars();
+    if (!issues_.empty()) fail();  // the rest reads these values
+    runner_ = &choose_runner(scene_);
+    report_.runner = runner_->name;
+    read_solids();
+    check_placements();
+    check_runner();
+    check_probes();
+    check_emitters();
+    if (issues_.empty()) estimate();
+    if (!issues_.empty()) fail();
+    return report_;
+  }
+
+ private:
+  [[noreturn]] void fail() { throw scene::SceneError(scene_.file.filename().string(), issues_); }
+
+  void add(std::string pointer, std::string message) { issues_.push_back({std::move(pointer), std::move(message)}); }
+
+  bool meshes_fluid() const { return js_.at("fluid").at("type") != "none" && !js_.contains("mpm"); }
+
+  /// Finest edge length the mesher is asked for [m].
+  double finest_edge() const {
+    const auto& m = js_.at("mesh");
+    const double h = m.at("edge_length").get<double>(), near = m.at("edge_length_near_solids").get<double>();
+    return near > 0 ? std::min(h, near) : h;
+  }
+
+  /// |x| <= kMaxCoordinate and |x| <= kMaxCoordinateOverEdge * finest edge, for a key holding a point.
+  void check_point(const std::string& pointer, const Json& v) {
+    if (!v.is_array()) return;
+    double m = 0;
+    for (const auto& x : v) m = std::max(m, std::fabs(x.get<double>()));
+    check_magnitude(pointer, m, "a coordinate");
+  }
+
+  void check_magnitude(const std::string& pointer, double m, const char* what) {
+    if (m > kMaxCoordinate) {
+      add(pointer, fmt::format("{} of {:.3g} m: tetfsi meshes scenes within {:.0e} m of the origin (double precision "
+                               "resolves no mesh size out there); move the scene near the origin",
+                               what, m, kMaxCoordinate));
+    } else if (m > kMaxCoordinateOverEdge * finest_edge() && !edge_reported_) {
+      edge_reported_ = true;
+      const auto& mesh = js_.at("mesh");
+      const bool near = mesh.at("edge_length_near_solids").get<double>() > 0 &&
+                        mesh["edge_length_near_solids"].get<double>() < mesh.at("edge_length").get<double>();
+      add(near ? "/mesh/edge_length_near_solids" : "/mesh/edge_length",
+          fmt::format("an edge length of {:.3g} m is too fine for coordinates of {:.3g} m ({}): the mesher resolves "
+                      "coordinates up to {:.0e} edge lengths from the origin; raise the edge length or move the scene "
+                      "near the origin", finest_edge(), m, pointer, kMaxCoordinateOverEdge));
+    }
+  }
+
+  void check_scalars() {
+    if (js_.contains("domain")) {
+      check_point("/domain/lo", js_["domain"]["lo"]);
+      check_point("/domain/hi", js_["domain"]["hi"]);
+      for (std::size_t i = 0; i < js_["domain"]["inflows"].size(); ++i)
+        for (const char* k : {"lo", "hi"})
+          check_point(fmt::format("/domain/inflows/{}/{}", i, k), js_["domain"]["inflows"][i][k]);
+    }
+    for (std::size_t i = 0; i < js_.at("solids").size(); ++i) {
+      const auto& s = js_["solids"][i];
+      check_point(fmt::format("/solids/{}/placement/translation", i), s["placement"]["translation"]);
+      const auto& m = s["motion"];
+      if (m.contains("center")) check_point(fmt::format("/solids/{}/motion/center", i), m["center"]);
+      for (std::size_t k = 0; m.contains("keyframes") && k < m["keyframes"].size(); ++k)
+        check_point(fmt::format("/solids/{}/motion/keyframes/{}/translation", i, k), m["keyframes"][k]["translation"]);
+    }
+    const auto& sim = js_.at("simulation");
+    const double end = sim.at("end_time").get<double>();
+    if (!std::isfinite(end)) add("/simulation/end_time", "expected a finite time");
+  }
+
+  void read_solids() {
+    const auto& solids = js_.at("solids");
+    placed_.resize(solids.size());
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      const auto& s = solids[i];
+      const std::string ptr = fmt::format("/solids/{}/geometry", i);
+      if (s.at("model").at("type") == "hex8") {  // a structured block: no surface to read, but a box to place
+        hex_cells_ += double(s["model"]["nx"].get<int>()) * s["model"]["ny"].get<int>() * s["model"]["nz"].get<int>();
+      }
+      try {
+        std::vector<std::string> warnings;
+        mesh::SurfaceMesh cavity;
+        Placed& p = placed_[i];
+        p.surface = surface_of(s, warnings, &cavity);
+        for (auto& w : warnings) report_.warnings.push_back(std::move(w));
+        mesh::bounding_box(p.surface, p.lo, p.hi);
+        p.volume = mesh::enclosed_volume(p.surface) - (cavity.triangles.empty() ? 0.0 : mesh::enclosed_volume(cavity));
+        p.area = surface_area(p.surface) + (cavity.triangles.empty() ? 0.0 : surface_area(cavity));
+        p.ok = true;
+        check_magnitude(ptr, max_abs(p.lo, p.hi), "a placed vertex");
+      } catch (const InputError& e) {
+        add(ptr, e.what());
+      } catch (const mesh::MeshError& e) {
+        add(ptr, e.what());
+      } catch (const std::exception& e) {  // e.g. a CGAL failure in the surface checks
+        add(ptr, std::string("the surface could not be checked: ") + e.what());
+      }
+    }
+  }
+
+  std::string solid_name(std::size_t i) const { return js_["solids"][i]["name"].get<std::string>(); }
+
+  void check_placements() {
+    const bool fluid = meshes_fluid() && js_.contains("domain");
+    if (fluid) {
+      const Eigen::Vector3d lo = vec3(js_["domain"]["lo"]), hi = vec3(js_["domain"]["hi"]);
+      for (std::size_t i = 0; i < placed_.size(); ++i) {
+        const auto& p = placed_[i];
+        if (!p.ok) continue;
+        if (!((p.lo - lo).array() > 0).all() || !((hi - p.hi).array() > 0).all())
+          add(fmt::format("/solids/{}/placement", i),
+              fmt::format("solid '{}' (bounding box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m) is not strictly "
+                          "inside the domain /domain [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m",
+                          solid_name(i), p.lo.x(), p.lo.y(), p.lo.z(), p.hi.x(), p.hi.y(), p.hi.z(), lo.x(), lo.y(),
+                          lo.z(), hi.x(), hi.y(), hi.z()));
+      }
+    }
+    for (std::size_t i = 0; i < placed_.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j) {
+        const auto &a = placed_[j], &b = placed_[i];
+        if (!a.ok || !b.ok || !boxes_overlap(a.lo, a.hi, b.lo, b.hi)) continue;
+        if (!mesh::surfaces_intersect(a.surface, b.surface)) continue;
+        const std::string msg = fmt::format("solids '{}' and '{}' overlap (their surfaces intersect or one contains "
+                                            "the other)", solid_name(j), solid_name(i));
+        if (fluid) add(fmt::format("/solids/{}/placement", i), msg + ": the fluid mesh needs disjoint solids");
+        else report_.warnings.push_back(fmt::format("/solids/{}/placement: {}; solids without a fluid do not collide "
+                                                    "with each other, so they pass through", i, msg));
+      }
+  }
+
+  /// Scenes no runner simulates as written: refused rather than run in part.
+  void check_runner() {
+    const auto& solids = js_.at("solids");
+    std::vector<std::string> kinematic, deformable, hex;
+    for (const auto& s : solids) {
+      const auto name = "'" + s.at("name").get<std::string>() + "'";
+      if (s.at("motion").at("type") != "none") kinematic.push_back(name);
+      else if (s.at("model").at("type") == "hex8") hex.push_back(name);
+      else deformable.push_back(name);
+    }
+    auto list = [](const std::vector<std::string>& v) {
+      std::string s;
+      for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+      return s;
+    };
+    const std::string name = runner_->name;
+    if (!kinematic.empty() && (!deformable.empty() || !hex.empty()) && name != "mpm")
+      add("/solids", fmt::format("kinematic solids ({}) together with deforming solids ({}) are not supported yet: no "
+                                 "runner moves the one and deforms the other in one scene; give every solid a /motion "
+                                 "(kinematic) or none of them",
+                                 list(kinematic), list(deformable.empty() ? hex : deformable)));
+    else if (!hex.empty() && !deformable.empty())
+      add("/solids", fmt::format("hex8 solids ({}) together with tet solids ({}) are not supported yet: use one model "
+                                 "for every solid (/solids/i/model/type)", list(hex), list(deformable)));
+    else if (!hex.empty() && meshes_fluid())
+      add("/solids", fmt::format("hex8 solids ({}) do not couple to a fluid yet: use model \"tet_fem\" or fluid type "
+                                 "\"none\"", list(hex)));
+    else if (name == "mesh_only" && !solids.empty())
+      add("/solids", "no runner simulates this combination of fluid and solids yet");
+  }
+
+  void check_probes() {
+    const auto& probes = js_.at("probes");
+    const bool hex_static = [&] {
+      for (const auto& s : js_.at("solids"))
+        if (s.at("model").at("type") == "hex8" && s["model"].at("analysis") == "static") return true;
+      return false;
+    }();
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+      const auto kind = probes[i].at("kind").get<std::string>();
+      const auto& kinds = runner_->probe_kinds;
+      const bool supported = kinds.empty() || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+      if (!supported || (hex_static && kind == "total_energy")) {
+        std::string list;
+        for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
+        add(fmt::format("/probes/{}/kind", i),
+            fmt::format("the {} runner (which runs this scene) has no probe \"{}\"; it has: {}", runner_->name, kind,
+                        hex_static ? "point_displacement (static hex8 analysis)" : list));
+      }
+    }
+  }
+
+  void check_emitters() {
+    const auto& emitters = js_.at("emitters");
+    if (emitters.empty()) return;
+    if (!meshes_fluid() || !js_.contains("domain")) {
+      report_.warnings.push_back("/emitters: the scene has no fluid domain; its emitters do nothing");
+      return;
+    }
+    const Eigen::Vector3d lo = vec3(js_["domain"]["lo"]), hi = vec3(js_["domain"]["hi"]);
+    for (std::size_t i = 0; i < emitters.size(); ++i) {
+      const auto& shape = emitters[i].at("shape");
+      Eigen::Vector3d a, b;
+      if (shape.at("type") == "box") {
+        a = vec3(shape.at("lo")), b = vec3(shape.at("hi"));
+      } else {
+        const double r = shape.at("radius").get<double>();
+        a = vec3(shape.at("center")) - Eigen::Vector3d::Constant(r), b = vec3(shape.at("center")) + Eigen::Vector3d::Constant(r);
+      }
+      const std::string ptr = fmt::format("/emitters/{}/shape", i);
+      check_magnitude(ptr, max_abs(a, b), "a coordinate");
+      if (!boxes_overlap(a, b, lo, hi))
+        report_.warnings.push_back(fmt::format("{}: the emitter lies outside the domain: it does nothing", ptr));
+      else if (!((a - lo).array() >= 0).all() || !((hi - b).array() >= 0).all())
+        report_.warnings.push_back(fmt::format("{}: the emitter reaches outside the domain: only its part inside acts", ptr));
+    }
+  }
+
+  /// Tet count of a CGAL Mesh_3 mesh: a regular tet of edge h has volume h^3 / (6 sqrt 2), so a
+  /// region of volume V meshed at size h holds about 6 sqrt(2) V / h^3 tets (the data/scenes meshes
+  /// hold 0.3 to 0.7 of this estimate). A solid is meshed at the smaller of its size and its
+  /// thickness 3V/A (1.5 t for a slab of thickness t, a/2 for a cube, r for a sphere: a slab
+  /// thinner than the edge length needs edges about as short as it is thick),
+  /// plus a layer of A / h^2 surface facets; with grading, a band of width grading_distance around
+  /// each solid is meshed at the mean of the near and far sizes.
+  double estimate_tets() {
+    constexpr double kTetsPerCube = 8.485;  // 6 sqrt 2
+    const auto& m = js_.at("mesh");
+    const double far = m.at("edge_length").get<double>();
+    const double near = finest_edge();
+    const double grading = m.at("grading_distance").get<double>();
+    const bool fluid = meshes_fluid();
+    double n = 0, largest = -1;
+    auto count = [&](double tets, std::string key, std::string what) {
+      n += tets;
+      if (tets > largest) largest = tets, worst_key_ = std::move(key), worst_what_ = std::move(what);
+    };
+    if (fluid && js_.contains("domain")) {
+      const Eigen::Vector3d size = vec3(js_["domain"]["hi"]) - vec3(js_["domain"]["lo"]);
+      count(kTetsPerCube * size.prod() / std::pow(far, 3), "/mesh/edge_length",
+            fmt::format("the fluid box at /mesh/edge_length {:g} m", far));
+    }
+    for (std::size_t i = 0; i < placed_.size(); ++i) {
+      const auto& p = placed_[i];
+      if (!p.ok || js_["solids"][i]["model"]["type"] == "hex8" || runner_->name == "kinematic") continue;  // not tet-meshed
+      const double h_solid = fluid ? near : far;  // the solid runner meshes each solid at edge_length
+      const double thickness = p.area > 0 ? 3 * p.volume / p.area : h_solid;
+      const std::string name = solid_name(i);
+      if (thickness < h_solid)
+        count(estimate_solid_tets(p.volume, p.area, h_solid), fmt::format("/solids/{}/geometry", i),
+              fmt::format("solid '{}', about {:.3g} m thick (3 volume / area), thinner than the edge length "
+                          "{:g} m, so meshed at its thickness", name, thickness, h_solid));
+      else
+        count(estimate_solid_tets(p.volume, p.area, h_solid),
+              fluid && near < far ? "/mesh/edge_length_near_solids" : "/mesh/edge_length",
+              fmt::format("solid '{}' at edge length {:g} m", name, h_solid));
+      if (fluid && grading > 0 && near < far)
+        count(kTetsPerCube * p.area * grading / std::pow(0.5 * (near + far), 3), "/mesh/grading_distance",
+              fmt::format("the graded band of {:g} m around solid '{}'", grading, name));
+    }
+    if (hex_cells_ > 0) count(hex_cells_, "/solids", "the hex8 cells (nx ny nz)");
+    return n;
+  }
+
+  void estimate() {
+    const auto& sim = js_.at("simulation");
+    const auto& exp = js_.at("export");
+    report_.tets = estimate_tets();
+    report_.max_tets = opt_.max_tets ? *opt_.max_tets : default_max_tets();
+    if (!(report_.tets <= report_.max_tets)) {
+      add(worst_key_,
+          fmt::format("the mesh would have about {:.3g} tets (about {} of memory; most from {}), more than the "
+                      "limit of {:.3g} tets ({}): change {} or raise the limit with --max-tets",
+                      report_.tets, gb(report_.tets * kBytesPerTet), worst_what_, report_.max_tets,
+                      opt_.max_tets ? "--max-tets" : "half of this machine's memory", worst_key_));
+    }
+    const double end = sim.at("end_time").get<double>();
+    const double frame_rate = sim.at("frame_rate").get<double>();
+    report_.frames = std::floor(end * frame_rate * (1 + 1e-12)) + 1;
+    const double max_steps = sim.at("max_steps").get<double>();
+    report_.steps = std::max(report_.frames - 1, sim.contains("dt") ? std::ceil(end / sim["dt"].get<double>()) : 0.0);
+    if (!(report_.steps <= max_steps))
+      add(sim.contains("dt") && end / sim["dt"].get<double>() >= report_.frames - 1 ? "/simulation/dt" : "/simulation/frame_rate",
+          fmt::format("the run would take at least {:.3g} steps (end_time {:g} s, {}), more than /simulation/max_steps "
+                      "= {:g}: shorten /simulation/end_time, {}, or raise /simulation/max_steps",
+                      report_.steps, end,
+                      sim.contains("dt") ? fmt::format("dt {:g} s, frame_rate {:g} 1/s", sim["dt"].get<double>(), frame_rate)
+                                         : fmt::format("frame_rate {:g} 1/s (one step per frame at least)", frame_rate),
+                      max_steps, sim.contains("dt") ? "raise /simulation/dt or lower /simulation/frame_rate"
+                                                    : "lower /simulation/frame_rate"));
+    if (!issues_.empty()) return;  // the output estimate follows from the two above
+    const double written = std::floor((report_.frames - 1) / exp.at("every_n_frames").get<double>()) + 1;
+    double frame_bytes = 0;
+    if (exp.at("vtu").get<bool>()) frame_bytes += kVtuBytesPerTet * report_.tets;
+    if (exp.at("surfaces") != "none")
+      for (const auto& p : placed_) frame_bytes += p.ok ? 40.0 * 2 * p.area / std::pow(finest_edge(), 2) : 0.0;
+    report_.output_bytes = written * frame_bytes + 400.0 * report_.steps;
+    const double max_bytes = exp.at("max_output_gb").get<double>() * 1e9;
+    if (!(report_.output_bytes <= max_bytes))
+      add("/simulation/frame_rate",
+          fmt::format("the output would take about {} ({:.3g} frames of about {} each), more than /export/max_output_gb "
+                      "= {:g}: lower /simulation/frame_rate, raise /export/every_n_frames, or raise "
+                      "/export/max_output_gb",
+                      gb(report_.output_bytes), written, gb(frame_bytes), max_bytes / 1e9));
+  }
+
+  const scene::Scene& scene_;
+  const Json& js_;
+  PreflightOptions opt_;
+  const RunnerEntry* runner_ = nullptr;
+  std::vector<Placed> placed_;
+  double hex_cells_ = 0;
+  bool edge_reported_ = false;
+  std::string worst_key_ = "/mesh/edge_length", worst_what_;
+  std::vector<Issue> issues_;
+  PreflightReport report_;
+};
+
+}  // namespace
+
+double estimate_solid_tets(double volume, double area, double h) {
+  constexpr double kTetsPerCube = 8.485;  // 6 sqrt 2
+  const double hs = area > 0 ? std::min(h, 3 * volume / area) : h;
+  return kTetsPerCube * (volume / std::pow(hs, 3) + area / (hs * hs));
+}
+
+double default_max_tets() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  const double bytes = pages > 0 && page > 0 ? double(pages) * double(page) : 8e9;
+  return std::floor(0.5 * bytes / kBytesPerTet);
+}
+
+PreflightReport preflight(const scene::Scene& scene, const PreflightOptions& options) {
+  return Checker(scene, options).run();
+}
+
+}  // namespace tetfsi::run

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""Writes seed corpora for the libFuzzer targets (fuzz/): generated shapes (tetrahedron, cube,
+octahedron, icosphere) as PLY (ASCII, binary little/big endian), OBJ, STL (ASCII, binary), OFF,
+glTF. Usage: fuzz_seeds.py OUT_DIR  -> OUT_DIR/ply/*, OUT_DIR/surface/* (first byte = format)."""
+import math
+import os
+import struct
+import sys
+
+
+def shapes():
+    tet = ([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])
+    cv = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    cube = (cv, [t for q in quads for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3]))])
+    ov = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+    of = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
+    t = (1 + math.sqrt(5)) / 2
+    iv = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+          (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    ifc = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+           (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5),
+           (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    return {"tetra": tet, "cube": cube, "octa": (ov, of), "ico": (iv, ifc)}
+
+
+def ply_ascii(v, f):
+    h = f"ply\nformat ascii 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\nproperty float z\n" \
+        f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n"
+    return (h + "".join("%g %g %g\n" % p for p in v) + "".join("3 %d %d %d\n" % t for t in f)).encode()
+
+
+def ply_binary(v, f, big):
+    e = ">" if big else "<"
+    h = (f"ply\nformat binary_{'big' if big else 'little'}_endian 1.0\nelement vertex {len(v)}\n"
+         f"property float x\nproperty float y\nproperty float z\nelement face {len(f)}\n"
+         f"property list uchar int vertex_indices\nend_header\n").encode()
+    return h + b"".join(struct.pack(e + "3f", *p) for p in v) + b"".join(struct.pack(e + "B3i", 3, *t) for t in f)
+
+
+def normal(v, t):
+    a, b, c = (v[i] for i in t)
+    u = [b[k] - a[k] for k in range(3)]
+    w = [c[k] - a[k] for k in range(3)]
+    return (u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0])
+
+
+def stl_ascii(v, f):
+    s = "solid s\n"
+    for t in f:
+        s += "facet normal %g %g %g\nouter loop\n" % normal(v, t)
+        s += "".join("vertex %g %g %g\n" % v[i] for i in t) + "endloop\nendfacet\n"
+    return (s + "endsolid s\n").encode()
+
+
+def stl_binary(v, f):
+    out = b"\0" * 80 + struct.pack("<I", len(f))
+    for t in f:
+        out += struct.pack("<3f", *normal(v, t)) + b"".join(struct.pack("<3f", *v[i]) for i in t) + b"\0\0"
+    return out
+
+
+def obj(v, f):
+    return ("".join("v %g %g %g\n" % p for p in v) + "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in f)).encode()
+
+
+def off(v, f):
+    return (f"OFF\n{len(v)} {len(f)} 0\n" + "".join("%g %g %g\n" % p for p in v) +
+            "".join("3 %d %d %d\n" % t for t in f)).encode()
+
+
+def gltf(v, f):
+    import base64
+    import json
+    data = b"".join(struct.pack("<3f", *p) for p in v) + b"".join(struct.pack("<3I", *t) for t in f)
+    nv = len(v) * 12
+    lo = [min(p[k] for p in v) for k in range(3)]
+    hi = [max(p[k] for p in v) for k in range(3)]
+    doc = {"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+           "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," +
+                        base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": nv},
+                           {"buffer": 0, "byteOffset": nv, "byteLength": len(data) - nv}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(v), "type": "VEC3", "min": lo, "max": hi},
+                         {"bufferView": 1, "componentType": 5125, "count": 3 * len(f), "type": "SCALAR"}]}
+    return json.dumps(doc).encode()
+
+
+def main():
+    out = sys.argv[1]
+    os.makedirs(os.path.join(out, "ply"), exist_ok=True)
+    os.makedirs(os.path.join(out, "surface"), exist_ok=True)
+    # fuzz_surface: first byte % 6 picks .obj .stl .off .ply .gltf .fbx
+    for name, (v, f) in shapes().items():
+        plys = {"ascii": ply_ascii(v, f), "le": ply_binary(v, f, False), "be": ply_binary(v, f, True)}
+        for kind, data in plys.items():
+            open(os.path.join(out, "ply", f"{name}_{kind}.ply"), "wb").write(data)
+        surfaces = [(0, "obj", obj(v, f)), (1, "stl_ascii", stl_ascii(v, f)), (1, "stl_binary", stl_binary(v, f)),
+                    (2, "off", off(v, f)), (3, "ply", plys["ascii"]), (4, "gltf", gltf(v, f))]
+        for code, kind, data in surfaces:
+            open(os.path.join(out, "surface", f"{name}_{kind}"), "wb").write(bytes([code]) + data)
+
+
+if __name__ == "__main__":
+    main()

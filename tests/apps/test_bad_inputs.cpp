@@ -1,0 +1,315 @@
+// Inputs that crashed, hung or ran away (issue 18): each ends with exit 2 and a message naming
+// the key or the file, from `validate` and `run` alike, with no signal, no hang, no "internal
+// error" and no file written outside the output folder.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <functional>
+
+#include <nlohmann/json.hpp>
+#include <sys/stat.h>
+
+#include "csv.hpp"
+#include "tests/test_support.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+/// A soft box alone (solid runner).
+json solid_scene() {
+  return json::parse(R"({
+    "simulation": {"end_time": 0.02, "dt": 0.01},
+    "mesh": {"edge_length": 0.15},
+    "solids": [{"name": "box", "geometry": {"type": "box", "size": [0.3, 0.3, 0.3]},
+                "material": {"density": 1000, "youngs_modulus": 1e5, "poissons_ratio": 0.3}}]
+  })");
+}
+
+/// A ball in a closed box of water (coupled runner), coarse.
+json coupled_scene() {
+  return json::parse(R"({
+    "simulation": {"end_time": 0.01, "dt": 0.005, "frame_rate": 100},
+    "domain": {"lo": [-0.4, -0.4, -0.4], "hi": [0.4, 0.4, 0.4]},
+    "mesh": {"edge_length": 0.2, "edge_length_near_solids": 0.08, "grading_distance": 0.2},
+    "fluid": {"type": "liquid"},
+    "solids": [{"name": "ball", "geometry": {"type": "sphere", "radius": 0.15, "subdivisions": 2},
+                "material": {"density": 500, "youngs_modulus": 1e6, "poissons_ratio": 0.3}}],
+    "coupling": {"scheme": "simultaneous"}
+  })");
+}
+
+struct Result {
+  int status = -1;
+  std::string out;
+};
+
+/// Runs tetfsi in `cwd` under a 60 s limit (a hang shows as status 124, a signal as 128 + n).
+Result tetfsi_in(const fs::path& cwd, const std::string& args) {
+  Result r;
+  r.out = tetfsi::test::run_command("cd '" + cwd.string() + "' && timeout -s KILL 60 " + TETFSI_BINARY + " " + args +
+                                        " 2>&1",
+                                    &r.status);
+  return r;
+}
+
+std::string write(const fs::path& dir, const std::string& name, const json& s) {
+  const fs::path p = dir / (name + ".json");
+  std::ofstream(p) << s.dump(1);
+  return p.string();
+}
+
+/// validate and run (tiny end time) both exit 2, naming `fragment`; nothing is written in `dir`
+/// but the scene, the output folder and the files the case made.
+void expect_refused(const fs::path& dir, const std::string& scene, const std::string& fragment,
+                    const std::string& end_time = " --end-time 1e-3") {
+  SCOPED_TRACE(scene);
+  const auto before = std::distance(fs::directory_iterator(dir), fs::directory_iterator());
+  const Result v = tetfsi_in(dir, "validate " + scene + end_time);
+  const Result r = tetfsi_in(dir, "run " + scene + " --out out --quiet --threads 1" + end_time);
+  EXPECT_EQ(v.status, 2) << v.out;
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(v.out.find(fragment), std::string::npos) << v.out;
+  EXPECT_NE(r.out.find(fragment), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("internal error"), std::string::npos) << r.out;
+  fs::remove_all(dir / "out");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), before)
+      << "a file appeared in the working directory (CGAL dump-bug.*?)";
+}
+
+struct Case {
+  std::string name;
+  std::function<json()> scene;
+  std::string fragment;  ///< "<name>.json: <pointer>" or the file the message must name
+};
+
+void expect_all_refused(const std::vector<Case>& cases, const std::string& end_time = " --end-time 1e-3") {
+  tetfsi::test::TempDir dir("bad_inputs");
+  for (const auto& c : cases) {
+    const std::string file = write(dir.path(), c.name, c.scene());
+    expect_refused(dir.path(), file, c.fragment.empty() ? c.name + ".json" : c.name + ".json: " + c.fragment, end_time);
+    fs::remove(file);
+  }
+}
+
+}  // namespace
+
+TEST(BadInputs, CoordinatesAndSizesOutOfRangeAreRefusedBeforeMeshing) {
+  expect_all_refused({
+      {"domain_lo_1e300", [] { auto s = coupled_scene(); s["domain"]["lo"][0] = -1e300; return s; }, "/domain/lo"},
+      {"domain_lo_y_9e18", [] { auto s = coupled_scene(); s["domain"]["lo"][1] = -9223372036854775809.0; return s; },
+       "/domain/lo"},
+      {"translation_1e15", [] { auto s = solid_scene(); s["solids"][0]["placement"]["translation"] = {1e15, 0.65, 0}; return s; },
+       "/solids/0/placement/translation"},
+      {"translation_1e13", [] { auto s = solid_scene(); s["solids"][0]["placement"]["translation"] = {1e13, 0, 0}; return s; },
+       "/solids/0/placement/translation"},
+      {"edge_1e-320", [] { auto s = solid_scene(); s["mesh"]["edge_length"] = 1e-320; return s; }, "/mesh/edge_length"},
+      {"huge_box", [] { auto s = solid_scene(); s["solids"][0]["geometry"]["size"] = {1e30, 1e30, 1e30}; return s; },
+       "/solids/0/geometry"},
+  });
+}
+
+// Runaways of issue 18 (each ran for minutes or until bad_alloc): refused at once with the
+// estimate and the key to change, by validate and run alike (no --end-time override here).
+TEST(BadInputs, RunawayResourcesAreRefusedWithTheEstimate) {
+  expect_all_refused(
+      {
+          {"edge_1e-5", [] { auto s = solid_scene(); s["mesh"]["edge_length"] = 1e-5; return s; },
+           "/mesh/edge_length: the mesh would have about"},
+          {"fine_fluid", [] {
+             auto s = coupled_scene();
+             s["mesh"]["edge_length"] = 2e-3;
+             s["mesh"]["edge_length_near_solids"] = 1e-3;
+             return s;
+           },
+           "/mesh/edge_length: the mesh would have about"},
+          {"thin_sheet",
+           [] { auto s = solid_scene(); s["solids"][0]["geometry"]["size"] = {1.0, 1e-7, 0.1}; return s; },
+           "/solids/0/geometry: the mesh would have about"},
+          {"dt_1e-300", [] { auto s = solid_scene(); s["simulation"]["dt"] = 1e-300; return s; },
+           "/simulation/dt: the run would take at least"},
+          {"end_1e300", [] { auto s = solid_scene(); s["simulation"]["end_time"] = 1e300; return s; },
+           "/simulation/dt: the run would take at least"},
+          {"frame_rate_1e9", [] { auto s = solid_scene(); s["simulation"]["frame_rate"] = 1e9; return s; },
+           "/simulation/frame_rate: the run would take at least"},
+          {"hex_cells", [] {
+             auto s = solid_scene();
+             s["solids"][0]["model"] = {{"type", "hex8"}, {"nx", 2000}, {"ny", 2000}, {"nz", 2000}};
+             return s;
+           }, "/solids: the mesh would have about 8e+09"},
+          {"output_gb", [] {
+             auto s = solid_scene();
+             s["simulation"]["end_time"] = 10;
+             s["simulation"]["frame_rate"] = 100;
+             s["export"] = {{"max_output_gb", 1e-6}};
+             return s;
+           }, "/simulation/frame_rate: the output would take about"},
+      },
+      "");
+  // --max-tets lowers the limit; the default one is named.
+  tetfsi::test::TempDir dir("max_tets");
+  const std::string scene = write(dir.path(), "small", solid_scene());
+  expect_refused(dir.path(), scene + " --max-tets 10", "small.json: /mesh/edge_length: the mesh would have about");
+  const Result ok = tetfsi_in(dir.path(), "validate " + scene);
+  EXPECT_EQ(ok.status, 0) << ok.out;
+}
+
+TEST(BadInputs, BrokenPlySurfacesAreRefusedBeforeAssimpSeesThem) {
+  tetfsi::test::TempDir dir("bad_ply");
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 12\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::map<std::string, std::string> files = {
+      {"header_only.ply", "ply\nformat ascii 1.0\n"},  // assimp looped forever
+      {"cut_in_vertices.ply", header + "-0.15 -0.15 -0.15\n-0.15 -0.15 0.15\n-0.15 0.15 -0.15\n0.1"},  // assimp aborted
+      {"cut_in_header.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproper"},
+  };
+  for (const auto& [name, content] : files) {
+    std::ofstream(dir.path() / name) << content;
+    auto s = solid_scene();
+    s["solids"][0]["geometry"] = {{"type", "mesh"}, {"file", name}};
+    const std::string scene = write(dir.path(), "scene", s);
+    expect_refused(dir.path(), scene, name);
+    const Result m = tetfsi_in(dir.path(), "mesh " + name + " out.vtu");
+    EXPECT_EQ(m.status, 2) << m.out;
+    EXPECT_NE(m.out.find(name + ": PLY"), std::string::npos) << m.out;
+  }
+}
+
+TEST(BadInputs, FifoAndDeviceScenesAreRefusedWithoutReading) {
+  tetfsi::test::TempDir dir("fifo");
+  const fs::path fifo = dir.path() / "scene.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expect_refused(dir.path(), fifo.string(), "not a regular file");
+  fs::remove(fifo);
+  expect_refused(dir.path(), "/dev/zero", "not a regular file");
+}
+
+TEST(BadInputs, NamesAreSafeForFilesAndCsv) {
+  expect_all_refused({
+      {"solid_named_fluid", [] { auto s = solid_scene(); s["solids"][0]["name"] = "fluid"; return s; }, "/solids/0/name"},
+      {"solid_named_stats_csv", [] { auto s = solid_scene(); s["solids"][0]["name"] = "stats.csv"; return s; },
+       "/solids/0/name"},
+      {"solid_name_300", [] { auto s = solid_scene(); s["solids"][0]["name"] = std::string(300, 'a'); return s; },
+       "/solids/0/name"},
+      {"probe_a_comma_b",
+       [] { auto s = solid_scene(); s["probes"] = {{{"name", "a,b"}, {"kind", "total_energy"}}}; return s; },
+       "/probes/0/name"},
+      {"duplicate_probes",
+       [] {
+         auto s = solid_scene();
+         s["probes"] = {{{"name", "e"}, {"kind", "total_energy"}}, {{"name", "e"}, {"kind", "total_energy"}}};
+         return s;
+       },
+       "/probes/1/name"},
+      {"threads_1e19", [] { auto s = solid_scene(); s["simulation"]["threads"] = 1e19; return s; }, "/simulation/threads"},
+  });
+}
+
+TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
+  expect_all_refused({
+      {"kinematic_and_deformable_in_fluid",
+       [] {
+         auto s = coupled_scene();
+         s["solids"][0]["placement"]["translation"] = {-0.2, 0, 0};
+         s["solids"][0]["geometry"]["radius"] = 0.1;
+         auto k = s["solids"][0];
+         k["name"] = "mover";
+         k["placement"]["translation"] = {0.2, 0, 0};
+         k["motion"] = {{"type", "translation"}, {"velocity", {0, 0.1, 0}}};
+         s["solids"].push_back(k);
+         return s;
+       },
+       "/solids"},
+      {"kinematic_and_deformable_alone",
+       [] {
+         auto s = solid_scene();
+         auto k = s["solids"][0];
+         k["name"] = "mover";
+         k["placement"]["translation"] = {1, 0, 0};
+         k["motion"] = {{"type", "translation"}, {"velocity", {0, 0.1, 0}}};
+         s["solids"].push_back(k);
+         return s;
+       },
+       "/solids"},
+      {"fluid_probe_in_solid_scene",
+       [] { auto s = solid_scene(); s["probes"] = {{{"name", "ke"}, {"kind", "fluid_kinetic_energy"}}}; return s; },
+       "/probes/0/kind"},
+  });
+}
+
+TEST(BadInputs, FluidProbesWorkInACoupledScene) {
+  tetfsi::test::TempDir dir("coupled_probes");
+  auto s = coupled_scene();
+  s["probes"] = {{{"name", "ke"}, {"kind", "fluid_kinetic_energy"}},
+                 {{"name", "p_low"}, {"kind", "fluid_point"}, {"point", {0.3, -0.3, 0}}, {"quantity", "pressure"}},
+                 {{"name", "p_high"}, {"kind", "fluid_point"}, {"point", {0.3, 0.3, 0}}, {"quantity", "pressure"}}};
+  const std::string scene = write(dir.path(), "probes", s);
+  const Result r = tetfsi_in(dir.path(), "run " + scene + " --out out --quiet --threads 1");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto csv = tetfsi::test::read_csv(dir.path() / "out" / "probes.csv");
+  ASSERT_GE(csv.rows.size(), 2u);
+  const std::size_t last = csv.rows.size() - 1;
+  // The light ball (500 kg/m^3) starts rising through still water: the fluid gains kinetic energy.
+  EXPECT_EQ(csv.at(0, "ke"), 0.0);
+  EXPECT_GT(csv.at(last, "ke"), 0.0);
+  // Hydrostatics between two points 0.6 m apart: p_low - p_high = rho g dh = 5886 Pa. Linear
+  // pressure represents it exactly; the ball's acceleration adds a dynamic part of a few percent.
+  EXPECT_NEAR(csv.at(last, "p_low") - csv.at(last, "p_high"), 1000 * 9.81 * 0.6, 0.05 * 5886);
+}
+
+TEST(BadInputs, WarningsForIneffectiveEmittersAndOverlappingSolids) {
+  tetfsi::test::TempDir dir("warnings");
+  auto s = coupled_scene();
+  s["fluid"] = {{"type", "smoke"}};
+  s["solids"] = json::array();
+  s["emitters"] = {{{"shape", {{"type", "box"}, {"lo", {5, 5, 5}}, {"hi", {6, 6, 6}}}}}};
+  Result v = tetfsi_in(dir.path(), "validate " + write(dir.path(), "emitter", s));
+  EXPECT_EQ(v.status, 0) << v.out;
+  EXPECT_NE(v.out.find("warning: /emitters/0/shape: the emitter lies outside the domain"), std::string::npos) << v.out;
+
+  auto t = solid_scene();
+  t["solids"].push_back(t["solids"][0]);
+  t["solids"][1]["name"] = "box2";
+  t["solids"][1]["placement"]["translation"] = {0.1, 0, 0};
+  v = tetfsi_in(dir.path(), "validate " + write(dir.path(), "overlap", t));
+  EXPECT_EQ(v.status, 0) << v.out;
+  EXPECT_NE(v.out.find("warning: /solids/1/placement: solids 'box' and 'box2' overlap"), std::string::npos) << v.out;
+}
+
+TEST(BadInputs, HugeUnknownKeyIsNotEchoedWhole) {
+  tetfsi::test::TempDir dir("huge_key");
+  auto s = solid_scene();
+  s[std::string(1 << 20, 'k')] = 1;
+  const Result v = tetfsi_in(dir.path(), "validate " + write(dir.path(), "key", s));
+  EXPECT_EQ(v.status, 2);
+  EXPECT_NE(v.out.find("unknown key"), std::string::npos) << v.out.substr(0, 500);
+  EXPECT_LT(v.out.size(), 4000u);
+}
+
+// The output folder (apps/run/output.hpp): orphan *.tmp.<pid> files of a killed run are removed
+// at the start of a run; a rerun removes the earlier run's frames, .pvd and CSV files (a shorter
+// run left stale frames beside its .pvd), and keeps every other file.
+TEST(BadInputs, RerunCleansOrphansAndStaleFramesButKeepsOtherFiles) {
+  tetfsi::test::TempDir dir("output_folder");
+  const fs::path out = dir.path() / "out";
+  auto s = solid_scene();
+  s["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0.1, 0, 0}}};  // kinematic: no meshing
+  s["simulation"] = {{"end_time", 0.2}, {"dt", 0.05}, {"frame_rate", 10}};
+  const std::string scene = write(dir.path(), "short", s);
+  for (const auto& d : {out / "box", out / "old", out / "surfaces"}) fs::create_directories(d);
+  for (const auto& f : {out / "run.log", out / "old.pvd", out / "old" / "old_00000.vtu", out / "box" / "box_00007.vtu",
+                        out / "surfaces" / "box_00007.ply", out / "box" / "box_00001.vtu.tmp.4242",
+                        out / "stats.csv.tmp.17", out / "notes.txt", out / "box" / "mine.txt"})
+    std::ofstream(f) << "x";
+  const Result r = tetfsi_in(dir.path(), "run " + scene + " --out out --quiet");
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const auto& gone : {out / "old.pvd", out / "old", out / "box" / "box_00007.vtu", out / "surfaces" / "box_00007.ply",
+                           out / "box" / "box_00001.vtu.tmp.4242", out / "stats.csv.tmp.17"})
+    EXPECT_FALSE(fs::exists(gone)) << gone;
+  for (const auto& kept : {out / "notes.txt", out / "box" / "mine.txt", out / "box" / "box_00002.vtu", out / "box.pvd"})
+    EXPECT_TRUE(fs::exists(kept)) << kept;
+  EXPECT_FALSE(fs::exists(out / "box" / "box_00003.vtu"));  // frames 0..2 of this run only
+}
