@@ -1,13 +1,13 @@
-# 256-bit vector instructions (AVX2) for the particle passes of the MPM (fluid/mpm/), the hot loops
+# 256-bit vector instructions (AVX2) for the particle passes of the MPM (mpm/particles/), the hot loops
 # of the MPM examples: tetfsi_use_vector_isa(target).
 #
 # TETFSI_AVX2 = AUTO (default): used when the compiler takes -mavx2 -mfma and the machine that
 # builds has both (the usual build-where-you-run of the README). ON: always (the binary then needs
 # such a CPU). OFF: never (portable baseline x86-64 code).
-# Why: the per-cell sums (fluid/mpm/cell_moments.hpp) keep 32-36 running sums per cell, which fit
+# Why: the per-cell sums (mpm/particles/cell_moments.hpp) keep 32-36 running sums per cell, which fit
 # the 16 AVX registers of 4 doubles but not the 16 SSE2 registers of 2; on the 2-core CI machine a
 # membrane-on-sphere MPM step (113,104 particles, one thread) took 15.2-18.6 ms against
-# 18.2-21.7 ms without (coupling/mpm/README.md, session 6).
+# 18.2-21.7 ms without (mpm/README.md, session 6).
 # -ffp-contract=off: no fusing of a * b + c into one rounding, so that both builds give the same
 # bits (with fusing, Grid::fractions gave f = -2e-16 for particles on a cell face and the results
 # differed from the baseline build at round-off). EIGEN_MAX_ALIGN_BYTES=16 keeps Eigen's

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "mesh/surface_mesh.hpp"
-#include "solid/membrane/membrane_mesh.hpp"
+#include "mpm/membrane/membrane_mesh.hpp"
 
 namespace tetfsi::mpm_setup {
 
 using Vec3 = Eigen::Vector3d;
-using membrane::QuadMesh;
+using mpm::QuadMesh;
 
 /// An axis-aligned symmetry plane x_axis = position; the model keeps the side x_axis >= position.
 struct SymmetryPlane {

@@ -5,7 +5,7 @@
 #include <functional>
 
 #include "mesh/surface_mesh.hpp"
-#include "fluid/mpm/grid.hpp"
+#include "mpm/particles/grid.hpp"
 
 namespace tetfsi::mpm_setup {
 

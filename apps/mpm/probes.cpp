@@ -102,7 +102,7 @@ void body_energies(const mpm::MpmSolver& mpm, std::uint16_t material, double& ki
   }
 }
 
-double evaluate(const Probe& p, const Setup& s, const mpm_contact::CoupledModel& model) {
+double evaluate(const Probe& p, const Setup& s, const mpm::CoupledModel& model) {
   const auto& mem = model.membrane();
   auto pick = [&](const Vec3& x) {
     if (!p.displacement) return x[p.axis];

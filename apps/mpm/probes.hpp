@@ -28,7 +28,7 @@ struct Probe {
 std::vector<Probe> resolve_probes(const Setup& setup, const Json& probes);
 
 /// The value of a probe now.
-double evaluate(const Probe& p, const Setup& setup, const mpm_contact::CoupledModel& model);
+double evaluate(const Probe& p, const Setup& setup, const mpm::CoupledModel& model);
 
 /// Kinetic, internal (fluid E V0, solid strain energy) energy of the particles of `material` [J].
 void body_energies(const mpm::MpmSolver& mpm, std::uint16_t material, double& kinetic, double& internal);

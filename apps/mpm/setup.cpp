@@ -139,7 +139,7 @@ FillRegion body_region(const Json& shape, const std::string& ptr) {
 /// A lattice of spacing dx from lo (centres lo + (i + 1/2) dx, as mpm::sample_lattice, n layers per
 /// axis) must not put a layer on a grid node plane: such particles' far cell corners get no mass
 /// and, in contact, they jitter across the plane (cell-crossing noise; a sphere on a membrane with
-/// half its layers on planes blew up, coupling/mpm/README.md).
+/// half its layers on planes blew up, mpm/README.md).
 void check_lattice_off_planes(const mpm::Grid& g, const Vec3& lo, const Vec3& hi, double dx, const std::string& ptr) {
   for (int a = 0; a < 3; ++a) {
     const int n = std::max(1, static_cast<int>(std::lround((hi[a] - lo[a]) / dx)));
@@ -218,7 +218,7 @@ QuadMesh membrane_shape(const Json& shape, double es, const std::string& ptr) {
     limit(u.norm() * v.norm());
     const int nu = std::max(1, static_cast<int>(std::lround(u.norm() / es)));
     const int nv = std::max(1, static_cast<int>(std::lround(v.norm() / es)));
-    return membrane::rectangle_mesh(vec3(shape.at("origin")), u, v, nu, nv);
+    return mpm::rectangle_mesh(vec3(shape.at("origin")), u, v, nu, nv);
   }
   if (type == "disc") {
     const double R = shape.at("radius").get<double>();
@@ -312,7 +312,7 @@ void add_membrane(Setup& s, const Json& m, const std::string& ptr) {
   mat.thickness = m.at("thickness").get<double>();
   mat.hourglass = m.at("hourglass").get<double>();
   try {
-    membrane::Membrane check(mesh.nodes, mesh.quads, mat);  // degenerate elements, bad material
+    mpm::Membrane check(mesh.nodes, mesh.quads, mat);  // degenerate elements, bad material
   } catch (const std::exception& e) {
     throw SetupError(at(ptr, "shape"), e.what());
   }
@@ -347,7 +347,7 @@ void add_sources(Setup& s, const Json& sources, const Json& bodies, const std::s
     const auto& mat = s.materials[it->material];
     if (mat.kind != mpm::Material::Kind::Fluid)
       throw SetupError(at(sp, "body"), fmt::format("body \"{}\" is a solid: a source adds fluid", name));
-    mpm_contact::GasSource g;
+    mpm::GasSource g;
     g.material = it->material;
     g.density = src.contains("density") ? src.at("density").get<double>() : mat.rho0;
     g.energy = initial_energy(src, mat, g.density, sp);
@@ -404,15 +404,15 @@ Setup build_setup(const Json& m, const Vec3& gravity) {
   add_membrane(s, m.at("membrane"), "/mpm/membrane");
   add_sources(s, m.at("sources"), m.at("bodies"), "/mpm/sources");
   const auto& c = m.at("contact");
-  s.contact.mode = c.at("mode") == "stick" ? mpm_contact::ContactOptions::Mode::Stick : mpm_contact::ContactOptions::Mode::Slip;
+  s.contact.mode = c.at("mode") == "stick" ? mpm::ContactOptions::Mode::Stick : mpm::ContactOptions::Mode::Slip;
   s.contact.friction = c.at("friction").get<double>();
   s.contact.distance_factor = c.at("distance_factor").get<double>();
   return s;
 }
 
-std::unique_ptr<mpm_contact::CoupledModel> make_model(const Setup& s) {
+std::unique_ptr<mpm::CoupledModel> make_model(const Setup& s) {
   mpm::MpmSolver solver(s.grid, s.materials, s.particles, s.options);
-  membrane::Membrane mem(s.membrane_mesh.nodes, s.membrane_mesh.quads, s.membrane_material);
+  mpm::Membrane mem(s.membrane_mesh.nodes, s.membrane_mesh.quads, s.membrane_material);
   for (auto& v : mem.velocities()) v = s.membrane_velocity;
   for (int i = 0; i < mem.num_nodes(); ++i)
     for (int a = 0; a < 3; ++a)
@@ -420,7 +420,7 @@ std::unique_ptr<mpm_contact::CoupledModel> make_model(const Setup& s) {
   mem.set_pressure(s.membrane_pressure);
   mem.set_gravity(s.options.gravity);
   mem.set_damping(s.membrane_damping);
-  return std::make_unique<mpm_contact::CoupledModel>(std::move(solver), std::move(mem), s.contact, s.membrane_cfl,
+  return std::make_unique<mpm::CoupledModel>(std::move(solver), std::move(mem), s.contact, s.membrane_cfl,
                                                      s.sources);
 }
 

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "apps/mpm/membrane_shapes.hpp"
-#include "coupling/mpm/coupled_model.hpp"
-#include "fluid/mpm/mpm_solver.hpp"
+#include "mpm/contact/coupled_model.hpp"
+#include "mpm/particles/mpm_solver.hpp"
 
 namespace tetfsi::mpm_setup {
 
@@ -45,15 +45,15 @@ struct Setup {
   std::vector<Body> bodies;
   std::string membrane_name;
   QuadMesh membrane_mesh;
-  membrane::MembraneMaterial membrane_material;
+  mpm::MembraneMaterial membrane_material;
   std::vector<std::array<bool, 3>> membrane_fixed;  ///< per node
   Vec3 membrane_velocity = Vec3::Zero();
   double membrane_pressure = 0, membrane_damping = 0;
   std::vector<SymmetryPlane> symmetry_planes;
   bool membrane_closed = false;  ///< every edge in two quads but those in symmetry planes
-  mpm_contact::ContactOptions contact;
+  mpm::ContactOptions contact;
   double membrane_cfl = 0.9;
-  std::vector<mpm_contact::GasSource> sources;
+  std::vector<mpm::GasSource> sources;
 };
 
 /// Builds the problem of the resolved `mpm` block (defaults filled in, file paths absolute) with
@@ -64,7 +64,7 @@ struct Setup {
 Setup build_setup(const Json& mpm, const Vec3& gravity);
 
 /// The solvers of a setup. @throws std::invalid_argument / std::runtime_error from the solvers
-std::unique_ptr<mpm_contact::CoupledModel> make_model(const Setup& setup);
+std::unique_ptr<mpm::CoupledModel> make_model(const Setup& setup);
 
 /// Tolerance for "on a plane" / "in a region" tests of membrane nodes: 1e-9 of the grid size.
 double node_tolerance(const Setup& s);

@@ -32,12 +32,12 @@
 #include "apps/mpm/probes.hpp"
 #include "apps/mpm/setup.hpp"
 #include "apps/run/scene_values.hpp"
-#include "coupling/mpm/frames.hpp"
+#include "mpm/contact/frames.hpp"
 
 namespace tetfsi::run {
 namespace {
 
-namespace mc = tetfsi::mpm_contact;
+namespace mc = tetfsi::mpm;
 
 class MpmRunner : public Simulation {
  public:

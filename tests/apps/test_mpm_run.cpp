@@ -94,7 +94,7 @@ TEST(MpmRun, GasExpansionCiSettlesToPaperRadiusAndEnergyLoss) {
   ASSERT_NEAR(stats.at(rs, "time"), t_s, 1e-9);
   const double loss_settled = stats.at(rs, "energy_loss_fraction"), loss_end = stats.at(n, "energy_loss_fraction");
   // The loss keeps growing after settling (sustained contact removes a little relative velocity
-  // every step; first order in dt, see coupling/mpm/README.md). Bound on its rate: the paper gives
+  // every step; first order in dt, see mpm/README.md). Bound on its rate: the paper gives
   // one figure for the settled loss (about 5%, accepted 3-7%), so a drift is tolerable only if over
   // the rest of the window it cannot move the loss by more than the band's half width (2 points):
   // rate < 0.02 / (t_end - t_s). This follows from the acceptance band, not from the measured rate.

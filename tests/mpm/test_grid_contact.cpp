@@ -1,4 +1,4 @@
-// Grid contact between an MPM body and a membrane (coupling/mpm/): impenetrability at three grid
+// Grid contact between an MPM body and a membrane (mpm/contact/): impenetrability at three grid
 // resolutions and momentum conservation by the contact forces (Lian, Liu & Zhang 2014, section 5).
 #include <gtest/gtest.h>
 
@@ -6,16 +6,16 @@
 #include <cstdio>
 #include <cstring>
 
-#include "coupling/mpm/grid_contact.hpp"
-#include "solid/membrane/membrane_mesh.hpp"
+#include "mpm/contact/grid_contact.hpp"
+#include "mpm/membrane/membrane_mesh.hpp"
 
 using namespace tetfsi;
 using mpm::Vec3;
 
 namespace {
 
-membrane::MembraneMaterial sheet() {
-  membrane::MembraneMaterial m;
+mpm::MembraneMaterial sheet() {
+  mpm::MembraneMaterial m;
   m.rho = 1000;
   m.youngs = 1e5;
   m.poisson = 0.3;
@@ -36,11 +36,11 @@ double drop_membrane_on_block(double h, int* contact_steps, double* final_vz) {
   mpm::MpmOptions opt;
   opt.gravity = Vec3(0, 0, -9.81);
   mpm::MpmSolver solver(g, {mpm::Material::linear_elastic(1000, 1e6, 0.3)}, P, opt);
-  auto mesh = membrane::rectangle_mesh(Vec3(0.3013, 0.3011, top + 0.1), Vec3(0.4, 0, 0), Vec3(0, 0.4, 0), 8, 8);
-  membrane::Membrane mem(mesh.nodes, mesh.quads, sheet());
+  auto mesh = mpm::rectangle_mesh(Vec3(0.3013, 0.3011, top + 0.1), Vec3(0.4, 0, 0), Vec3(0, 0.4, 0), 8, 8);
+  mpm::Membrane mem(mesh.nodes, mesh.quads, sheet());
   mem.set_gravity(opt.gravity);
   for (auto& v : mem.velocities()) v = Vec3(0, 0, -1.0);
-  mpm_contact::MpmMembraneCoupling coupling(solver, mem);
+  mpm::MpmMembraneCoupling coupling(solver, mem);
   double lowest = 1e9;
   *contact_steps = 0;
   const double dt = coupling.critical_time_step();
@@ -85,14 +85,14 @@ TEST(GridContact, ContactForcesConserveMomentum) {
   mpm::sample_lattice(P, Vec3(0.3013, 0.3021, 0.2017), Vec3(0.9013, 0.9021, 0.4017), h / 2, 1000, 0,
                       Vec3::Zero(), 0, nullptr);
   mpm::MpmSolver solver(g, {mpm::Material::linear_elastic(1000, 1e6, 0.3)}, P);
-  auto mesh = membrane::rectangle_mesh(Vec3(0.4031, 0.4043, 0.5029), Vec3(0.4, 0, 0), Vec3(0, 0.4, 0), 6, 6);
-  membrane::Membrane mem(mesh.nodes, mesh.quads, sheet());
+  auto mesh = mpm::rectangle_mesh(Vec3(0.4031, 0.4043, 0.5029), Vec3(0.4, 0, 0), Vec3(0, 0.4, 0), 6, 6);
+  mpm::Membrane mem(mesh.nodes, mesh.quads, sheet());
   for (auto& v : mem.velocities()) v = Vec3(0.3, 0.1, -1.5);
-  for (auto opts : {mpm_contact::ContactOptions{mpm_contact::ContactOptions::Mode::Slip, 0.3, 0.25},
-                    mpm_contact::ContactOptions{mpm_contact::ContactOptions::Mode::Stick, 0.0, 0.25}}) {
+  for (auto opts : {mpm::ContactOptions{mpm::ContactOptions::Mode::Slip, 0.3, 0.25},
+                    mpm::ContactOptions{mpm::ContactOptions::Mode::Stick, 0.0, 0.25}}) {
     mpm::MpmSolver s = solver;
-    membrane::Membrane m = mem;
-    mpm_contact::MpmMembraneCoupling coupling(s, m, opts);
+    mpm::Membrane m = mem;
+    mpm::MpmMembraneCoupling coupling(s, m, opts);
     const Vec3 p0 = coupling.total_momentum();
     double impulse = 0, worst_step = 0;
     const double dt = coupling.critical_time_step();
@@ -103,7 +103,7 @@ TEST(GridContact, ContactForcesConserveMomentum) {
     }
     const Vec3 p1 = coupling.total_momentum();
     std::printf("[momentum] mode=%s |P0|=%.6f |P1-P0|=%.3e total contact impulse=%.4f\n",
-                opts.mode == mpm_contact::ContactOptions::Mode::Slip ? "slip" : "stick", p0.norm(), (p1 - p0).norm(),
+                opts.mode == mpm::ContactOptions::Mode::Slip ? "slip" : "stick", p0.norm(), (p1 - p0).norm(),
                 impulse);
     EXPECT_GT(impulse, 0.1 * p0.norm());  // the contact did act
     EXPECT_LT(worst_step, 1e-14 * impulse);
@@ -119,7 +119,7 @@ TEST(GridContact, ContactForcesConserveMomentum) {
 #include "apps/mpm/probes.hpp"
 #include "apps/mpm/setup.hpp"
 #include "apps/scene/scene.hpp"
-#include "coupling/mpm/frames.hpp"
+#include "mpm/contact/frames.hpp"
 #include "tests/test_support.hpp"
 
 namespace {
@@ -129,7 +129,7 @@ namespace {
 struct SceneModel {
   mpm_setup::Setup setup;
   std::vector<mpm_setup::Probe> probes;
-  std::unique_ptr<mpm_contact::CoupledModel> model;
+  std::unique_ptr<mpm::CoupledModel> model;
   double probe(std::size_t i) const { return mpm_setup::evaluate(probes[i], setup, *model); }
   double stored() const { return model->stored_energy(); }
 };
@@ -146,7 +146,7 @@ SceneModel scene_model(const std::string& name, const std::function<void(nlohman
 }
 
 /// Advances to t_end with the model's largest stable step; calls `each` after every step.
-void run_to(mpm_contact::CoupledModel& m, double t_end, const std::function<void(long, int)>& each = nullptr) {
+void run_to(mpm::CoupledModel& m, double t_end, const std::function<void(long, int)>& each = nullptr) {
   long step = 0;
   for (double t = 0; t < t_end * (1 - 1e-12);) {
     const double dt = std::min(m.max_dt(), t_end - t);
@@ -171,7 +171,7 @@ TEST(GasExpansion, EarlyExpansionKeepsGasInsideAndBalancesEnergy) {
   run_to(model, 0.3, [&](long step, int) {
     if (step % 25) return;
     const auto e = model.coupling().energies();
-    worst_balance = std::max(worst_balance, std::abs(mpm_contact::CoupledModel::stored_energy(e) + e.contact - e0) / e0);
+    worst_balance = std::max(worst_balance, std::abs(mpm::CoupledModel::stored_energy(e) + e.contact - e0) / e0);
     // Quarter polygon: origin, membrane line at z = 0 (the first nodes), back to the origin.
     std::vector<Eigen::Vector2d> poly{Eigen::Vector2d::Zero()};
     const auto& X = model.membrane().positions();
@@ -196,8 +196,8 @@ TEST(GasExpansion, EarlyExpansionKeepsGasInsideAndBalancesEnergy) {
 TEST(GasExpansion, FramesAreReadableVtu) {
   auto sm = scene_model("gas_expansion_ci");
   test::TempDir dir("mpm_frames");
-  mesh::io::write_vtu(dir.path() / "particles.vtu", mpm_contact::particle_frame(sm.model->mpm()));
-  mesh::io::write_vtu(dir.path() / "membrane.vtu", mpm_contact::membrane_frame(sm.model->membrane()));
+  mesh::io::write_vtu(dir.path() / "particles.vtu", mpm::particle_frame(sm.model->mpm()));
+  mesh::io::write_vtu(dir.path() / "membrane.vtu", mpm::membrane_frame(sm.model->membrane()));
   int status = 0;
   EXPECT_EQ(test::vtk_describe(dir.path() / "particles.vtu", &status),
             "342 342 p:velocity:3 p:pressure:1 p:density:1 p:internal_energy:1\n");
@@ -211,7 +211,7 @@ TEST(GasExpansion, SettlesToPaperRadiusAndEnergyLoss) {
   // bench_mpm): by t = 3 the membrane has settled near a circle of radius 0.96 (within 2%; the
   // radii change by less than 0.1% after t = 2.5) and 3-7% of the energy has been lost (paper:
   // about 5%, Fig. 18). The loss keeps creeping up after settling (about 0.85% per time unit at
-  // this spacing and step, see coupling/mpm/README.md), which is why the end time matters.
+  // this spacing and step, see mpm/README.md), which is why the end time matters.
   auto sm = scene_model("gas_expansion_ci");
   const double e0 = sm.stored();
   run_to(*sm.model, 3.0);
@@ -235,14 +235,14 @@ struct EnergyTrace {
 /// Section 7.1b (elastic sphere at 10 m/s on a clamped membrane, data/scenes/sphere_on_membrane.json)
 /// at cell 2 mm with the paper's particle spacing 0.5 mm (grid: the membrane square plus two cells,
 /// up to four cells above the sphere), advanced to t_end with the given contact.
-EnergyTrace sphere_on_membrane_energy(mpm_contact::ContactOptions contact, double t_end) {
+EnergyTrace sphere_on_membrane_energy(mpm::ContactOptions contact, double t_end) {
   auto sm = scene_model("sphere_on_membrane", [&](nlohmann::json& m) {
     const double cell = 2e-3, edge = 25e-3 + 2 * cell;
     m["grid"]["lo"] = {-edge, -edge, -25e-3};
     m["grid"]["hi"] = {edge, edge, 5.5e-3 + 4.5e-3 + 4 * cell};
     m["grid"]["cell"] = cell;
     m["membrane"]["element_size"] = cell;
-    m["contact"]["mode"] = contact.mode == mpm_contact::ContactOptions::Mode::Slip ? "slip" : "stick";
+    m["contact"]["mode"] = contact.mode == mpm::ContactOptions::Mode::Slip ? "slip" : "stick";
     m["contact"]["friction"] = contact.friction;
     m["contact"]["distance_factor"] = contact.distance_factor;
   });
@@ -271,9 +271,9 @@ TEST(GridContact, SlipContactDoesNotGainEnergyAndTheLossIsBookedAsDissipation) {
   // Stored energy = kinetic + elastic of the sphere + kinetic + strain + hourglass of the
   // membrane (no external loads); the loss must reappear as contact dissipation, measured with
   // mid-step velocities on the particles and FE nodes.
-  using Mode = mpm_contact::ContactOptions::Mode;
+  using Mode = mpm::ContactOptions::Mode;
   struct Case {
-    mpm_contact::ContactOptions contact;
+    mpm::ContactOptions contact;
     double t_end;
   };
   for (const auto& c : {Case{{Mode::Slip, 0.0, 1.0}, 0.15e-3}, Case{{Mode::Slip, 0.3, 0.25}, 0.15e-3}}) {

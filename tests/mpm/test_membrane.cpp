@@ -1,4 +1,4 @@
-// Validation of the Belytschko-Tsay membrane (solid/membrane/): patch test, hourglass/rigid modes,
+// Validation of the Belytschko-Tsay membrane (mpm/membrane/): patch test, hourglass/rigid modes,
 // and the equilibrium of a pressurised cylinder (N / R = p, Laplace's law for a cylinder).
 #include <gtest/gtest.h>
 
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "solid/membrane/membrane.hpp"
-#include "solid/membrane/membrane_mesh.hpp"
+#include "mpm/membrane/membrane.hpp"
+#include "mpm/membrane/membrane_mesh.hpp"
 
-using namespace tetfsi::membrane;
+using namespace tetfsi::mpm;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;

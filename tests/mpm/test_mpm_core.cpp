@@ -1,4 +1,4 @@
-// Validation of the MPM core (fluid/mpm/) against the colliding disks of Sulsky, Chen & Schreyer 1994, the vibrating bar of
+// Validation of the MPM core (mpm/particles/) against the colliding disks of Sulsky, Chen & Schreyer 1994, the vibrating bar of
 // Bardenhagen 2002 and the EOS
 // formulas of Lian, Liu & Zhang (2014) eqs. (66), (67), Tables 1 and 2.
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "fluid/mpm/mpm_solver.hpp"
-#include "fluid/mpm/reduce.hpp"
+#include "mpm/particles/mpm_solver.hpp"
+#include "mpm/particles/reduce.hpp"
 
 using namespace tetfsi::mpm;
 

@@ -21,7 +21,7 @@
 #include "apps/mpm/probes.hpp"
 #include "apps/mpm/setup.hpp"
 #include "apps/scene/scene.hpp"
-#include "fluid/mpm/mpm_solver.hpp"
+#include "mpm/particles/mpm_solver.hpp"
 
 #include <sys/resource.h>
 
@@ -165,7 +165,7 @@ void bench_scene(const std::string& scene_name, const std::string& label, double
     if (stats && steps % 50 == 0) {
       const auto e = model->coupling().energies();
       *stats << fmt::format("{},{:.9g},{:.6g},{},{:.9g},{:.9g},{:.9g}", steps, t, dt, rep.contact_nodes,
-                            mpm_contact::CoupledModel::stored_energy(e), e.contact, model->balance(e));
+                            mpm::CoupledModel::stored_energy(e), e.contact, model->balance(e));
       for (const auto& p : probes) *stats << fmt::format(",{:.9g}", mpm_setup::evaluate(p, setup, *model));
       *stats << "\n";
     }
@@ -191,7 +191,7 @@ void bench_scene(const std::string& scene_name, const std::string& label, double
 /// Grid of the section-7.1 sphere-on-membrane scene at another cell size (Fig. 11): the membrane
 /// square with a margin of two cells, z from -25 mm to the sphere top + 4 cells, the lower corner
 /// moved down by the part of a spacing that puts the particle lattice at in-cell positions
-/// (i + 1/2) / n of the cells, never on node planes (coupling/mpm/README.md).
+/// (i + 1/2) / n of the cells, never on node planes (mpm/README.md).
 void sphere_on_membrane_grid(scene::Json& m, double cell) {
   const double mm = 1e-3, half = 25 * mm, R = 4.5 * mm, zc = 5.5 * mm, dx = 0.5 * mm, margin = 2 * cell;
   Vec3 lo(-half - margin, -half - margin, -25 * mm);
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
   app.add_option("--cases", cases, "comma list of bar,disks,gas,gas_coarse,fig11,membrane_on_sphere,water,sphere_steps");
   app.add_option("--gas-t-end", gas_t_end, "end time of the gas expansion (dimensionless)");
   app.add_option("--sphere-t-end", sphere_t_end, "end time of membrane_on_sphere and water [s]");
-  double mos_cfl = 0.9;  // as data/scenes/membrane_on_sphere.json (coupling/mpm/README.md, "The MPM step")
+  double mos_cfl = 0.9;  // as data/scenes/membrane_on_sphere.json (mpm/README.md, "The MPM step")
   app.add_option("--mos-cfl", mos_cfl, "mpm_cfl of membrane_on_sphere (the scene's 0.9)")->check(CLI::Range(1e-3, 1.0));
   app.add_option("--threads", threads, "worker threads (0: every core)");
   app.add_option("--stats-dir", stats_dir, "write <case>_stats.csv files there");
