@@ -1,17 +1,17 @@
 // `tetfsi run` of a liquid with a free surface (fluid.fill "regions"; fluid/liquid/), end to end:
-//  - dam_break_ci.json: the liquid keeps its volume to 1e-9 every step (the level set's volume is
-//    restored; the tracking drift before the restoration stays below 1% per step), every
-//    projection is divergence-free to 1e-8 U/h, every frame's liquid surface is closed, outward and
-//    encloses the liquid volume, no surface vertex lies inside the post, and the front has not run
-//    ahead of Ritter's dry-bed bound x0 + 2 sqrt(g H) t (Ritter 1892; the inviscid upper limit);
+//  - dam_break_ci.json (a soft post, coupled through eq. 7): the liquid keeps its volume to 1e-9
+//    every step (the level set's volume is restored; the tracking drift before the restoration
+//    stays below 1% per step), every frame's liquid surface is closed, outward and encloses the
+//    liquid volume, no surface vertex lies inside the post, and the front has not run ahead of
+//    Ritter's dry-bed bound x0 + 2 sqrt(g H) t (Ritter 1892; the inviscid upper limit);
 //  - a nozzle (an emitter over a shallow pool) adds liquid while it is on and the volume then
 //    stays: the volume grows by at least the nozzle's own box and is constant after it switches off;
 //  - floating_block_ci.json: a block of half the water's density heaves about the Archimedes
 //    draft (coupled through eq. 7) without gaining energy at h = 1/120 s, and stays stable at 1/30 s;
 //  - paint_pour_ci.json: a nozzle pours onto a soft ball (coupled): the volume never falls, the
 //    liquid surfaces are closed and enclose the liquid volume, the ball sags;
-//  - dam_break_ci with surface_edge_length: the mesh is finer at the surface and remeshed as it
-//    moves, keeping the volume;
+//  - dam_break_ci with the post fixed and surface_edge_length: the mesh is finer at the surface and
+//    remeshed as it moves, keeping the volume, every projection divergence-free to 1e-8 U/h;
 //  - the time-splitting baseline diverges on the light floating block and runs on a heavy one;
 //  - 14 bad values of the free-surface keys give exit 2 naming the key in validate and run alike;
 //  - a free surface with a hex8 solid is refused by validate and run alike (exit 2, naming the key).
@@ -95,18 +95,19 @@ TEST(LiquidRun, DamBreakKeepsItsVolumeAndWritesClosedSurfaces) {
   ASSERT_EQ(status, 0) << log;
   const Csv stats = read_csv(out / "stats.csv"), probes = read_csv(out / "probes.csv");
   ASSERT_GT(stats.rows.size(), 5u);
-  const double g = 9.81, H = 0.6, x0 = 0.4, U = std::sqrt(2 * g * H);
+  const double g = 9.81, H = 0.6, x0 = 0.4;
   const double h = scene["mesh"]["edge_length_near_solids"].get<double>();
   const double v0 = probes.at(0, "liquid_volume");
   EXPECT_NEAR(v0, 0.4 * 0.6 * 0.4, 0.01 * 0.4 * 0.6 * 0.4);  // the column, as the P1 level set sees it
   for (std::size_t r = 0; r < stats.rows.size(); ++r) {
     EXPECT_NEAR(stats.at(r, "liquid_volume"), v0, 1e-9 * v0) << "step " << r + 1;
     EXPECT_LT(std::abs(stats.at(r, "volume_drift")), 0.01) << "step " << r + 1;
-    EXPECT_LE(stats.at(r, "max_divergence"), 1e-8 * U / h) << "step " << r + 1;
-    EXPECT_TRUE(std::isfinite(stats.at(r, "kinetic_energy")));
+    EXPECT_LT(stats.at(r, "solver_residual"), 1e-6) << "step " << r + 1;
+    EXPECT_TRUE(std::isfinite(stats.at(r, "total_energy")));
   }
-  // Frames: t = 0, 0.05, ..., 0.3 s.
-  const Eigen::Vector3d post_lo(1.04, 0.05, 0.14), post_hi(1.16, 0.35, 0.26);
+  // Frames: t = 0, 0.05, ..., 0.3 s. The post deforms by millimetres: no liquid vertex may lie
+  // deeper than 1 cm inside its rest box.
+  const Eigen::Vector3d post_lo(1.04 + 0.01, 0.05 + 0.01, 0.14 + 0.01), post_hi(1.16 - 0.01, 0.35 - 0.01, 0.26 - 0.01);
   double front = 0;
   for (int frame = 0; frame <= 6; ++frame) {
     char name[32];
@@ -120,7 +121,7 @@ TEST(LiquidRun, DamBreakKeepsItsVolumeAndWritesClosedSurfaces) {
     front = 0;
     for (const auto& x : ply.positions) {
       front = std::max(front, x.x());
-      const bool inside_post = ((x - post_lo).array() > 1e-6).all() && ((post_hi - x).array() > 1e-6).all();
+      const bool inside_post = ((x - post_lo).array() > 0).all() && ((post_hi - x).array() > 0).all();
       EXPECT_FALSE(inside_post) << "frame " << frame << ": liquid vertex inside the post";
     }
     EXPECT_LE(front, x0 + 2 * std::sqrt(g * H) * t + h) << "frame " << frame;
@@ -325,13 +326,24 @@ TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
         surfaces->push_back(read_ply(out / "surfaces" / n));
       }
   };
-  json adaptive = committed("dam_break_ci.json");
+  // The post as a fixed obstacle (a zero translation): the fluid runner, which remeshes for the surface.
+  auto rigid_post = [](json scene) {
+    scene["solids"][0].erase("fixed_regions");
+    scene["solids"][0]["motion"] = json::parse(R"({"type": "translation", "velocity": [0, 0, 0]})");
+    scene.erase("coupling");
+    json probes = json::array();
+    for (const auto& p : scene["probes"])
+      if (p["kind"] != "point_displacement") probes.push_back(p);
+    scene["probes"] = probes;
+    return scene;
+  };
+  json adaptive = rigid_post(committed("dam_break_ci.json"));
   adaptive["fluid"]["surface_edge_length"] = 0.04;
   Csv stats, probes, uniform_stats, fine_stats;
   std::vector<PlyData> surfaces, uniform_surfaces;
   run(adaptive, "liquid_adaptive", 0.3, &stats, &probes, &surfaces);
-  run(committed("dam_break_ci.json"), "liquid_uniform", 0.3, &uniform_stats, nullptr, &uniform_surfaces);
-  run(committed("dam_break.json"), "liquid_uniform_fine", 0.01, &fine_stats, nullptr, nullptr);
+  run(rigid_post(committed("dam_break_ci.json")), "liquid_uniform", 0.3, &uniform_stats, nullptr, &uniform_surfaces);
+  run(rigid_post(committed("dam_break.json")), "liquid_uniform_fine", 0.01, &fine_stats, nullptr, nullptr);
   ASSERT_FALSE(stats.rows.empty());
   const double v0 = probes.at(0, "liquid_volume");
   double remeshes = 0, max_tets = 0;
@@ -341,6 +353,9 @@ TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
     EXPECT_NEAR(stats.at(r, "liquid_volume"), v0, 1e-9 * v0) << "step " << r + 1;
   }
   EXPECT_GE(remeshes, 2.0);
+  const double U = std::sqrt(2 * 9.81 * 0.6), h = 0.04;
+  for (std::size_t r = 0; r < stats.rows.size(); ++r)
+    EXPECT_LE(stats.at(r, "max_divergence"), 1e-8 * U / h) << "step " << r + 1;
   EXPECT_LT(max_tets, 0.5 * fine_stats.at(0, "tets"));
   for (std::size_t frame = 1; frame < surfaces.size(); ++frame) {
     EXPECT_EQ(open_edges(surfaces[frame]), 0) << "frame " << frame;
