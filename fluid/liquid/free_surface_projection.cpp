@@ -180,7 +180,7 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
       static_cast<int>(liquid.is_liquid.size()) != n)
     throw std::invalid_argument("project_free_surface: velocity or liquid geometry does not match the mesh");
   ProjectionReport rep;
-  double t0 = now();
+  const double t0 = now();
   // rhs_i = (rho/h) (sum_t a_i . u*_t - f_i).
   const Eigen::VectorXd rhs = (density / h) * (wet_gradient_transpose(mesh, liquid, u) - bc.flux);
   std::vector<int> unknown(n, -1);
@@ -193,20 +193,8 @@ ProjectionReport project_free_surface(const FluidMesh& mesh, const ClassifiedBou
     if (unknown[i] >= 0) unknown[i] = m++;
   if (m == 0) throw std::invalid_argument("project_free_surface: no liquid node to solve for");
   const Eigen::SparseMatrix<double> a = wet_laplacian(mesh, liquid, unknown, m);
-  Eigen::VectorXd b(m);
-  for (int i = 0; i < n; ++i)
-    if (unknown[i] >= 0) b[unknown[i]] = pinned_rhs[i];
-  rep.unknowns = m;
   rep.assemble_seconds = now() - t0;
-
-  t0 = now();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(m);
-  rep.solve = solve_spd(a, b, x, options);
-  rep.solve_seconds = now() - t0;
-
-  rep.pressure = Eigen::VectorXd::Zero(n);
-  for (int i = 0; i < n; ++i)
-    if (unknown[i] >= 0) rep.pressure[i] = x[unknown[i]];
+  solve_on_unknowns(a, pinned_rhs, unknown, m, options, rep);
   apply_wet_pressure(mesh, liquid, rep.pressure, h, density, u);
   // Weak divergence at the unknowns per unit dual volume (the measure of projection.hpp).
   const Eigen::VectorXd div = bc.flux - wet_gradient_transpose(mesh, liquid, u);

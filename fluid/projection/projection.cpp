@@ -26,6 +26,22 @@ double max_normalized_divergence(const FluidMesh& mesh, const ClassifiedBoundary
   return m;
 }
 
+void solve_on_unknowns(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& rhs, const std::vector<int>& unknown,
+                       int m, const SolverOptions& options, ProjectionReport& rep) {
+  const int n = static_cast<int>(unknown.size());
+  Eigen::VectorXd b(m);
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) b[unknown[i]] = rhs[i];
+  rep.unknowns = m;
+  const double t0 = now();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(m);
+  rep.solve = solve_spd(a, b, x, options);
+  rep.solve_seconds = now() - t0;
+  rep.pressure = Eigen::VectorXd::Zero(n);
+  for (int i = 0; i < n; ++i)
+    if (unknown[i] >= 0) rep.pressure[i] = x[unknown[i]];
+}
+
 ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, double h, double density,
                          TetVectors& u, const SolverOptions& options) {
   if (!(h > 0.0) || !(density > 0.0))
@@ -34,7 +50,7 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
     throw std::invalid_argument("project: velocity has " + std::to_string(u.size()) + " entries for " +
                                 std::to_string(mesh.num_tets()) + " tets");
   ProjectionReport rep;
-  double t0 = now();
+  const double t0 = now();
   const int n = mesh.num_nodes();
   // rhs_i = (rho/h) (G^T V u* - f)_i, so that L p = rhs.
   Eigen::VectorXd rhs = (density / h) * (gradient_transpose_volume(mesh, u) - bc.flux);
@@ -73,20 +89,8 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
   });
   Eigen::SparseMatrix<double> a(m, m);
   a.setFromTriplets(trip.begin(), trip.end());  // unused slots add 0 to (0, 0), which is on the diagonal
-  Eigen::VectorXd b(m);
-  for (int i = 0; i < n; ++i)
-    if (unknown[i] >= 0) b[unknown[i]] = rhs[i];
-  rep.unknowns = m;
   rep.assemble_seconds = now() - t0;
-
-  t0 = now();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(m);
-  rep.solve = solve_spd(a, b, x, options);
-  rep.solve_seconds = now() - t0;
-
-  rep.pressure = Eigen::VectorXd::Zero(n);
-  for (int i = 0; i < n; ++i)
-    if (unknown[i] >= 0) rep.pressure[i] = x[unknown[i]];
+  solve_on_unknowns(a, rhs, unknown, m, options, rep);
   if (bc.closed) {
     double pv = 0.0, vol = 0.0;
     for (int i = 0; i < n; ++i) {

@@ -17,6 +17,8 @@
 #include <Eigen/Core>
 
 #include "fluid/boundary/boundary_conditions.hpp"
+#include <vector>
+
 #include "fluid/operators/fluid_mesh.hpp"
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/linear_solver.hpp"
@@ -37,6 +39,13 @@ Eigen::VectorXd weak_divergence(const FluidMesh& mesh, const ClassifiedBoundary&
 
 /// max over non-open nodes of |(D u)_i| / dual_volume_i [1/s].
 double max_normalized_divergence(const FluidMesh& mesh, const ClassifiedBoundary& bc, const TetVectors& u);
+
+/// Solves a x = b on the m unknowns, b gathered from the per-node `rhs` (node i is unknown[i], or
+/// not an unknown if < 0), and scatters x into rep.pressure (zero at the other nodes); fills
+/// rep.unknowns, rep.solve and rep.solve_seconds. Shared by project() and project_free_surface().
+/// @throws SolverError if the solve fails
+void solve_on_unknowns(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& rhs, const std::vector<int>& unknown,
+                       int m, const SolverOptions& options, ProjectionReport& rep);
 
 /// Projects u in place (see file doc).
 /// @param h        time step [s], > 0
