@@ -1,6 +1,5 @@
 #include "coupling/coupled_stepper.hpp"
 
-#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -8,15 +7,12 @@
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/amg_preconditioner.hpp"
 #include "mesh/quality.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-Eigen::SparseMatrix<double> block_diagonal(const std::vector<Eigen::SparseMatrix<double>>& blocks) {
+SparseMatrix block_diagonal(const std::vector<SparseMatrix>& blocks) {
   int n = 0;
   std::size_t nnz = 0;
   for (const auto& b : blocks) n += static_cast<int>(b.rows()), nnz += b.nonZeros();
@@ -25,49 +21,70 @@ Eigen::SparseMatrix<double> block_diagonal(const std::vector<Eigen::SparseMatrix
   int offset = 0;
   for (const auto& b : blocks) {
     for (int k = 0; k < b.outerSize(); ++k)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(b, k); it; ++it)
+      for (SparseMatrix::InnerIterator it(b, k); it; ++it)
         t.emplace_back(offset + it.row(), offset + it.col(), it.value());
     offset += static_cast<int>(b.rows());
   }
-  Eigen::SparseMatrix<double> m(n, n);
+  SparseMatrix m(n, n);
   m.setFromTriplets(t.begin(), t.end());
   return m;
 }
 
 }  // namespace
 
-/// The pieces of eq. (7) for one step, reduced to the pressure unknowns (fluid nodes without a
-/// prescribed pressure) and with the fixed solid dofs' flux moved to the right-hand side.
-struct CoupledStepper::Blocks {
-  CoupledSystem system;
+/// The solid rows of eq. (4) for one step, block-diagonal over the solids.
+struct CoupledStepper::SolidRows {
+  SparseMatrix A;                  ///< n x n, Dirichlet dofs eliminated (rows A_kk u_k = b_k)
+  Eigen::VectorXd b;               ///< n
+  std::vector<char> fixed;         ///< per solid dof: velocity prescribed
+  Eigen::VectorXd fixed_velocity;  ///< the prescribed velocity of fixed dofs, 0 elsewhere
+};
+
+/// The fluid rows of eq. (6) for one step, on the pressure unknowns.
+struct CoupledStepper::FluidRows {
+  SparseMatrix P;     ///< m x m, (h/ρ) L
+  Eigen::VectorXd r;  ///< m, Gᵀ V v* less the prescribed fluxes
+};
+
+/// The interface maps of sec. 3.4 for one step, on the pressure unknowns (fluid nodes without a
+/// prescribed pressure).
+struct CoupledStepper::Interface {
   std::vector<int> unknown;  ///< fluid node -> pressure unknown, -1 where p = 0 is prescribed
+  SparseMatrix H_all;        ///< m x n, every solid dof
+  SparseMatrix H;            ///< H_all with the fixed dofs' columns zeroed (J = Hᵀ)
+  Eigen::VectorXd fixed_flux;  ///< H_all u_fixed, the flux of the prescribed velocities, moved to r
 };
 
 CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
-                               const std::vector<solid::TetMaterial>& materials, CoupledSettings settings)
+                               const std::vector<solid::TetMaterial>& materials, CoupledSettings settings,
+                               const std::vector<solid::TetModelOptions>& model_options)
     : mesh_(std::move(mesh)), settings_(std::move(settings)), fluid_(std::move(fluid)) {
   if (!(settings_.time_step > 0)) throw std::invalid_argument("coupled step: time step must be positive");
+  if (!model_options.empty() && model_options.size() != materials.size())
+    throw std::invalid_argument("coupled step: one element option set per solid expected");
   int offset = 0;
   for (int i = 0; i < static_cast<int>(materials.size()); ++i) {
     Solid s;
     s.submesh = mesh::extract_subdomain(mesh_, mesh::solid_subdomain(i));
-    s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i]);
-    solid::TrapezoidalSettings ts;
+    s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i],
+                                                model_options.empty() ? solid::TetModelOptions{} : model_options[i]);
+    solid::NewmarkSettings ts;
     ts.time_step = settings_.time_step;
     ts.rayleigh_alpha = materials[i].rayleigh_alpha;
     ts.rayleigh_beta = materials[i].rayleigh_beta;
     ts.gravity = settings_.solid_gravity;
     ts.scheme = settings_.newmark;
-    s.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*s.model, ts);
+    s.integrator = std::make_unique<solid::NewmarkIntegrator>(*s.model, ts);
     s.dof_offset = offset;
     offset += 3 * s.model->num_nodes();
     solids_.push_back(std::move(s));
   }
+  num_solid_dofs_ = offset;
   fluid_.initialize(mesh_);
   CoupledSolverOptions options = settings_.solver_options;
   if (settings_.solver == CoupledSolverKind::SchurCG && fluid_.params().solver.backend == fluid::SolverBackend::kHypreAmgCg &&
       !options.preconditioner_apply) {
-    // BoomerAMG of Ŝ = C + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change).
+    // BoomerAMG of Ŝ = P + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change).
     auto amg = std::make_shared<fluid::AmgPreconditioner>();
     options.preconditioner_setup = [amg](const SparseMatrix& S_hat) { amg->setup(S_hat); };
     options.preconditioner_apply = [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
@@ -86,12 +103,7 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
 }
 
 MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
-  std::vector<Eigen::Vector3d> target = mesh_.vertices;
-  for (const Solid& s : solids_) {
-    const Eigen::VectorXd x = s.integrator->positions();
-    for (int a = 0; a < s.model->num_nodes(); ++a) target[s.submesh.to_parent_vertex[a]] = x.segment<3>(3 * a);
-  }
-  MeshUpdateResult r = mesh_updater_->update(mesh_, target, min_dihedral_deg_);
+  MeshUpdateResult r = mesh_updater_->update(mesh_, mesh_vertices_at(solid_positions()), min_dihedral_deg_);
   min_dihedral_deg_ = r.report.min_dihedral_deg;
   if (r.report.remeshed) {
     // Solid vertices are never removed by the remesher: renumber the solid-node maps and carry
@@ -119,65 +131,90 @@ MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
   return r.report;
 }
 
-CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& report) {
-  Blocks blocks;
-  CoupledSystem& sys = blocks.system;
+Eigen::VectorXd CoupledStepper::solid_positions() const {
+  Eigen::VectorXd x(num_solid_dofs_);
+  for (const Solid& s : solids_) x.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->positions();
+  return x;
+}
 
-  // Solid rows of eq. (4), block-diagonal over the solids.
-  auto clock = std::chrono::steady_clock::now();
-  std::vector<Eigen::SparseMatrix<double>> A_blocks(solids_.size());
+Eigen::VectorXd CoupledStepper::solid_velocities() const {
+  Eigen::VectorXd u(num_solid_dofs_);
+  for (const Solid& s : solids_) u.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->velocity();
+  return u;
+}
+
+std::vector<Eigen::Vector3d> CoupledStepper::mesh_vertices_at(const Eigen::VectorXd& solid_x) const {
+  std::vector<Eigen::Vector3d> x = mesh_.vertices;
+  for (const Solid& s : solids_)
+    for (int a = 0; a < s.model->num_nodes(); ++a)
+      x[s.submesh.to_parent_vertex[a]] = solid_x.segment<3>(s.dof_offset + 3 * a);
+  return x;
+}
+
+Eigen::VectorXd CoupledStepper::previous_pressure(const std::vector<int>& unknown, int m) const {
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(m);
+  for (int i = 0; i < static_cast<int>(unknown.size()); ++i)
+    if (unknown[i] >= 0) p[unknown[i]] = previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]];
+  return p;
+}
+
+bool CoupledStepper::mean_constraint() const {
+  return settings_.mean_constraint && settings_.scheme == CouplingScheme::kSimultaneous && !fluid_.has_free_surface();
+}
+
+CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledStepReport& report) {
+  const Stopwatch clock;
+  SolidRows rows;
+  std::vector<SparseMatrix> A_blocks(solids_.size());
   std::vector<Eigen::VectorXd> b_blocks(solids_.size());
-  int n = 0;
-  for (std::size_t i = 0; i < solids_.size(); ++i) {
-    solids_[i].integrator->form_system(A_blocks[i], b_blocks[i]);
-    n += static_cast<int>(b_blocks[i].size());
-  }
-  sys.A = block_diagonal(A_blocks);
-  sys.b.resize(n);
-  std::vector<char> fixed(n, 0);
-  Eigen::VectorXd fixed_velocity = Eigen::VectorXd::Zero(n);
+  for (std::size_t i = 0; i < solids_.size(); ++i) solids_[i].integrator->form_system(h, A_blocks[i], b_blocks[i]);
+  rows.A = block_diagonal(A_blocks);
+  const int n = num_solid_dofs_;
+  rows.b.resize(n);
+  rows.fixed.assign(n, 0);
+  rows.fixed_velocity = Eigen::VectorXd::Zero(n);
   for (std::size_t i = 0; i < solids_.size(); ++i) {
     const int o = solids_[i].dof_offset;
-    sys.b.segment(o, b_blocks[i].size()) = b_blocks[i];
+    rows.b.segment(o, b_blocks[i].size()) = b_blocks[i];
     const auto& f = solids_[i].integrator->fixed_dofs();
     for (std::size_t k = 0; k < f.size(); ++k)
       if (f[k]) {
-        fixed[o + k] = 1;
+        rows.fixed[o + k] = 1;
         // The integrator's Dirichlet rows read A_kk u_k = b_k: the prescribed velocity.
-        fixed_velocity[o + k] = b_blocks[i][k] / A_blocks[i].coeff(k, k);
+        rows.fixed_velocity[o + k] = b_blocks[i][k] / A_blocks[i].coeff(k, k);
       }
   }
-  report.solid_assemble_seconds = seconds_since(clock);
+  report.solid_assemble_seconds = clock.seconds();
   report.solid_dofs = n;
+  return rows;
+}
 
-  // Pressure unknowns: every fluid node without a prescribed pressure.
-  clock = std::chrono::steady_clock::now();
+CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const SolidRows& solid,
+                                                             CoupledStepReport& report) const {
   const fluid::FluidMesh& fm = fluid_.mesh();
-  const fluid::ClassifiedBoundary& bc = fluid_.boundary();
-  blocks.unknown.assign(fm.num_nodes(), -1);
+  const int n = num_solid_dofs_;
+  Interface interface;
+  // Pressure unknowns: every fluid node without a prescribed pressure (p = 0 at open nodes and,
+  // for a liquid with a free surface, at the air nodes).
+  interface.unknown.assign(fm.num_nodes(), -1);
+  const bool surface = free_surface();
   int m = 0;
   for (int i = 0; i < fm.num_nodes(); ++i)
-    if (bc.node_kind[i] != fluid::NodeKind::kOpen) blocks.unknown[i] = m++;
+    if (fluid_.boundary().node_kind[i] != fluid::NodeKind::kOpen && (!surface || fluid_.liquid().is_liquid[i]))
+      interface.unknown[i] = m++;
 
-  // H over the interface triangles (interface_maps.hpp), columns of fixed dofs moved to r.
-  std::vector<InterfaceTriangle> triangles;
   InterfaceDofs dofs;
   dofs.pressure_index.assign(mesh_.num_vertices(), -1);
   dofs.solid_node.assign(mesh_.num_vertices(), -1);
-  for (int i = 0; i < fm.num_nodes(); ++i) dofs.pressure_index[fm.node_to_mesh_vertex[i]] = blocks.unknown[i];
+  for (int i = 0; i < fm.num_nodes(); ++i) dofs.pressure_index[fm.node_to_mesh_vertex[i]] = interface.unknown[i];
   for (const Solid& s : solids_)
     for (int a = 0; a < s.model->num_nodes(); ++a) dofs.solid_node[s.submesh.to_parent_vertex[a]] = s.dof_offset / 3 + a;
   // With the mean constraint H is taken on the predicted mid-step interface xⁿ + (h/2) uⁿ
   // (CoupledSettings::mean_constraint); the interface vertices are all solid vertices.
-  const bool mean = settings_.mean_constraint && settings_.scheme == CouplingScheme::kSimultaneous;
+  const bool mean = mean_constraint();
   std::vector<Eigen::Vector3d> mid;
-  if (mean) {
-    mid = mesh_.vertices;
-    for (const Solid& s : solids_) {
-      const Eigen::VectorXd q = s.integrator->positions() + 0.5 * h * s.integrator->velocity();
-      for (int a = 0; a < s.model->num_nodes(); ++a) mid[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
-    }
-  }
+  if (mean) mid = mesh_vertices_at(solid_positions() + 0.5 * h * solid_velocities());
+  std::vector<InterfaceTriangle> triangles;
   for (const fluid::BoundaryFace& f : fm.boundary_faces) {
     if (f.other_subdomain < mesh::solid_subdomain(0)) continue;
     InterfaceTriangle t;
@@ -191,130 +228,156 @@ CoupledStepper::Blocks CoupledStepper::assemble(double h, CoupledStepReport& rep
     triangles.push_back(t);
   }
   report.interface_triangles = static_cast<int>(triangles.size());
-  const Eigen::SparseMatrix<double> H_all = interface_flux_map(triangles, dofs, m, n / 3);
+  // J = Hᵀ; the columns of fixed dofs move to the right-hand side as the flux H_fixed u_fixed.
+  interface.H_all = interface_flux_map(triangles, dofs, m, n / 3);
   Eigen::VectorXd free_mask = Eigen::VectorXd::Ones(n);
   for (int k = 0; k < n; ++k)
-    if (fixed[k]) free_mask[k] = 0;
-  sys.H = H_all * free_mask.asDiagonal();
-  const Eigen::VectorXd fixed_flux = H_all * fixed_velocity;
+    if (solid.fixed[k]) free_mask[k] = 0;
+  interface.H = interface.H_all * free_mask.asDiagonal();
+  interface.fixed_flux = interface.H_all * solid.fixed_velocity;
+  return interface;
+}
 
-  // Fluid rows: C = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
+CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const Interface& interface) const {
+  const fluid::FluidMesh& fm = fluid_.mesh();
+  const fluid::ClassifiedBoundary& bc = fluid_.boundary();
+  const std::vector<int>& unknown = interface.unknown;
+  const int m = static_cast<int>(interface.H_all.rows());
+  FluidRows rows;
   const double rho = fluid_.params().density;
-  const Eigen::SparseMatrix<double> L = fluid::assemble_laplacian(fm);
-  // C is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
-  // L's (sorted, compressed) columns filtered in place are C's columns in order: no sort needed.
-  sys.C.resize(m, m);
-  sys.C.reserve(L.nonZeros());
-  for (int k = 0; k < L.outerSize(); ++k) {
-    if (blocks.unknown[k] < 0) continue;
-    sys.C.startVec(blocks.unknown[k]);
-    for (Eigen::SparseMatrix<double>::InnerIterator it(L, k); it; ++it)
-      if (blocks.unknown[it.row()] >= 0) sys.C.insertBack(blocks.unknown[it.row()], blocks.unknown[k]) = (h / rho) * it.value();
+  if (free_surface()) {
+    // The liquid's rows (free_surface_projection.hpp): P = (h/ρ) Bᵀ W B, r = Σ_t a_i·v*_t − f_i −
+    // H_fixed u_fixed on the liquid nodes; the air is void, p = 0 on the surface.
+    const fluid::LiquidGeometry& liquid = fluid_.liquid();
+    rows.P = (h / rho) * fluid::wet_laplacian(fm, liquid, unknown, m);
+    const Eigen::VectorXd div_star = fluid::wet_gradient_transpose(fm, liquid, fluid_.fields().velocity) - bc.flux;
+    rows.r.resize(m);
+    for (int i = 0; i < fm.num_nodes(); ++i)
+      if (unknown[i] >= 0) rows.r[unknown[i]] = div_star[i];
+    rows.r -= interface.fixed_flux;
+    return rows;
   }
-  sys.C.finalize();
+  // P = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
+  const SparseMatrix L = fluid::assemble_laplacian(fm);
+  // P is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
+  // L's (sorted, compressed) columns filtered in place are P's columns in order: no sort needed.
+  rows.P.resize(m, m);
+  rows.P.reserve(L.nonZeros());
+  for (int k = 0; k < L.outerSize(); ++k) {
+    if (unknown[k] < 0) continue;
+    rows.P.startVec(unknown[k]);
+    for (SparseMatrix::InnerIterator it(L, k); it; ++it)
+      if (unknown[it.row()] >= 0) rows.P.insertBack(unknown[it.row()], unknown[k]) = (h / rho) * it.value();
+  }
+  rows.P.finalize();
   const Eigen::VectorXd div_star = fluid::gradient_transpose_volume(fm, fluid_.fields().velocity) - bc.flux;
-  sys.r.resize(m);
+  rows.r.resize(m);
   for (int i = 0; i < fm.num_nodes(); ++i)
-    if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] = div_star[i];
-  sys.r -= fixed_flux;
-  if (mean) {
+    if (unknown[i] >= 0) rows.r[unknown[i]] = div_star[i];
+  rows.r -= interface.fixed_flux;
+  if (mean_constraint()) {
     // Gᵀ V v^{n+1} − H u^{n+1} = −(Gᵀ V vⁿ − H uⁿ), vⁿ the advected velocity before body forces:
     // the defect of the start-of-step state on this mesh moves to the right-hand side.
     const Eigen::VectorXd div_n = fluid::gradient_transpose_volume(fm, fluid_.advected_velocity()) - bc.flux;
-    Eigen::VectorXd u_n(n);
-    for (const Solid& s : solids_) u_n.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->velocity();
-    sys.r -= H_all * u_n;
+    rows.r -= interface.H_all * solid_velocities();
     for (int i = 0; i < fm.num_nodes(); ++i)
-      if (blocks.unknown[i] >= 0) sys.r[blocks.unknown[i]] += div_n[i];
+      if (unknown[i] >= 0) rows.r[unknown[i]] += div_n[i];
   }
 
   // A closed fluid region whose boundary cannot move (walls and fixed solids only) has the
   // constant pressure null space: pin one node as the fluid projection does.
   bool moving_boundary = false;
-  for (int k = 0; k < sys.H.outerSize() && !moving_boundary; ++k)
-    moving_boundary = Eigen::SparseMatrix<double>::InnerIterator(sys.H, k);
+  for (int k = 0; k < interface.H.outerSize() && !moving_boundary; ++k)
+    moving_boundary = SparseMatrix::InnerIterator(interface.H, k);
   if (bc.closed && !moving_boundary && m > 0) {
-    sys.r.array() -= sys.r.mean();
-    sys.C.coeffRef(0, 0) += sys.C.coeff(0, 0);  // p_0 anchored softly: unique and still SPD
+    rows.r.array() -= rows.r.mean();
+    rows.P.coeffRef(0, 0) += rows.P.coeff(0, 0);  // p_0 anchored softly: unique and still SPD
   }
-  report.interface_seconds = seconds_since(clock);
-  report.pressure_unknowns = m;
-  return blocks;
+  return rows;
 }
 
-CoupledStepReport CoupledStepper::step(double h) {
-  if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
-  for (Solid& s : solids_) s.integrator->set_time_step(h);
-  CoupledStepReport report;
-  report.mesh_update = update_mesh_to_solids();
-  report.fluid = fluid_.predict(mesh_, boundary_, h);
-  Blocks blocks = assemble(h, report);
-  CoupledSystem& sys = blocks.system;
+CoupledSolveReport CoupledStepper::solve(const CoupledSystem& sys, const std::vector<int>& unknown,
+                                         Eigen::VectorXd& u, Eigen::VectorXd& p) {
   const int n = sys.num_solid_dofs(), m = sys.num_pressures();
-
-  Eigen::VectorXd u, p;
+  CoupledSolveReport report;
   if (settings_.scheme == CouplingScheme::kSimultaneous) {
     // Initial guess of the iterative solvers: the previous step's pressure (carried per mesh
     // vertex through remeshing) and the current solid velocities.
-    p = Eigen::VectorXd::Zero(m);
-    for (int i = 0; i < static_cast<int>(blocks.unknown.size()); ++i)
-      if (blocks.unknown[i] >= 0) p[blocks.unknown[i]] = previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]];
-    u.resize(n);
-    for (const Solid& s : solids_) u.segment(s.dof_offset, 3 * s.model->num_nodes()) = s.integrator->velocity();
-    report.solve = solver_->solve(sys, u, p);
+    p = previous_pressure(unknown, m);
+    u = solid_velocities();
+    report = solver_->solve(sys, u, p);
   } else {
     // Time splitting: solid with the previous pressure, then fluid with the new solid velocity.
-    Eigen::VectorXd p_old = Eigen::VectorXd::Zero(m);
-    for (int i = 0; i < static_cast<int>(blocks.unknown.size()); ++i)
-      if (blocks.unknown[i] >= 0)
-        p_old[blocks.unknown[i]] = previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]];
-    CoupledSystem solid_only{sys.A, Eigen::SparseMatrix<double>(0, n), Eigen::SparseMatrix<double>(0, 0),
-                             sys.b + sys.H.transpose() * p_old, Eigen::VectorXd(0)};
+    const Eigen::VectorXd p_old = previous_pressure(unknown, m);
+    CoupledSystem solid_only{sys.A, SparseMatrix(0, n), SparseMatrix(0, 0), sys.b + sys.H.transpose() * p_old,
+                             Eigen::VectorXd(0)};
     Eigen::VectorXd unused;
     const CoupledSolveReport rs = solver_->solve(solid_only, u, unused);
-    CoupledSystem fluid_only{Eigen::SparseMatrix<double>(0, 0), Eigen::SparseMatrix<double>(m, 0), sys.C,
-                             Eigen::VectorXd(0), sys.r - sys.H * u};
+    CoupledSystem fluid_only{SparseMatrix(0, 0), SparseMatrix(m, 0), sys.P, Eigen::VectorXd(0), sys.r - sys.H * u};
     Eigen::VectorXd none;
-    report.solve = solver_->solve(fluid_only, none, p);
-    report.solve.solver = "splitting:" + report.solve.solver;
-    report.solve.iterations += rs.iterations;
-    report.solve.setup_seconds += rs.setup_seconds;
-    report.solve.solve_seconds += rs.solve_seconds;
-    report.solve.residual = residuals(sys, u, p);  // of the coupled equations: shows the splitting error
+    report = solver_->solve(fluid_only, none, p);
+    report.solver = "splitting:" + report.solver;
+    report.iterations += rs.iterations;
+    report.setup_seconds += rs.setup_seconds;
+    report.solve_seconds += rs.solve_seconds;
+    report.residual = residuals(sys, u, p);  // of the coupled equations: shows the splitting error
   }
   if (!u.allFinite() || !p.allFinite())
     throw std::runtime_error("coupled step " + std::to_string(step_ + 1) + ": solution is not finite (diverged)");
+  return report;
+}
 
+void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p,
+                            const std::vector<int>& unknown, CoupledStepReport& report) {
+  // Eq. (8): the fluid velocity from the new pressure.
   Eigen::VectorXd pressure = Eigen::VectorXd::Zero(fluid_.mesh().num_nodes());
   for (int i = 0; i < pressure.size(); ++i)
-    if (blocks.unknown[i] >= 0) pressure[i] = p[blocks.unknown[i]];
+    if (unknown[i] >= 0) pressure[i] = p[unknown[i]];
   for (int i = 0; i < pressure.size(); ++i)
     previous_vertex_pressure_[fluid_.mesh().node_to_mesh_vertex[i]] = pressure[i];
   report.fluid = fluid_.apply_pressure(std::move(pressure), h, report.fluid);
   report.fluid.solve_seconds = report.solve.setup_seconds + report.solve.solve_seconds;
   report.fluid.iterations = report.solve.iterations;
-
+  report.fluid_kinetic = report.fluid.kinetic_energy;
+  // Eq. (5): the solid displacement from the new velocity.
   for (Solid& s : solids_) {
-    s.integrator->advance(u.segment(s.dof_offset, 3 * s.model->num_nodes()));
+    s.integrator->advance(h, u.segment(s.dof_offset, 3 * s.model->num_nodes()));
     const solid::StepStats e = s.integrator->energies();
     report.solid_kinetic += e.kinetic;
     report.solid_strain += e.strain;
     report.spring_energy += e.spring;
     report.solid_gravity_potential += e.gravity_potential;
   }
-  report.fluid_kinetic = report.fluid.kinetic_energy;
+}
+
+CoupledStepReport CoupledStepper::step(double h) {
+  if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
+  CoupledStepReport report;
+  report.mesh_update = update_mesh_to_solids();       // xⁿ: the fluid mesh follows the solids
+  report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection and body forces
+  SolidRows solid = assemble_solid_rows(h, report);    // eq. (4): A, b
+  const Stopwatch clock;
+  Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
+  FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
+  const CoupledSystem sys{std::move(solid.A), std::move(interface.H), std::move(fluid.P), std::move(solid.b),
+                          std::move(fluid.r)};
+  report.interface_seconds = clock.seconds();
+  report.pressure_unknowns = sys.num_pressures();
+  Eigen::VectorXd u, p;
+  report.solve = solve(sys, interface.unknown, u, p);  // eq. (7)
+  update(h, u, p, interface.unknown, report);          // eqs. (8) and (5)
   time_ += h;
   report.step = ++step_;
   report.time = time_;
   return report;
 }
 
+bool CoupledStepper::free_surface() const {
+  return fluid_.has_free_surface() && fluid_.liquid().num_air_nodes > 0;
+}
+
 double CoupledStepper::fluid_volume() const {
-  std::vector<Eigen::Vector3d> x = mesh_.vertices;
-  for (const Solid& s : solids_) {
-    const Eigen::VectorXd q = s.integrator->positions();
-    for (int a = 0; a < s.model->num_nodes(); ++a) x[s.submesh.to_parent_vertex[a]] = q.segment<3>(3 * a);
-  }
+  const std::vector<Eigen::Vector3d> x = mesh_vertices_at(solid_positions());
   double volume = 0;
   for (int t = 0; t < mesh_.num_tets(); ++t) {
     if (!mesh_.subdomain.empty() && mesh_.subdomain[t] != mesh::kFluidSubdomain) continue;

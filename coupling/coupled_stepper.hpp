@@ -1,22 +1,31 @@
 #pragma once
 /// @file coupled_stepper.hpp
-/// The coupled time step of shared/design.md for a fluid and deformable tet solids that share one
-/// TetMesh (fluid = subdomain 1, solid i = subdomain 2 + i):
+/// The coupled time step of Chentanez et al. 2006 (sec. 3) for a fluid and deformable tet solids
+/// that share one TetMesh (fluid = subdomain 1, solid i = subdomain 2 + i). step(h) runs, in order:
 ///
-///  1. Solid predictor: each solid's integrator forms A and b of eq. (4) at dⁿ.
-///  2. Mesh: the solid vertices of the shared mesh move to Xⁿ + dⁿ, the fluid vertices follow, and
+///  1. Mesh: the solid vertices of the shared mesh move to Xⁿ + dⁿ, the fluid vertices follow, and
 ///     the fluid is remeshed around the solids as CoupledSettings::mesh_update says
 ///     (mesh_update.hpp); the solid tets keep their connectivity, so solid state carries over.
-///  3. Advect and add body forces on the fluid: v* (fluid::FluidSolver::predict).
-///  4. Interface: H over the triangles fluid and solid share, J = Hᵀ (interface_maps.hpp).
-///  5. Solve eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp), by default with the
-///     constraint on the step's mean state (CoupledSettings::mean_constraint).
-///  6. Update: fluid velocity by eq. (8), solid displacement by eq. (5).
+///  2. Fluid predictor: advect and add body forces, v* (fluid::FluidSolver::predict).
+///  3. assemble_solid_rows: each solid's integrator forms A and b of eq. (4) at dⁿ.
+///  4. assemble_interface: H over the triangles fluid and solid share, J = Hᵀ (sec. 3.4,
+///     interface_maps.hpp).
+///  5. assemble_fluid_rows: (h/ρ) L and r of eq. (6) on the pressure unknowns.
+///  6. solve: eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp), by default with the
+///     paper's end-of-step constraint (CoupledSettings::mean_constraint).
+///  7. update: fluid velocity by eq. (8), solid displacement by eq. (5).
+///
+/// A liquid with a free surface (fluid::FluidSolver::set_liquid) takes part as itself: its pressure
+/// unknowns are the liquid nodes (p = 0 in the air), its rows the cut-tet system of
+/// fluid/liquid/free_surface_projection.hpp with the same H over the interface triangles; H's rows
+/// of air nodes drop out, so the solid feels the liquid's pressure only, and the dry side of a
+/// triangle that the surface crosses carries the linear fall of p to zero at its air vertices (a
+/// first-order waterline). CoupledSettings::mean_constraint does not apply to it.
 ///
 /// The time-splitting baseline (CouplingScheme::kTimeSplitting) replaces 5 by two solves: the
 /// solid with the previous step's pressure, A u^{n+1} = b + J pⁿ, then the fluid with the new solid
 /// velocity as its boundary flux, (h/ρ) L p^{n+1} = r − H u^{n+1}. It is kept to show where it fails
-/// (added-mass instability, benchmarks.md §6) and the simultaneous system does not.
+/// (the added-mass instability of Causin, Gerbeau & Nobile 2005) and the simultaneous system does not.
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -26,7 +35,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "mesh/submesh.hpp"
 #include "mesh/tet_mesh.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/tet/material.hpp"
 #include "solid/tet/tet_model.hpp"
 
@@ -41,7 +50,7 @@ struct CoupledSettings {
   CoupledSolverOptions solver_options;
   Eigen::Vector3d solid_gravity = Eigen::Vector3d::Zero();  ///< gravity on the solids [m/s²]
   /// Solid time integration: the paper's eq. (18) as printed (θ = 1, dissipative) or the
-  /// energy-conserving trapezoidal rule (θ = ½); see solid/integrator/trapezoidal.hpp.
+  /// energy-conserving trapezoidal rule (θ = ½); see solid/integrator/newmark.hpp.
   solid::NewmarkScheme newmark = solid::NewmarkScheme::kChentanez;
   /// Simultaneous scheme: impose the incompressibility constraint on the step's mean state,
   /// Gᵀ V (vⁿ + v^{n+1})/2 = H (uⁿ + u^{n+1})/2 with H at the predicted mid-step interface
@@ -78,13 +87,15 @@ class CoupledStepper {
   /// @param mesh       the shared complex (fluid subdomain 1, solid i subdomain 2+i), at rest
   /// @param fluid      fluid parameters (density, gravity, advection, ...)
   /// @param materials  one material per solid, in subdomain order
-  /// @throws std::invalid_argument if a solid subdomain is missing, solid::SolidError on bad materials
+  /// @param model_options  element options per solid (empty: the defaults for all)
+  /// @throws std::invalid_argument if a solid subdomain is missing or model_options has another size,
+  ///         solid::SolidError on bad materials
   CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid, const std::vector<solid::TetMaterial>& materials,
-                 CoupledSettings settings);
+                 CoupledSettings settings, const std::vector<solid::TetModelOptions>& model_options = {});
 
   int num_solids() const { return static_cast<int>(solids_.size()); }
   /// The i-th solid's integrator: set fixed nodes, springs, initial velocity, obstacles here.
-  solid::TrapezoidalIntegrator& solid(int i) { return *solids_[i].integrator; }
+  solid::NewmarkIntegrator& solid(int i) { return *solids_[i].integrator; }
   const solid::TetModel& solid_model(int i) const { return *solids_[i].model; }
   /// Solid node -> shared-mesh vertex map of solid i.
   const mesh::Submesh& solid_mesh(int i) const { return solids_[i].submesh; }
@@ -109,12 +120,35 @@ class CoupledStepper {
   struct Solid {
     mesh::Submesh submesh;
     std::unique_ptr<solid::TetModel> model;
-    std::unique_ptr<solid::TrapezoidalIntegrator> integrator;
+    std::unique_ptr<solid::NewmarkIntegrator> integrator;
     int dof_offset = 0;
   };
-  struct Blocks;  // the assembled pieces of eq. (7) for this step
-  Blocks assemble(double h, CoupledStepReport& report);
-  /// Step 2: moves (and maybe remeshes) mesh_ to the solids' current positions; remaps the
+  struct SolidRows;  // A, b of eq. (4) over all solids
+  struct Interface;  // the pressure unknowns and H of sec. 3.4
+  struct FluidRows;  // (h/ρ) L and r of eq. (6)
+  SolidRows assemble_solid_rows(double h, CoupledStepReport& report);
+  Interface assemble_interface(double h, const SolidRows& solid, CoupledStepReport& report) const;
+  FluidRows assemble_fluid_rows(double h, const Interface& interface) const;
+  /// Eq. (7), or the two solves of time splitting; u, p are the new solid velocities and pressures.
+  /// @throws std::runtime_error if the solution is not finite
+  CoupledSolveReport solve(const CoupledSystem& sys, const std::vector<int>& unknown, Eigen::VectorXd& u,
+                           Eigen::VectorXd& p);
+  /// Eqs. (8) and (5): the fluid takes the pressure p, the solids the velocity u.
+  void update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p, const std::vector<int>& unknown,
+              CoupledStepReport& report);
+  /// The solids' node positions Xⁿ + dⁿ and velocities uⁿ, all solids in dof order (3 per node).
+  Eigen::VectorXd solid_positions() const;
+  Eigen::VectorXd solid_velocities() const;
+  /// The shared mesh's vertices with each solid node moved to its entry of solid_x (dof order).
+  std::vector<Eigen::Vector3d> mesh_vertices_at(const Eigen::VectorXd& solid_x) const;
+  /// The previous step's pressure on the m pressure unknowns (fluid node -> unknown map).
+  Eigen::VectorXd previous_pressure(const std::vector<int>& unknown, int m) const;
+  /// The simultaneous scheme with CoupledSettings::mean_constraint.
+  bool mean_constraint() const;
+  /// A liquid with a free surface that has air this step: its pressure unknowns are the liquid
+  /// nodes and its rows the cut-tet system (fluid/liquid/free_surface_projection.hpp).
+  bool free_surface() const;
+  /// Step 1: moves (and maybe remeshes) mesh_ to the solids' current positions; remaps the
   /// solid-node and pressure maps through the new vertex numbering.
   MeshUpdateReport update_mesh_to_solids();
 
@@ -123,6 +157,7 @@ class CoupledStepper {
   fluid::FluidSolver fluid_;
   fluid::BoundaryConditions boundary_;
   std::vector<Solid> solids_;
+  int num_solid_dofs_ = 0;                        // 3 x the nodes of all solids
   std::unique_ptr<CoupledSolver> solver_;
   std::vector<double> previous_vertex_pressure_;  // per mesh vertex, for time splitting
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_

@@ -12,14 +12,13 @@
 ///  - H, m x n: (H u)_i = ∫_Γ φ_i (u · n) dA over the interface triangles Γ, n pointing out of
 ///    the fluid: the flux the solid imposes on pressure node i (the −D₁H term of eq. 6);
 ///  - J = Hᵀ: nodal forces of the pressure, f_a = ∫_Γ φ_a p n dA. Taking J and H from the same
-///    quadrature makes the pressure's work on the solid equal the flux work on the fluid
-///    (shared/design.md, "Coupling: decided"; methods.md §3);
+///    quadrature makes the pressure's work on the solid equal the flux work on the fluid;
 ///  - L = Gᵀ V G, m x m, the P1 pressure Laplacian (symmetric positive semi-definite), so that
 ///    (h/ρ) L is the D₂G block of eq. (6) up to the sign of the weak divergence.
 ///
 /// Negating the second row gives the symmetric quasi-definite form
-///     [ A  −Hᵀ ; −H  −C ],  C = (h/ρ) L,
-/// whose Schur complement on the pressure, S = C + H A⁻¹ Hᵀ, is symmetric positive definite:
+///     [ A  −Hᵀ ; −H  −P ],  P = (h/ρ) L,
+/// whose Schur complement on the pressure, S = P + H A⁻¹ Hᵀ, is symmetric positive definite:
 /// the basis of the fast path (coupling/solvers/schur_cg_solver.cpp).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -31,19 +30,19 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 struct CoupledSystem {
   SparseMatrix A;     ///< n x n solid block of eq. (4) [kg/s]
   SparseMatrix H;     ///< m x n interface flux map [m²]
-  SparseMatrix C;     ///< m x m pressure block (h/ρ) L [m⁴ s / kg]
+  SparseMatrix P;     ///< m x m pressure block (h/ρ) L [m⁴ s / kg] (not C: that is eq. 4's damping)
   Eigen::VectorXd b;  ///< n, solid right-hand side [N]
   Eigen::VectorXd r;  ///< m, weak divergence of the intermediate fluid velocity [m³/s]
 
   int num_solid_dofs() const { return static_cast<int>(A.rows()); }
-  int num_pressures() const { return static_cast<int>(C.rows()); }
+  int num_pressures() const { return static_cast<int>(P.rows()); }
   /// Throws std::invalid_argument naming the block whose size does not match.
   void check_sizes() const;
 };
 
 /// Relative residuals of a candidate solution, one per block row of eq. (7):
 ///   solid:  ‖A u − Hᵀ p − b‖ / max(‖b‖, ‖A u‖, ‖Hᵀ p‖)
-///   fluid:  ‖H u + C p − r‖ / max(‖r‖, ‖H u‖, ‖C p‖)
+///   fluid:  ‖H u + P p − r‖ / max(‖r‖, ‖H u‖, ‖P p‖)
 /// Each block is measured in its own units, so neither hides the other.
 struct BlockResiduals {
   double solid = 0;
@@ -52,7 +51,7 @@ struct BlockResiduals {
 };
 BlockResiduals residuals(const CoupledSystem& system, const Eigen::VectorXd& u, const Eigen::VectorXd& p);
 
-/// The unsymmetric matrix of eq. (7) as written in the paper, [A −Hᵀ; H C], (n+m) x (n+m).
+/// The unsymmetric matrix of eq. (7) as written in the paper, [A −Hᵀ; H P], (n+m) x (n+m).
 SparseMatrix paper_form_matrix(const CoupledSystem& system);
 
 }  // namespace tetfsi::coupling

@@ -11,7 +11,7 @@
 ///
 /// with the exact P1 triangle mass matrix M^T_ia = ∫_T φ_i φ_a dA = (A_T / 12)(1 + δ_ia).
 /// Both come from the same quadrature, so J = Hᵀ exactly: the work the pressure does on the solid,
-/// pᵀ H u, equals the flux work on the fluid (shared/design.md, "Coupling: decided").
+/// pᵀ H u, equals the flux work on the fluid.
 /// Consequences tested in tests/coupling: a hydrostatic pressure ρ g (z₀ − z) gives the buoyancy
 /// ρ g V of Archimedes to round-off, and u(x) = ε x gives the flux ε ∮ x·n dA = 3εV.
 #include <Eigen/Core>

@@ -1,13 +1,13 @@
 #include "coupling/mesh_update.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <numeric>
 #include <stdexcept>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/mesh_motion.hpp"
 #include "mesh/quality.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling {
 
@@ -56,7 +56,7 @@ MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen:
 MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                                      double start_min_dihedral_deg) {
   const MeshUpdateOptions& options = options_;
-  const auto start = std::chrono::steady_clock::now();
+  Stopwatch clock;
   if (!motion_ || motion_->num_vertices() != mesh.num_vertices())
     motion_ = std::make_unique<mesh::MeshMotion>(mesh, [&] {
       mesh::MeshMotionOptions o = options.motion;
@@ -66,8 +66,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   MeshUpdateResult result;
   result.mesh = mesh;
   result.mesh.vertices = motion_->positions(solid_positions);
-  const auto moved = std::chrono::steady_clock::now();
-  result.report.motion_seconds = std::chrono::duration<double>(moved - start).count();
+  result.report.motion_seconds = clock.lap();
   // One pass for the fluid's angles and flat/inverted count; the solid tets only need the latter.
   const mesh::AngleCheck fluid_quality = mesh::min_dihedral_check(result.mesh, mesh::kFluidSubdomain);
   int spoiled = fluid_quality.flat_or_inverted;
@@ -82,7 +81,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
     throw mesh::MeshError("the solid motion of this step inverts or flattens " + std::to_string(spoiled) +
                           " tets even with the fluid vertices following; take a smaller time step");
   const double moved_fluid_min = fluid_quality.min_dihedral_deg;
-  result.report.check_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - moved).count();
+  result.report.check_seconds = clock.lap();
 
   const auto keep_moved = [&] {
     result.old_index.resize(mesh.num_vertices());
@@ -120,7 +119,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
       result.report.remesh_rejected = r.report.remeshed;
     }
   }
-  result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.report.seconds = result.report.motion_seconds + result.report.check_seconds + clock.seconds();
   return result;
 }
 

@@ -2,7 +2,7 @@
 /// @file mesh_update.hpp
 /// How the shared fluid-solid mesh follows the solids from one coupled step to the next
 /// (Chentanez et al. 2006, §3.1: "the fluid mesh is regenerated every time step so that it
-/// conforms to the solid"; shared/design.md, "The time step", step 2).
+/// conforms to the solid"; step 1 of CoupledStepper::step).
 ///
 /// The solid tets are Lagrangian: they keep their connectivity and move with the displacement.
 /// The fluid vertices follow by a stiffened Laplacian of the solid motion (mesh::move_with_solids:

@@ -1,5 +1,9 @@
 #include "fluid/fluid_solver.hpp"
 
+#include "fluid/liquid/level_set.hpp"
+#include "fluid/liquid/velocity_extension.hpp"
+
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -43,7 +47,51 @@ void FluidSolver::initialize(const mesh::TetMesh& mesh, FluidFields fields) {
   initialized_ = true;
 }
 
+void FluidSolver::set_liquid(Eigen::VectorXd level_set, LiquidOptions options) {
+  if (!initialized_) throw std::logic_error("FluidSolver::set_liquid: initialize() first");
+  if (level_set.size() != mesh_.num_nodes())
+    throw std::invalid_argument("FluidSolver::set_liquid: one level set value per fluid node expected");
+  if (!(options.band > 0.0)) throw std::invalid_argument("FluidSolver::set_liquid: the band must be positive");
+  if (options.extension_layers < 0) throw std::invalid_argument("FluidSolver::set_liquid: extension_layers < 0");
+  liquid_options_ = options;
+  redistance(mesh_, level_set, options.band);
+  level_set_ = std::move(level_set);
+  liquid_ = liquid_geometry(mesh_, level_set_);
+  target_volume_ = liquid_.total_volume();
+  if (!(target_volume_ > 0.0)) throw std::invalid_argument("FluidSolver::set_liquid: the level set holds no liquid");
+  free_surface_ = true;
+  extend_liquid_velocity();
+}
+
+void FluidSolver::extend_liquid_velocity() {
+  std::vector<char> keep(mesh_.num_tets());
+  for (int t = 0; t < mesh_.num_tets(); ++t)
+    keep[t] = liquid_.liquid_volume[t] > 0.0 &&
+              liquid_.liquid_volume[t] >= liquid_options_.min_kept_fraction * mesh_.volume[t];
+  extend_velocity(mesh_, keep, liquid_options_.extension_layers, fields_.velocity);
+}
+
+void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
+  redistance(mesh_, phi, liquid_options_.band);
+  const double tracked = liquid_volume(mesh_, phi);
+  rep.volume_drift = (tracked - target_volume_) / target_volume_;
+  if (liquid_options_.restore_volume) restore_volume(mesh_, phi, target_volume_);
+  level_set_ = std::move(phi);
+  liquid_ = liquid_geometry(mesh_, level_set_);
+  rep.liquid_volume = liquid_.total_volume();
+}
+
 void FluidSolver::apply_sources(const BoundaryConditions& bc) {
+  // A liquid's sources fill their box with liquid (phi = min(phi, distance to the box)); what
+  // they add is added to the volume the run keeps.
+  if (free_surface_ && !bc.sources.empty()) {
+    const double before = liquid_.total_volume();
+    for (const SourceVolume& s : bc.sources)
+      for (int i = 0; i < mesh_.num_nodes(); ++i)
+        level_set_[i] = std::min(level_set_[i], box_distance(mesh_.nodes[i], s.region.lo, s.region.hi));
+    liquid_ = liquid_geometry(mesh_, level_set_);
+    target_volume_ += liquid_.total_volume() - before;
+  }
   for (const SourceVolume& s : bc.sources)
     for (int t = 0; t < mesh_.num_tets(); ++t)
       if (s.region.contains(mesh_.centroid(t))) {
@@ -80,13 +128,28 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   }
   rep.assemble_seconds += now() - t0;
   t0 = now();
+  Eigen::VectorXd phi;
+  std::vector<double> weight;  // a liquid's node averages: by liquid volume (semi_lagrangian.hpp)
+  if (free_surface_) {
+    weight.resize(mesh_.num_tets());
+    for (int t = 0; t < mesh_.num_tets(); ++t)
+      weight[t] = std::max(liquid_.liquid_volume[t], liquid_options_.air_weight * mesh_.volume[t]);
+    phi = advect_nodal(mesh_, fields_.velocity, level_set_, new_mesh, dt, nullptr, &weight);
+  }
+  rep.surface_seconds = now() - t0;
+  t0 = now();
   AdvectionReport adv;
   const BoundaryExits exits = boundary_exits(mesh_, bc);
-  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection, &exits);
+  fields_ = advect(mesh_, fields_, new_mesh, dt, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr);
   set_mesh(mesh, std::move(new_mesh), same_topology);
   advected_velocity_ = fields_.velocity;
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;
+  if (free_surface_) {
+    t0 = now();
+    update_liquid(std::move(phi), rep);
+    rep.surface_seconds += now() - t0;
+  }
 
   t0 = now();
   boundary_ = classify_boundary(mesh_, bc);
@@ -105,15 +168,24 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double dt, Step
   if (pressure.size() != mesh_.num_nodes())
     throw std::invalid_argument("FluidSolver::apply_pressure: one pressure per fluid node expected");
   pressure_ = std::move(pressure);
-  const TetVectors grad_p = gradient(mesh_, pressure_);
-  const double scale = dt / params_.density;
-  for (int t = 0; t < mesh_.num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
+  if (free_surface_) {  // u_t -= (h/rho) B_t p on the liquid, then the extension into the air
+    apply_wet_pressure(mesh_, liquid_, pressure_, dt, params_.density, fields_.velocity);
+    const double t0 = now();
+    extend_liquid_velocity();
+    rep.surface_seconds += now() - t0;
+    rep.liquid_volume = liquid_.total_volume();
+  } else {
+    const TetVectors grad_p = gradient(mesh_, pressure_);
+    const double scale = dt / params_.density;
+    for (int t = 0; t < mesh_.num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
+  }
   for (const auto& u : fields_.velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
   rep.num_tets = mesh_.num_tets();
   rep.num_nodes = mesh_.num_nodes();
-  rep.kinetic_energy = params_.density * kinetic_energy(mesh_, fields_.velocity);
+  rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_.velocity)
+                                                        : kinetic_energy(mesh_, fields_.velocity));
   return rep;
 }
 
@@ -127,8 +199,18 @@ StepReport FluidSolver::project_only(const BoundaryConditions& bc, double dt) {
 }
 
 StepReport FluidSolver::finish(const BoundaryConditions&, double dt, StepReport rep) {
-  ProjectionReport pr = project(mesh_, boundary_, dt, params_.density, fields_.velocity, params_.solver);
+  // A liquid that fills every node has no free surface this step: the ordinary projection.
+  const bool surface = free_surface_ && liquid_.num_air_nodes > 0;
+  ProjectionReport pr =
+      surface ? project_free_surface(mesh_, boundary_, liquid_, dt, params_.density, fields_.velocity, params_.solver)
+              : project(mesh_, boundary_, dt, params_.density, fields_.velocity, params_.solver);
   pressure_ = std::move(pr.pressure);
+  if (free_surface_) {
+    const double t0 = now();
+    extend_liquid_velocity();
+    rep.surface_seconds += now() - t0;
+    rep.liquid_volume = liquid_.total_volume();
+  }
   for (const auto& u : fields_.velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
@@ -140,7 +222,8 @@ StepReport FluidSolver::finish(const BoundaryConditions&, double dt, StepReport 
   rep.iterations = pr.solve.iterations;
   rep.residual = pr.solve.relative_residual;
   rep.max_divergence = pr.max_divergence;
-  rep.kinetic_energy = params_.density * kinetic_energy(mesh_, fields_.velocity);
+  rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_.velocity)
+                                                        : kinetic_energy(mesh_, fields_.velocity));
   return rep;
 }
 

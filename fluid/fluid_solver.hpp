@@ -12,6 +12,7 @@
 #include "fluid/advection/semi_lagrangian.hpp"
 #include "fluid/boundary/boundary_conditions.hpp"
 #include "fluid/forces/body_forces.hpp"
+#include "fluid/liquid/free_surface_projection.hpp"
 #include "fluid/operators/fluid_mesh.hpp"
 #include "fluid/projection/projection.hpp"
 #include "mesh/tet_mesh.hpp"
@@ -28,6 +29,18 @@ struct FluidParams {
   SolverOptions solver;
 };
 
+/// Free-surface liquid (liquid/level_set.hpp): how the level set is kept.
+struct LiquidOptions {
+  double band = 0.0;            ///< |phi| is the distance to the surface up to this [m] (> 0)
+  int extension_layers = 4;     ///< layers of air tets that receive the liquid's velocity
+  /// Cut tets with less liquid than this fraction of their volume take the extended velocity of
+  /// their neighbours after the projection instead of their own (see fluid/README.md, "Liquids").
+  double min_kept_fraction = 0.1;
+  /// Weight of a tet in the advection's node averages: max(|Omega_t|, air_weight V_t).
+  double air_weight = 1e-3;
+  bool restore_volume = true;   ///< shift phi each step so that the liquid keeps its volume
+};
+
 /// Per-step statistics (one stats.csv row).
 struct StepReport {
   int num_tets = 0, num_nodes = 0, unknowns = 0;
@@ -39,7 +52,11 @@ struct StepReport {
   double residual = 0.0;          ///< true relative residual of the pressure solve
   double max_divergence = 0.0;    ///< max |weak div| / dual volume after projection [1/s]
   int clamped_traces = 0;
-  double kinetic_energy = 0.0;    ///< 1/2 rho sum V_t |u_t|^2 after the step [J]
+  double kinetic_energy = 0.0;    ///< 1/2 rho sum V_t |u_t|^2 after the step [J] (liquid: its part |Omega_t|)
+  // Free-surface liquids only:
+  double surface_seconds = 0.0;   ///< level set advection, redistancing, volume restoration, cut tets
+  double liquid_volume = 0.0;     ///< sum_t |Omega_t| after the step [m^3]
+  double volume_drift = 0.0;      ///< (V_tracked - V_target) / V_target before the restoration [-]
 };
 
 class FluidSolver {
@@ -54,6 +71,20 @@ class FluidSolver {
   /// on NaN/Inf, SolverError if the pressure solve fails.
   StepReport step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
 
+  /// Makes the fluid a liquid with a free surface: `level_set` (one value per fluid node of the
+  /// current mesh; liquid where < 0) is redistanced, and its liquid volume becomes the volume the
+  /// run keeps (LiquidOptions::restore_volume). From then on every step advects the level set,
+  /// projects with p = 0 on the surface (free_surface_projection.hpp) and extends the velocity into
+  /// the air. @throws std::invalid_argument on a size mismatch, band <= 0 or no liquid at all
+  void set_liquid(Eigen::VectorXd level_set, LiquidOptions options);
+  bool has_free_surface() const { return free_surface_; }
+  /// Nodal level set on the current mesh [m] (empty without a free surface).
+  const Eigen::VectorXd& level_set() const { return level_set_; }
+  /// Liquid part of every tet of the current mesh (free surface only).
+  const LiquidGeometry& liquid() const { return liquid_; }
+  /// The liquid volume the run keeps [m^3].
+  double target_liquid_volume() const { return target_volume_; }
+
   /// Projects the current velocity only (no advection, no forces): initial conditions, potential flow.
   StepReport project_only(const BoundaryConditions& bc, double dt);
 
@@ -62,7 +93,8 @@ class FluidSolver {
   /// leaving the intermediate velocity v* in fields().velocity (no projection).
   StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double dt);
   /// Eq. (8), interior part: v = v* - (h/rho) G p with the pressure p [Pa] per fluid node that the
-  /// coupled solve found; then the finiteness check and the statistics of `rep`.
+  /// coupled solve found (a free surface: v = v* - (h/rho) B p on the liquid and the extension
+  /// into the air, free_surface_projection.hpp); then the finiteness check and the statistics of `rep`.
   /// @throws std::runtime_error on NaN/Inf
   StepReport apply_pressure(Eigen::VectorXd pressure, double dt, StepReport rep);
 
@@ -82,6 +114,12 @@ class FluidSolver {
 
  private:
   void apply_sources(const BoundaryConditions& bc);
+  /// Steps 2-3 of level_set.hpp on the current mesh, then the cut-tet geometry; fills rep's
+  /// liquid columns. `phi` is the advected level set.
+  void update_liquid(Eigen::VectorXd phi, StepReport& rep);
+  /// The liquid's velocity on the tets that hold at least min_kept_fraction of liquid, extended
+  /// over the others.
+  void extend_liquid_velocity();
   StepReport finish(const BoundaryConditions& bc, double dt, StepReport rep);
   /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
   /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
@@ -98,6 +136,11 @@ class FluidSolver {
   Eigen::VectorXd pressure_;
   ClassifiedBoundary boundary_;
   bool initialized_ = false;
+  bool free_surface_ = false;
+  LiquidOptions liquid_options_;
+  Eigen::VectorXd level_set_;
+  LiquidGeometry liquid_;
+  double target_volume_ = 0.0;
 };
 
 }  // namespace tetfsi::fluid

@@ -3,8 +3,7 @@
 ///
 /// Domain: CGAL::Polyhedral_complex_mesh_domain_3 with one patch per closed surface. For an
 /// outward-oriented surface CGAL 5.5.1 wants the subdomain pair as (inside, outside): box (1, 0),
-/// solid i (2 + i, 1) (shared/references/dependencies.md section 2: the header's wording is the
-/// other way round, the code is not). Sharp edges of the box and of piecewise-flat solids (facet
+/// solid i (2 + i, 1) (the header's wording is the other way round, the code is not). Sharp edges of the box and of piecewise-flat solids (facet
 /// normals differing by > kFeatureAngleDeg) are protected as features so corners are kept.
 /// Sequential mesher only (the parallel one lost subdomains in the probe); all random generators
 /// are seeded so the result is deterministic.
@@ -93,10 +92,13 @@ struct SizingField {
   using Index = Domain::Index;
   const Tree* tree = nullptr;
   double h_near = 0.1, h_far = 0.1, grading = 0.0;
+  const std::function<double(const Eigen::Vector3d&)>* size_at = nullptr;  ///< MeshSizing::size_at
   FT operator()(const K::Point_3& p, int /*dim*/, const Index& /*index*/) const {
-    if (tree == nullptr || grading <= 0.0 || h_near == h_far) return h_far;
-    const double d = std::sqrt(tree->squared_distance(p));
-    return h_near + (h_far - h_near) * std::min(1.0, d / grading);
+    const double graded = tree == nullptr || grading <= 0.0 || h_near == h_far
+                              ? h_far
+                              : h_near + (h_far - h_near) * std::min(1.0, std::sqrt(tree->squared_distance(p)) / grading);
+    if (size_at == nullptr || !*size_at) return graded;
+    return std::min(graded, (*size_at)(Eigen::Vector3d(p.x(), p.y(), p.z())));
   }
 };
 
@@ -167,6 +169,7 @@ TetMesh mesh_3_unguarded(const std::vector<SurfaceMesh>& surfaces, const std::ve
   field.h_near = sizing.edge_length_near_solids > 0.0 ? sizing.edge_length_near_solids : sizing.edge_length;
   field.grading = sizing.grading_distance;
   field.tree = graded_to.empty() ? nullptr : &tree;
+  field.size_at = &sizing.size_at;
   const double facet_distance = sizing.facet_distance > 0.0 ? sizing.facet_distance : field.h_near / 10.0;
 
   namespace p = CGAL::parameters;

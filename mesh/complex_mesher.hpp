@@ -5,10 +5,11 @@
 /// build_complex() meshes a fluid box with every solid inside it as ONE complex
 /// (CGAL Polyhedral_complex_mesh_domain_3): fluid is subdomain kFluidSubdomain, solid i is
 /// solid_subdomain(i). Every interface triangle is therefore shared by exactly one fluid tet and
-/// one solid tet, and each solid's FEM mesh is its own subdomain's tets (shared/design.md).
+/// one solid tet, and each solid's FEM mesh is its own subdomain's tets.
 /// CGAL resamples the input surfaces: the interface approximates the input (about 1e-3 of its
 /// size at 100k tets); it does not keep the input triangles.
 #include <Eigen/Core>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ struct MeshSizing {
   /// models (protecting a scan's scattered creases only makes slivers). 0: none. The box edges of
   /// build_complex are always kept.
   double solid_feature_angle_deg = -1.0;
+  /// A further size bound [m] at each point (e.g. finer near a liquid's surface): the size used
+  /// is the smaller of this and the graded size above. Empty: none.
+  std::function<double(const Eigen::Vector3d&)> size_at;
 };
 
 /// Meshes the box [lo, hi] filled with fluid and containing the given closed, outward-oriented,

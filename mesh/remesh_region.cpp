@@ -9,6 +9,7 @@
 #include <numeric>
 #include <set>
 
+#include "mesh/incidence.hpp"
 #include "mesh/interface.hpp"  // kTetFaceVertices
 
 namespace tetfsi::mesh {
@@ -190,15 +191,9 @@ bool region_is_ball(const TetMesh& mesh, const std::vector<char>& region) {
 std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band, int max_rounds) {
   const int n = mesh.num_vertices();
   // Vertex -> incident tets (compressed rows).
-  std::vector<int> start(n + 1, 0), incident(4 * mesh.tets.size());
-  for (const auto& tet : mesh.tets)
-    for (int v : tet) ++start[v + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int t = 0; t < mesh.num_tets(); ++t)
-      for (int v : mesh.tets[t]) incident[fill[v]++] = t;
-  }
+  const VertexIncidence tets_around = vertex_incidence(mesh);
+  const std::vector<int>& start = tets_around.start;
+  const std::vector<int>& incident = tets_around.element;
   std::vector<char> region(mesh.tets.size(), 0);
   const auto add_star = [&](int v) {
     for (int k = start[v]; k < start[v + 1]; ++k) region[incident[k]] = 1;

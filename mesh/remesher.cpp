@@ -3,7 +3,6 @@
 #include "mesh/remesher.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <sstream>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
@@ -12,14 +11,11 @@
 #include "mesh/quality.hpp"
 #include "mesh/remesh_region.hpp"
 #include "mesh/sliver_perturbation.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::mesh {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 /// Fluid tets of the moved mesh that fail RemeshOptions::remesh_only_when_needed's check: fluid
 /// min dihedral below the threshold, flat or inverted, or volume changed by more than a factor.
@@ -50,7 +46,7 @@ std::vector<int> spoiled_fluid_tets(const TetMesh& before, const TetMesh& moved,
 
 RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                          const RemeshOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch start;
   TetMesh moved = mesh;
   moved.vertices = move_with_solids(mesh, solid_positions, options.motion);
   // Tets the motion made flat or inverted (a tet already flat in the input, e.g. a sliver Mesh_3
@@ -69,12 +65,12 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   if (spoiled > 0)
     throw MeshError("remesh: the solid motion inverts or flattens " + std::to_string(spoiled) + " tets (" +
                     std::to_string(spoiled_fluid) + " fluid); take a smaller step");
-  const double motion_seconds = seconds_since(start);
+  const double motion_seconds = start.seconds();
   RemeshResult result;
   double build = 0, cgal = 0, copy = 0, sliver = 0, check = 0;
   std::vector<char> seeds;
   if (options.remesh_only_when_needed) {
-    const auto t = std::chrono::steady_clock::now();
+    const Stopwatch t;
     std::array<double, 2> angles{};
     const std::vector<int> spoiled = spoiled_fluid_tets(mesh, moved, options, angles);
     if (options.adaptive_band && !spoiled.empty()) {
@@ -82,7 +78,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
       for (int s : spoiled)
         for (int v : moved.tets[s]) seeds[v] = 1;
     }
-    check += seconds_since(t);
+    check += t.seconds();
     if (spoiled.empty()) {
       result.mesh = std::move(moved);
       result.old_index.resize(result.mesh.vertices.size());
@@ -105,15 +101,15 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
     cgal += result.report.cgal_seconds;
     copy += result.report.copy_seconds;
     if (options.sliver_pass_below_deg > 0.0) {
-      const auto t = std::chrono::steady_clock::now();
+      const Stopwatch t;
       const SliverPassReport s = perturb_slivers(result.mesh, options.sliver_pass_below_deg);
       result.report.slivers_before = s.slivers_before;
       result.report.slivers_after = s.slivers_after;
-      sliver += seconds_since(t);
+      sliver += t.seconds();
     }
-    const auto t = std::chrono::steady_clock::now();
+    const Stopwatch t;
     const QualityReport q = quality_report(result.mesh, kFluidSubdomain);
-    check += seconds_since(t);
+    check += t.seconds();
     result.report.passes = pass;
     result.report.min_dihedral_deg = q.min_dihedral_deg;
     result.report.max_dihedral_deg = q.max_dihedral_deg;
@@ -129,7 +125,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   result.report.copy_seconds = copy;
   result.report.sliver_seconds = sliver;
   result.report.check_seconds = check;
-  result.report.seconds = seconds_since(start);
+  result.report.seconds = start.seconds();
   return result;
 }
 

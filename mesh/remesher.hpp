@@ -7,12 +7,13 @@
 /// fixed), so that nearby fluid tets are carried along instead of inverted; (3) the fluid alone is
 /// remeshed with CGAL tetrahedral_isotropic_remeshing while the solid tets are hidden as
 /// subdomain 0 and restored after, so the interface triangles and the solid tets are kept
-/// identically (shared/references/dependencies.md, section 2); (4) the fluid's minimum dihedral
+/// identically; (4) the fluid's minimum dihedral
 /// angle is checked, and the remesh is repeated with more iterations (and a larger band, then the
 /// whole fluid) if it is below the threshold. With a band only the band, a ring of tets around it
 /// and the solids are handed to CGAL, so the cost follows the band, not the box. Optionally
 /// (remesh_only_when_needed) step (3) is skipped while the moved mesh is still good.
 #include <string>
+#include <functional>
 #include <vector>
 
 #include "mesh/mesh_motion.hpp"
@@ -27,6 +28,9 @@ struct RemeshOptions {
   /// 106k tets, 8.4 s, min dihedral 16 deg. Remeshing a graded mesh uniformly to its fine size left
   /// 0.1 deg slivers at the protected interface.
   double target_edge_length = 0.1;
+  /// A further target [m] at each point (finer near a liquid's surface): CGAL's sizing field is
+  /// the smaller of this and target_edge_length. Empty: uniform.
+  std::function<double(const Eigen::Vector3d&)> size_at;
   int iterations = 2;               ///< CGAL remeshing iterations of the first pass
   /// Passes before giving up: each further pass has one more iteration and, with a band, twice
   /// the band; the third and later passes remesh the whole fluid.

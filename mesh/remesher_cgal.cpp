@@ -4,10 +4,9 @@
 /// CGAL 5.5.1's tetrahedral_isotropic_remeshing with remesh_boundaries(false) keeps the facets
 /// between different subdomains, but still edits unselected cells that are in the complex. So the
 /// solid tets (and, with a band, the fluid tets outside it) are relabelled 0 ("outside") during
-/// the call and given back their labels afterwards, found again by their four vertices
-/// (shared/references/dependencies.md, section 2). With a band, only the region of
-/// remesh_region.hpp (band, a ring of hidden tets, the solids) is built into the triangulation; the
-/// other fluid tets are copied over unchanged.
+/// the call and given back their labels afterwards, found again by their four vertices. With a
+/// band, only the region of remesh_region.hpp (band, a ring of hidden tets, the solids) is built
+/// into the triangulation; the other fluid tets are copied over unchanged.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mesh_3/tet_soup_to_c3t3.h>
 #include <CGAL/Tetrahedral_remeshing/Remeshing_triangulation_3.h>
@@ -99,9 +98,16 @@ RemeshResult remesh_fluid_unguarded(const TetMesh& mesh, const RemeshOptions& op
   for (std::size_t v = 0; v < to_global.size(); ++v) old_index.emplace(handles[v + 1], to_global[v]);
   const auto t_built = std::chrono::steady_clock::now();
 
-  CGAL::tetrahedral_isotropic_remeshing(
-      tr, options.target_edge_length,
-      CGAL::parameters::remesh_boundaries(false).number_of_iterations(static_cast<std::size_t>(iterations)));
+  const auto params =
+      CGAL::parameters::remesh_boundaries(false).number_of_iterations(static_cast<std::size_t>(iterations));
+  if (options.size_at) {
+    const double target = options.target_edge_length;
+    const auto& size_at = options.size_at;
+    CGAL::tetrahedral_isotropic_remeshing(
+        tr, [&](const Tr::Point& q) { return std::min(target, size_at(Eigen::Vector3d(q.x(), q.y(), q.z()))); }, params);
+  } else {
+    CGAL::tetrahedral_isotropic_remeshing(tr, options.target_edge_length, params);
+  }
   const auto t_remeshed = std::chrono::steady_clock::now();
 
   // Back to plain arrays: vertices in the order of first use by a cell (CGAL's cells first, then

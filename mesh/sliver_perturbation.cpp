@@ -2,8 +2,8 @@
 #include "mesh/sliver_perturbation.hpp"
 
 #include <algorithm>
-#include <numeric>
 
+#include "mesh/incidence.hpp"
 #include "mesh/quality.hpp"
 #include "mesh/remesh_region.hpp"
 
@@ -23,15 +23,9 @@ double min_dihedral(const TetMesh& m, int t, const Eigen::Vector3d* moved = null
 SliverPassReport perturb_slivers(TetMesh& mesh, double threshold_deg, int sweeps) {
   const int n = mesh.num_vertices();
   const std::vector<int> kind = vertex_kinds(mesh);
-  std::vector<int> start(n + 1, 0), incident(4 * mesh.tets.size());
-  for (const auto& tet : mesh.tets)
-    for (int v : tet) ++start[v + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int t = 0; t < mesh.num_tets(); ++t)
-      for (int v : mesh.tets[t]) incident[fill[v]++] = t;
-  }
+  const VertexIncidence tets_around = vertex_incidence(mesh);
+  const std::vector<int>& start = tets_around.start;
+  const std::vector<int>& incident = tets_around.element;
   // Smallest dihedral angle over the star of v with v at x.
   const auto star_quality = [&](int v, const Eigen::Vector3d& x) {
     double q = 180.0;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file submesh.hpp
 /// Extraction of one subdomain of a TetMesh as a mesh of its own (a solid's FEM mesh is its
-/// subdomain's tets of the shared complex; shared/design.md).
+/// subdomain's tets of the shared complex).
 #include <vector>
 
 #include "mesh/tet_mesh.hpp"

@@ -6,7 +6,7 @@
 ///  - Units: metres.
 ///  - Every tet is positively oriented: det[x1 - x0, x2 - x0, x3 - x0] > 0.
 ///  - `subdomain[t]` labels tet t: `kFluidSubdomain` (1) for fluid, `solid_subdomain(i)` (2 + i)
-///    for the i-th solid of the scene, as in the CGAL Mesh_3 complex (shared/design.md).
+///    for the i-th solid of the scene, as in the CGAL Mesh_3 complex.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>

@@ -6,24 +6,14 @@
 ///   | case | resolution | error vs reference | wall time [s] | peak memory [MB] |
 #include <fmt/core.h>
 
-#include <chrono>
+#include "support/stopwatch.hpp"
 #include <string>
 
 #include <sys/resource.h>
 
 namespace tetfsi::bench {
 
-/// Seconds since construction (steady clock).
-class Stopwatch {
- public:
-  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point start_;
-};
+using tetfsi::Stopwatch;  // seconds since construction (support/stopwatch.hpp)
 
 /// Peak resident set size of this process so far [MB] (getrusage ru_maxrss, in KiB on Linux).
 inline double peak_memory_mb() {

@@ -24,8 +24,9 @@
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
 #include "fluid/io/fluid_output.hpp"
@@ -41,18 +42,6 @@ bool is_deformable_tet(const scene::Json& solid) {
   return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == "tet_fem";
 }
 
-solid::TetMaterial material_of(const scene::Json& m) {
-  solid::TetMaterial mat;
-  mat.density = m.at("density").get<double>();
-  mat.youngs_modulus = m.at("youngs_modulus").get<double>();
-  mat.poisson_ratio = m.at("poissons_ratio").get<double>();
-  mat.law = m.at("constitutive") == "neohookean" ? solid::ConstitutiveLaw::kStableNeoHookean
-                                                 : solid::ConstitutiveLaw::kStVK;
-  mat.rayleigh_alpha = m.at("rayleigh_alpha").get<double>();
-  mat.rayleigh_beta = m.at("rayleigh_beta").get<double>();
-  return mat;
-}
-
 class CoupledRunner : public Simulation {
  public:
   void setup(const scene::Scene& scene, spdlog::logger& log) override {
@@ -64,13 +53,15 @@ class CoupledRunner : public Simulation {
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
+    std::vector<solid::TetModelOptions> model_options;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
       std::vector<std::string> warnings;
       cavities.emplace_back();  // stays empty unless a sphere_shell
       surfaces.push_back(surface_of(s, warnings, &cavities.back()));
       for (const auto& w : warnings) log.warn("{}", w);
-      materials.push_back(material_of(s.at("material")));
+      materials.push_back(tet_material(s.at("material")));
+      model_options.push_back(tet_model_options(s.at("material")));
     }
     mesh::TetMesh complex;
     const bool cavity_only = js.at("fluid").value("fill", "domain") == "cavities";
@@ -93,12 +84,12 @@ class CoupledRunner : public Simulation {
     const auto& c = js.at("coupling");
     coupling::CoupledSettings cs;
     const auto& sim = js.at("simulation");
-    fixed_dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
+    fixed_h_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
     cfl_ = sim.at("cfl").get<double>();
-    frame_dt_ = 1.0 / sim.at("frame_rate").get<double>();
-    h_near_ = coupling::fluid_edge_length_near_solids(complex);
-    dt_ = fixed_dt_ > 0 ? fixed_dt_ : frame_dt_;
-    cs.time_step = dt_;
+    frame_interval_ = 1.0 / sim.at("frame_rate").get<double>();
+    edge_near_ = coupling::fluid_edge_length_near_solids(complex);
+    h_ = fixed_h_ > 0 ? fixed_h_ : frame_interval_;
+    cs.time_step = h_;
     cs.scheme = c.at("scheme") == "time_splitting" ? coupling::CouplingScheme::kTimeSplitting
                                                     : coupling::CouplingScheme::kSimultaneous;
     scheme_ = c.at("scheme").get<std::string>();
@@ -115,9 +106,14 @@ class CoupledRunner : public Simulation {
     // 0: CoupledStepper's default band, four near-solid cells (never the whole fluid).
     cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
     try {
-      stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs);
+      stepper_ = std::make_unique<coupling::CoupledStepper>(complex, fluid_params(js, log), materials, cs, model_options);
     } catch (const std::exception& e) {
       throw InputError(std::string("cannot set up the coupled model: ") + e.what());
+    }
+    try {
+      set_initial_liquid(js, stepper_->fluid(), log);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("/fluid/regions: ") + e.what());
     }
 
     const auto& solids = js.at("solids");
@@ -140,42 +136,45 @@ class CoupledRunner : public Simulation {
     log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {}, {}, mesh update {}",
              stepper_->num_solids(), stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
              c.at("solver").get<std::string>(),
-             fixed_dt_ > 0 ? fmt::format("dt = {} s", fixed_dt_)
-                           : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", cfl_, h_near_, frame_dt_),
+             fixed_h_ > 0 ? fmt::format("dt = {} s", fixed_h_)
+                           : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", cfl_, edge_near_, frame_interval_),
              c.at("mesh_update").get<std::string>());
     log_ = &log;
   }
 
   std::vector<std::string> phases() const override {
+    if (stepper_->fluid().has_free_surface()) return {"remesh", "surface", "advect", "solid_assemble", "interface", "solve"};
     return {"remesh", "advect", "solid_assemble", "interface", "solve"};
   }
   std::vector<std::string> columns() const override {
-    return {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
-            "solver_iterations", "solver_residual", "solver_factor_age",
-            "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
+    std::vector<std::string> c = {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
+                                  "solver_iterations", "solver_residual", "solver_factor_age",
+                                  "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
+    if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
+    return c;
   }
-  /// The scene's `dt`, or the CFL step cfl h / u_max with h the fluid edge length next to the
+  /// The scene's `dt`, or the CFL step cfl dx / u_max with dx the fluid edge length next to the
   /// solids and u_max the largest fluid or solid speed (so neither the fluid's back-trace nor the
   /// solid's surface moves more than cfl cells per step), capped at one frame.
   double max_dt() const override {
-    if (fixed_dt_ > 0) return fixed_dt_;
+    if (fixed_h_ > 0) return fixed_h_;
     double umax = 0;
     for (const auto& u : stepper_->fluid().fields().velocity) umax = std::max(umax, u.norm());
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       const Eigen::VectorXd& v = stepper_->solid(i).velocity();
       for (int a = 0; a < v.size() / 3; ++a) umax = std::max(umax, v.segment<3>(3 * a).norm());
     }
-    return umax > 0 ? std::min(frame_dt_, cfl_ * h_near_ / umax) : frame_dt_;
+    return umax > 0 ? std::min(frame_interval_, cfl_ * edge_near_ / umax) : frame_interval_;
   }
 
-  StepReport step(double dt) override {
+  StepReport step(double h) override {
     auto& sources = stepper_->fluid_boundary().sources;
     sources.clear();
     for (const auto& e : emitters_)
       if (e.active(stepper_->time())) sources.push_back(e.source);
     coupling::CoupledStepReport r;
     try {
-      r = stepper_->step(dt);
+      r = stepper_->step(h);
     } catch (const mesh::MeshError& e) {
       throw RunError(fmt::format("coupled step at t = {:.6g} s ({} coupling): {}", stepper_->time(), scheme_, e.what()));
     } catch (const std::exception& e) {
@@ -194,7 +193,7 @@ class CoupledRunner : public Simulation {
                   r.mesh_update.min_dihedral_deg, r.mesh_update.seconds);
     last_ = r;
     StepReport out;
-    out.dt = dt;
+    out.dt = h;
     out.phase_seconds = {r.mesh_update.seconds, r.fluid.advect_seconds + r.fluid.forces_seconds,
                          r.solid_assemble_seconds,
                          // the fluid mesh's geometry and boundary classification belong to the
@@ -205,6 +204,10 @@ class CoupledRunner : public Simulation {
                   double(r.pressure_unknowns), double(r.solid_dofs),
                   double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
                   r.solid_strain, r.solid_gravity_potential, r.total_energy()};
+    if (stepper_->fluid().has_free_surface()) {
+      out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
+      out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});
+    }
     return out;
   }
 
@@ -226,8 +229,7 @@ class CoupledRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    const auto& fl = stepper_->fluid();
-    out.write_grid("fluid", frame, time, fluid::make_fluid_grid(fl.mesh(), fl.fields(), fl.pressure()));
+    write_fluid_frame(out, frame, time, stepper_->fluid());
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       const auto& integrator = stepper_->solid(i);
       mesh::TetMesh deformed = stepper_->solid_mesh(i).mesh;
@@ -257,7 +259,8 @@ class CoupledRunner : public Simulation {
   std::vector<double> probe(const scene::Json& p) const override {
     const std::string kind = p.at("kind").get<std::string>();
     if (kind == "total_energy") return {last_.total_energy()};
-    if (kind == "fluid_volume") return {stepper_->fluid_volume()};
+    if (kind == "fluid_volume")
+      return {stepper_->fluid().has_free_surface() ? stepper_->fluid().liquid().total_volume() : stepper_->fluid_volume()};
     if (kind == "fluid_kinetic_energy") return {last_.fluid_kinetic};
     if (kind == "fluid_point") return {fluid_point_value(stepper_->fluid(), p)};
     if (!p.contains("solid")) return {};
@@ -299,7 +302,7 @@ class CoupledRunner : public Simulation {
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;
-  double dt_ = 1.0 / 60.0, fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_near_ = 0;
+  double h_ = 1.0 / 60.0, fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, edge_near_ = 0;
   spdlog::logger* log_ = nullptr;
   int rejected_remeshes_ = 0;
   std::string scheme_;

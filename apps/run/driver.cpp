@@ -17,7 +17,7 @@
 #include "apps/run/preflight.hpp"
 #include "apps/run/progress.hpp"
 #include "apps/run/simulation.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/version.hpp"
 
 namespace tetfsi::run {
@@ -38,9 +38,9 @@ std::shared_ptr<spdlog::logger> make_logger(const fs::path& dir) {
 
 /// FNV-1a 64-bit hash of a text (to tell runs of identical resolved scenes apart in run.log).
 std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
+  std::uint64_t hash = 1469598103934665603ull;
+  for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
+  return hash;
 }
 
 /// probes.csv column names of one probe.
@@ -111,27 +111,27 @@ class Driver {
     try {
       while (t < end - eps) {
         const double next_frame = (frame + 1) * frame_dt;
-        const double dt_max = sim->max_dt();
-        if (!(dt_max > 0) || !std::isfinite(dt_max))
+        const double h_max = sim->max_dt();
+        if (!(h_max > 0) || !std::isfinite(h_max))
           throw RunError(fmt::format("step {} (t = {:.6g} s): the model asked for a time step of {} s",
-                                     step + 1, t, dt_max));
+                                     step + 1, t, h_max));
         // A step that reaches the next frame (or the end) within round-off of its largest step
-        // lands on it exactly: summing dt's otherwise leaves a remainder of ~1e-12 s, and a step
+        // lands on it exactly: summing h's otherwise leaves a remainder of ~1e-12 s, and a step
         // that short is a different problem (e.g. A = M/h dominates the coupled solve). Likewise,
         // when a full step would leave less than half a step before the frame (a CFL step that
         // does not divide the frame), the rest is taken in two equal steps instead of a full one
         // and a sliver.
         const double target = std::min(next_frame, end);
         const double remaining = target - t;
-        const bool lands = remaining <= dt_max * (1 + 1e-9);
-        const double dt = lands ? remaining : remaining < 1.5 * dt_max ? 0.5 * remaining : dt_max;
+        const bool lands = remaining <= h_max * (1 + 1e-9);
+        const double h = lands ? remaining : remaining < 1.5 * h_max ? 0.5 * remaining : h_max;
         if (step >= max_steps)
           throw InputError(fmt::format("step {} (t = {:.6g} s of {:.6g} s): the run reached /simulation/max_steps = {} "
                                        "before its end time (the step follows the CFL condition: {:.3g} s); raise "
                                        "/simulation/max_steps, or shorten /simulation/end_time. Frames written so far "
-                                       "are intact.", step, t, end, max_steps, dt_max));
-        StepReport r = sim->step(dt);
-        t = lands && r.dt == dt ? target : t + r.dt;
+                                       "are intact.", step, t, end, max_steps, h_max));
+        StepReport r = sim->step(h);
+        t = lands && r.dt == h ? target : t + r.dt;
         ++step;
         check_finite(*sim, step, t);
         check_physics(*sim, step, t);

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 
@@ -23,10 +24,11 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "fluid/advection/point_locator.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/io/fluid_output.hpp"
+#include "fluid/liquid/level_set.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/surface_import.hpp"
 #include "mesh/quality.hpp"
@@ -37,14 +39,14 @@ namespace {
 
 
 /// Velocity [m/s] at time t of the point with rest position x0: analytic for translation and
-/// rotation, the secant over [t - dt, t] for keyframed paths.
-Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d& x0, double t, double dt) {
+/// rotation, the secant over [t - h, t] for keyframed paths.
+Eigen::Vector3d motion_velocity(const scene::Json& motion, const Eigen::Vector3d& x0, double t, double h) {
   const auto type = motion.at("type").get<std::string>();
   if (type == "translation") return vec3(motion.at("velocity"));
   if (type == "rotation")
     return motion.at("angular_velocity").get<double>() *
            vec3(motion.at("axis")).normalized().cross(moved(motion, x0, t) - vec3(motion.at("center")));
-  if (type == "path" && dt > 0) return (moved(motion, x0, t) - moved(motion, x0, t - dt)) / dt;
+  if (type == "path" && h > 0) return (moved(motion, x0, t) - moved(motion, x0, t - h)) / h;
   return Eigen::Vector3d::Zero();
 }
 
@@ -63,9 +65,9 @@ class FluidRunner : public Simulation {
     const auto& js = scene.json;
     const auto& f = js.at("fluid");
     const auto& sim = js.at("simulation");
-    fixed_dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
+    fixed_h_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
     cfl_ = sim.at("cfl").get<double>();
-    frame_dt_ = 1.0 / sim.at("frame_rate").get<double>();
+    frame_interval_ = 1.0 / sim.at("frame_rate").get<double>();
 
     // ---- fluid parameters, boundary patches, emitters (fluid_setup.hpp) ----
     const fluid::FluidParams params = fluid_params(js, log);
@@ -79,7 +81,16 @@ class FluidRunner : public Simulation {
 
     // ---- mesh ----
     const auto& m = js.at("mesh");
-    const mesh::MeshSizing sizing = mesh_sizing(m);
+    mesh::MeshSizing sizing = mesh_sizing(m);
+    // A free surface with surface_edge_length: finer near the liquid (fluid/README.md, "Liquids").
+    if (f.at("type") == "liquid" && f.value("fill", "domain") == "regions")
+      surface_edge_ = f.at("surface_edge_length").get<double>();
+    far_edge_ = sizing.edge_length;
+    surface_grading_ = std::max(sizing.grading_distance, 3.0 * surface_edge_);
+    if (surface_edge_ > 0) {
+      const auto distance = liquid_region_distance(f.at("regions"), vec3(js.at("simulation").at("gravity")));
+      sizing.size_at = [this, distance](const Eigen::Vector3d& x) { return surface_size(std::abs(distance(x))); };
+    }
     std::vector<mesh::SurfaceMesh> surfaces;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
@@ -120,29 +131,47 @@ class FluidRunner : public Simulation {
     fields.temperature = Eigen::VectorXd::Constant(nt, ambient_);
     try {
       solver_->initialize(complex_, fields);
+      set_initial_liquid(js, *solver_, log);
     } catch (const std::invalid_argument& e) {
       throw RunError(std::string("fluid initialisation failed: ") + e.what());
     }
-    h_ = solver_->mesh().mean_edge_length();
+    dx_ = solver_->mesh().mean_edge_length();
     update_solid_velocity(0.0, 0.0);
+    if (surface_edge_ > 0) {
+      mark_refined_nodes();
+      log.info("free surface: edge {:.4g} m within {:.4g} m of the surface, graded to {:.4g} m over {:.4g} m; the "
+               "fluid is remeshed when the surface leaves the refined zone",
+               surface_edge_, 3.0 * surface_edge_, far_edge_, surface_grading_);
+    }
   }
 
-  std::vector<std::string> phases() const override { return {"remesh", "advect", "forces", "assemble", "solve"}; }
+  std::vector<std::string> phases() const override {
+    if (solver_->has_free_surface()) return {"remesh", "surface", "advect", "forces", "assemble", "solve"};
+    return {"remesh", "advect", "forces", "assemble", "solve"};
+  }
   std::vector<std::string> columns() const override {
-    return {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence", "kinetic_energy",
-            "min_dihedral", "clamped_traces", "remeshed"};
+    std::vector<std::string> c = {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence",
+                                  "kinetic_energy", "min_dihedral", "clamped_traces", "remeshed"};
+    if (solver_->has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
+    return c;
   }
 
   double max_dt() const override {
-    if (fixed_dt_ > 0) return fixed_dt_;
+    if (fixed_h_ > 0) return fixed_h_;
     double umax = max_solid_speed_;
     for (const auto& u : solver_->fields().velocity) umax = std::max(umax, u.norm());
-    return umax > 0 ? std::min(frame_dt_, cfl_ * h_ / umax) : frame_dt_;
+    // A free surface at rest starts to move at once: bound the step by the speed a liquid falling
+    // under gravity reaches over one cell, sqrt(|g| dx).
+    if (solver_->has_free_surface()) umax = std::max(umax, std::sqrt(solver_->params().gravity.norm() * dx_));
+    return umax > 0 ? std::min(frame_interval_, cfl_ * dx_ / umax) : frame_interval_;
   }
 
-  StepReport step(double dt) override {
-    time_ += dt;
+  StepReport step(double h) override {
+    time_ += h;
     Stopwatch clock;
+    remeshed_ = false;
+    if (surface_edge_ > 0) remesh_.size_at = current_surface_size();
+    if (surface_left_refined_zone_ && !moving_) remesh_for_surface();
     if (moving_) {
       std::vector<Eigen::Vector3d> target = complex_.vertices;
       for (std::size_t v = 0; v < target.size(); ++v)
@@ -155,12 +184,16 @@ class FluidRunner : public Simulation {
       mesh::QualityReport q;
       for (int attempt = 0;; ++attempt) {
         mesh::RemeshOptions opt = remesh_;
+        if (surface_left_refined_zone_) {  // the whole fluid, for the liquid surface's sizing field
+          opt.band = 0;
+          opt.remesh_only_when_needed = false;
+        }
         opt.iterations += 2 * attempt;
         if (attempt == 2) opt.band = 0;
         try {
           r = mesh::remesh_step(complex_, target, opt);
         } catch (const mesh::MeshError& e) {
-          throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce dt or cfl)", time_, e.what()));
+          throw RunError(fmt::format("remeshing at t = {} s failed: {} (reduce simulation.dt or cfl)", time_, e.what()));
         }
         q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
         if (q.inverted + q.degenerate == 0) break;
@@ -181,29 +214,37 @@ class FluidRunner : public Simulation {
       complex_ = std::move(r.mesh);
       min_dihedral_ = r.report.min_dihedral_deg;
       remeshed_ = r.report.remeshed;
-      update_solid_velocity(time_, dt);
+      update_solid_velocity(time_, h);
     }
     const double t_remesh = clock.seconds();
 
     fluid::BoundaryConditions bc = bc_;
     for (const auto& e : emitters_)
-      if (e.active(time_ - dt)) bc.sources.push_back(e.source);
+      if (e.active(time_ - h)) bc.sources.push_back(e.source);
     bc.solid_vertex_velocity = solid_velocity_;
     fluid::StepReport s;
     try {
-      s = solver_->step(complex_, bc, dt);
+      s = solver_->step(complex_, bc, h);
     } catch (const std::exception& e) {  // SolverError, non-finite values, bad boundary input
       throw RunError(fmt::format("fluid step at t = {} s failed: {}", time_, e.what()));
     }
     last_ = s;
-    h_ = solver_->mesh().mean_edge_length();
+    if (surface_edge_ > 0) {
+      if (remeshed_) mark_refined_nodes();
+      surface_left_refined_zone_ = surface_outside_refined_zone();
+    }
+    dx_ = solver_->mesh().mean_edge_length();
 
     StepReport rep;
-    rep.dt = dt;
+    rep.dt = h;
     rep.phase_seconds = {t_remesh, s.advect_seconds, s.forces_seconds, s.assemble_seconds, s.solve_seconds};
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
                   s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces),
                   double(remeshed_)};
+    if (solver_->has_free_surface()) {
+      rep.phase_seconds.insert(rep.phase_seconds.begin() + 1, s.surface_seconds);
+      rep.values.insert(rep.values.end(), {s.liquid_volume, s.volume_drift});
+    }
     return rep;
   }
 
@@ -220,7 +261,7 @@ class FluidRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    out.write_grid("fluid", frame, time, fluid::make_fluid_grid(solver_->mesh(), solver_->fields(), solver_->pressure()));
+    write_fluid_frame(out, frame, time, *solver_);
     for (std::size_t i = 0; i < names_.size(); ++i) {
       std::vector<Eigen::Vector3d> vel;
       const auto surface = solid_surface(static_cast<int>(i), vel);
@@ -231,13 +272,82 @@ class FluidRunner : public Simulation {
   std::vector<double> probe(const scene::Json& p) const override {
     const auto kind = p.at("kind").get<std::string>();
     if (kind == "fluid_kinetic_energy") return {last_.kinetic_energy};
+    if (kind == "fluid_volume") {
+      if (solver_->has_free_surface()) return {solver_->liquid().total_volume()};
+      double v = 0;
+      for (double x : solver_->mesh().volume) v += x;
+      return {v};
+    }
     if (kind != "fluid_point") return {};
     return {fluid_point_value(*solver_, p)};
   }
 
  private:
+  /// Target edge length [m] at distance d from the liquid surface: surface_edge_length within
+  /// three of it, graded linearly to the mesh's edge length over max(grading_distance, 3 of it).
+  double surface_size(double d) const {
+    const double r = 3.0 * surface_edge_;
+    return surface_edge_ + (far_edge_ - surface_edge_) * std::clamp((d - r) / surface_grading_, 0.0, 1.0);
+  }
+  /// surface_size at the current level set, interpolated on the current fluid mesh (for CGAL's
+  /// remeshing sizing field; CGAL calls it from one thread).
+  std::function<double(const Eigen::Vector3d&)> current_surface_size() {
+    locator_ = std::make_shared<fluid::PointLocator>(solver_->mesh());
+    return [this, locator = locator_, hint = std::make_shared<int>(0)](const Eigen::Vector3d& x) {
+      const fluid::Location l = locator->locate(x, *hint);
+      *hint = l.tet;
+      double phi = 0;
+      for (int k = 0; k < 4; ++k) phi += l.bary[k] * solver_->level_set()[solver_->mesh().tets[l.tet][k]];
+      return surface_size(std::abs(phi));
+    };
+  }
+  /// Fluid nodes within the refined zone (3 surface edge lengths) of the surface now.
+  void mark_refined_nodes() {
+    const Eigen::VectorXd& phi = solver_->level_set();
+    refined_node_.assign(phi.size(), 0);
+    for (Eigen::Index i = 0; i < phi.size(); ++i) refined_node_[i] = std::abs(phi[i]) < 3.0 * surface_edge_;
+  }
+  /// True when a node within 1.5 surface edge lengths of the surface was not in the refined zone at
+  /// the last (re)mesh: the surface has moved into the coarse mesh.
+  bool surface_outside_refined_zone() const {
+    const Eigen::VectorXd& phi = solver_->level_set();
+    if (static_cast<Eigen::Index>(refined_node_.size()) != phi.size()) return true;
+    for (Eigen::Index i = 0; i < phi.size(); ++i)
+      if (std::abs(phi[i]) < 1.5 * surface_edge_ && !refined_node_[i]) return true;
+    return false;
+  }
+  /// Remeshes the whole fluid (solids frozen) with the sizing field of the current surface; the
+  /// solver carries the fields and the level set over in its next step.
+  void remesh_for_surface() {
+    mesh::RemeshOptions opt = remesh_;
+    opt.remesh_only_when_needed = false;
+    opt.band = 0;
+    opt.target_edge_length = far_edge_;
+    mesh::RemeshResult r;
+    try {
+      r = mesh::remesh_step(complex_, complex_.vertices, opt);
+    } catch (const mesh::MeshError& e) {
+      throw RunError(fmt::format("remeshing for the liquid surface at t = {} s failed: {}", time_, e.what()));
+    }
+    const mesh::QualityReport q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
+    if (q.inverted + q.degenerate > 0) {
+      log_->warn("t = {} s: remeshing for the liquid surface left {} inverted and {} flat tets; kept the old mesh",
+                 time_, q.inverted, q.degenerate);
+      return;
+    }
+    std::vector<Eigen::Vector3d> rest(r.mesh.num_vertices());
+    for (int v = 0; v < r.mesh.num_vertices(); ++v)
+      rest[v] = r.old_index[v] >= 0 ? rest_[r.old_index[v]] : r.mesh.vertices[v];
+    rest_ = std::move(rest);
+    complex_ = std::move(r.mesh);
+    min_dihedral_ = q.min_dihedral_deg;
+    remeshed_ = true;
+    update_solid_velocity(time_, 0.0);
+    log_->debug("t = {} s: remeshed for the liquid surface: {} fluid tets", time_, q.num_tets);
+  }
+
   /// Which solid each complex vertex belongs to (-1: fluid only), and the solid vertex velocities.
-  void update_solid_velocity(double t, double dt) {
+  void update_solid_velocity(double t, double h) {
     vertex_solid_.assign(complex_.num_vertices(), -1);
     for (int k = 0; k < complex_.num_tets(); ++k)
       if (complex_.subdomain[k] >= mesh::solid_subdomain(0))
@@ -246,7 +356,7 @@ class FluidRunner : public Simulation {
     max_solid_speed_ = 0;
     for (int v = 0; v < complex_.num_vertices(); ++v)
       if (vertex_solid_[v] >= 0 && !is_static(motions_[vertex_solid_[v]])) {
-        solid_velocity_[v] = motion_velocity(motions_[vertex_solid_[v]], rest_[v], t, dt);
+        solid_velocity_[v] = motion_velocity(motions_[vertex_solid_[v]], rest_[v], t, h);
         max_solid_speed_ = std::max(max_solid_speed_, solid_velocity_[v].norm());
       }
   }
@@ -300,7 +410,11 @@ class FluidRunner : public Simulation {
   fluid::StepReport last_;
   bool moving_ = false;
   bool remeshed_ = false;  ///< last step remeshed the fluid (false: static, or moved only)
-  double fixed_dt_ = 0, cfl_ = 0.5, frame_dt_ = 1.0 / 30, h_ = 0, time_ = 0, ambient_ = 293.15;
+  double surface_edge_ = 0, far_edge_ = 0, surface_grading_ = 0;  ///< liquid-surface refinement [m]
+  std::vector<char> refined_node_;           ///< per fluid node: in the refined zone at the last (re)mesh
+  bool surface_left_refined_zone_ = false;   ///< remesh for the surface at the start of the next step
+  std::shared_ptr<fluid::PointLocator> locator_;  ///< of the current fluid mesh, for current_surface_size
+  double fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, dx_ = 0, time_ = 0, ambient_ = 293.15;
   double max_solid_speed_ = 0, min_dihedral_ = 0;
 };
 
@@ -319,7 +433,7 @@ RunnerEntry fluid_runner() {
             return true;
           },
           [] { return std::make_unique<FluidRunner>(); },
-          {"fluid_point", "fluid_kinetic_energy"}};
+          {"fluid_point", "fluid_kinetic_energy", "fluid_volume"}};
 }
 
 }  // namespace tetfsi::run

@@ -3,11 +3,13 @@
 /// The fluid's settings from the resolved scene, shared by the runners that have a tet-mesh fluid
 /// (fluid_runner.cpp, coupled_runner.cpp): solver parameters, boundary patches of the domain box,
 /// and emitters with their switch-on and switch-off times.
+#include <functional>
 #include <limits>
 #include <vector>
 
 #include <spdlog/logger.h>
 
+#include "apps/run/output.hpp"
 #include "apps/scene/scene.hpp"
 #include "fluid/fluid_solver.hpp"
 
@@ -30,5 +32,20 @@ struct TimedSource {
 
 /// The scene's emitters; a sphere source acts over its bounding box (logged).
 std::vector<TimedSource> timed_sources(const scene::Json& scene, spdlog::logger& log);
+
+/// With /fluid/fill "regions": makes `solver` (initialised on its first mesh) a liquid with a free
+/// surface whose level set is the signed distance to the union of /fluid/regions (level set band:
+/// 4 mean edge lengths). Other scenes: nothing. @throws std::invalid_argument if the regions hold
+/// no liquid on the mesh
+void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, spdlog::logger& log);
+
+/// Signed distance [m] to the union of /fluid/regions (negative inside; `below` is measured along
+/// -gravity): the minimum of the shapes' distances, exact outside every shape.
+std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
+                                                                     const Eigen::Vector3d& gravity);
+
+/// Writes the fluid's frame: the grid "fluid" (with the level set and liquid fractions of a free
+/// surface) and, for a free surface, the closed liquid surface "liquid" with vertex velocities.
+void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver);
 
 }  // namespace tetfsi::run

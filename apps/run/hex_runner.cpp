@@ -7,7 +7,7 @@
 /// is load step k with the load factor as its "time" in the .pvd, the per-step Newton log goes to
 /// run.log and load_steps.csv (load factor, iterations, cuts, final residual ratio, reaction
 /// moment of the first moment_rotation face [N m]).
-/// `model.analysis: "dynamic"`: the HexModel inside the tet solid's TrapezoidalIntegrator
+/// `model.analysis: "dynamic"`: the HexModel inside the tet solid's NewmarkIntegrator
 /// (Chentanez et al. 2006, eq. 18), with gravity, fixed nodes, dead loads and obstacles.
 #include <algorithm>
 
@@ -18,10 +18,11 @@
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
+#include "apps/run/solid_params.hpp"
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/solid_error.hpp"
 
 namespace tetfsi::run {
@@ -44,12 +45,7 @@ hex::BlockProblem problem_of(const scene::Json& s, const std::string& ptr) {
   p.nx = s["model"].at("nx").get<int>();
   p.ny = s["model"].at("ny").get<int>();
   p.nz = s["model"].at("nz").get<int>();
-  const auto& m = s.at("material");
-  p.material.law = m.at("constitutive") == "neohookean" ? hex::MaterialLaw::NeoHookean
-                                                       : hex::MaterialLaw::StVenantKirchhoff;
-  p.material.youngs_modulus = m.at("youngs_modulus").get<double>();
-  p.material.poisson_ratio = m.at("poissons_ratio").get<double>();
-  p.material.density = m.at("density").get<double>();
+  p.material = hex_material(s.at("material"));
   for (const auto& box : s.at("fixed_regions")) {
     hex::RegionCondition rc;
     rc.lo = vec3(box.at("lo"));
@@ -91,7 +87,7 @@ struct HexBody {
   std::string name;
   std::unique_ptr<hex::HexModel> model;
   hex::BoundaryConditions bc;
-  std::unique_ptr<solid::TrapezoidalIntegrator> integrator;  // dynamic only
+  std::unique_ptr<solid::NewmarkIntegrator> integrator;  // dynamic only
   std::vector<double> load_factors;                          // static only: frame k
   std::vector<Eigen::VectorXd> states;                       // static only: u per load step
   std::vector<hex::StepLog> logs;
@@ -105,7 +101,7 @@ class HexRunner : public Simulation {
     solid::limit_blas_threads(1);
     const auto& js = scene.json;
     const auto& sim = js.at("simulation");
-    dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
+    h_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     bool any_static = false, any_dynamic = false;
     for (std::size_t i = 0; i < js.at("solids").size(); ++i) {
       const auto& s = js["solids"][i];
@@ -155,7 +151,7 @@ class HexRunner : public Simulation {
     if (static_) return {"load_steps", "newton_iterations", "max_iterations_per_step", "step_cuts"};
     return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts"};
   }
-  double max_dt() const override { return dt_; }
+  double max_dt() const override { return h_; }
 
   StepReport setup_report() const override {
     StepReport r;
@@ -172,15 +168,14 @@ class HexRunner : public Simulation {
     return r;
   }
 
-  StepReport step(double dt) override {
+  StepReport step(double h) override {
     StepReport r;
-    r.dt = dt;
+    r.dt = h;
     std::vector<double> v(7, 0.0);
     double a = 0, s = 0;
     for (auto& b : bodies_) {
       try {
-        b.integrator->set_time_step(dt);  // the driver may shorten a step to land on a frame
-        const auto& st = b.integrator->step();
+        const auto& st = b.integrator->step(h);  // the driver may shorten a step to land on a frame
         a += st.assembly_seconds;
         s += st.solve_seconds;
         const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
@@ -281,15 +276,9 @@ class HexRunner : public Simulation {
   void make_dynamic(HexBody& b, const scene::Json& s, const scene::Json& js, const std::string& ptr) {
     if (!b.bc.prescribed.empty() || !b.bc.rotating_faces.empty())
       throw InputError(ptr + "/boundary_conditions: `displacement` and `moment_rotation` need analysis: static");
-    solid::TrapezoidalSettings settings;
-    settings.time_step = dt_;
-    settings.rayleigh_alpha = s.at("material").at("rayleigh_alpha").get<double>();
-    settings.rayleigh_beta = s.at("material").at("rayleigh_beta").get<double>();
-    settings.gravity = vec3(js.at("simulation").at("gravity"));
     try {
-      settings.scheme = solid::parse_newmark_scheme(s.at("integrator").at("scheme").get<std::string>());
-      settings.solver = solid::parse_solver_kind(s.at("integrator").at("linear_solver").get<std::string>());
-      b.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*b.model, settings);
+      const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
+      b.integrator = std::make_unique<solid::NewmarkIntegrator>(*b.model, settings);
     } catch (const solid::SolidError& e) {
       throw InputError(fmt::format("{}: {}", ptr, e.what()));
     }
@@ -328,14 +317,14 @@ class HexRunner : public Simulation {
   }
 
   std::vector<HexBody> bodies_;
-  double dt_ = 0, assemble_ = 0, solve_ = 0;
+  double h_ = 0, assemble_ = 0, solve_ = 0;
   bool static_ = false;
 };
 
 }  // namespace
 
 RunnerEntry hex_runner() {
-  return {"hex", "Total Lagrangian hex8 blocks without fluid (static load stepping or trapezoidal dynamics)",
+  return {"hex", "Total Lagrangian hex8 blocks without fluid (static load stepping or implicit Newmark dynamics)",
           [](const scene::Scene& s) {
             if (s["fluid"].at("type") != "none") return false;
             bool any = false;

@@ -8,7 +8,7 @@
 #include "apps/run/scene_values.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "mesh/surface_checks.hpp"
 #include "mesh/surface_import.hpp"
 
@@ -27,7 +27,7 @@ class KinematicRunner : public Simulation {
  public:
   void setup(const scene::Scene& scene, spdlog::logger& log) override {
     const auto& sim = scene["simulation"];
-    dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
+    h_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     for (const auto& s : scene["solids"]) {
       std::vector<std::string> warnings;
       Body b{s.at("name").get<std::string>(), surface_of(s, warnings), {}, {}, s.at("motion")};
@@ -37,19 +37,19 @@ class KinematicRunner : public Simulation {
       bodies_.push_back(std::move(b));
     }
     move(0.0, 0.0);
-    log.info("kinematic runner: {} solid(s) follow their prescribed motion; step {} s", bodies_.size(), dt_);
+    log.info("kinematic runner: {} solid(s) follow their prescribed motion; step {} s", bodies_.size(), h_);
   }
 
   std::vector<std::string> phases() const override { return {"move"}; }
   std::vector<std::string> columns() const override { return {"vertices", "max_speed"}; }
-  double max_dt() const override { return dt_; }
+  double max_dt() const override { return h_; }
 
-  StepReport step(double dt) override {
+  StepReport step(double h) override {
     Stopwatch clock;
-    time_ += dt;
-    move(time_, dt);
+    time_ += h;
+    move(time_, h);
     StepReport r;
-    r.dt = dt;
+    r.dt = h;
     r.phase_seconds = {clock.seconds()};
     double vertices = 0, vmax = 0;
     for (const auto& b : bodies_) {
@@ -104,8 +104,8 @@ class KinematicRunner : public Simulation {
 
  private:
   /// Positions at time t; velocities analytic for translation and rotation, the secant over the
-  /// last step (length dt) for keyframed paths.
-  void move(double t, double dt) {
+  /// last step (length h) for keyframed paths.
+  void move(double t, double h) {
     for (auto& b : bodies_) {
       const auto type = b.motion.at("type").get<std::string>();
       for (int i = 0; i < b.rest.num_vertices(); ++i) {
@@ -114,14 +114,14 @@ class KinematicRunner : public Simulation {
         else if (type == "rotation")
           b.velocity[i] = b.motion.at("angular_velocity").get<double>() *
                           vec3(b.motion.at("axis")).normalized().cross(x - vec3(b.motion.at("center")));
-        else if (dt > 0) b.velocity[i] = (x - b.now.vertices[i]) / dt;
+        else if (h > 0) b.velocity[i] = (x - b.now.vertices[i]) / h;
         b.now.vertices[i] = x;
       }
     }
   }
 
   std::vector<Body> bodies_;
-  double dt_ = 0, time_ = 0;
+  double h_ = 0, time_ = 0;
 };
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/interface.hpp"

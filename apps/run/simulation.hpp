@@ -16,7 +16,7 @@ namespace tetfsi::run {
 
 /// What one call of Simulation::step() did.
 struct StepReport {
-  double dt = 0;                      ///< time advanced [s]
+  double dt = 0;                     ///< time advanced h [s] (the stats.csv column dt)
   std::vector<double> phase_seconds;  ///< wall time of each phase, in the order of phases()
   std::vector<double> values;         ///< one value per columns() (counts and model statistics)
 };
@@ -35,10 +35,10 @@ class Simulation {
   virtual std::vector<std::string> phases() const = 0;
   /// Model-specific stats.csv columns (counts, iterations, energies), declared up front.
   virtual std::vector<std::string> columns() const = 0;
-  /// Largest step allowed now (CFL, scene dt) [s].
+  /// Largest step allowed now (CFL, scene simulation.dt) [s].
   virtual double max_dt() const = 0;
-  /// Advances the state by `dt` [s] (the driver may shorten steps to land on frame times).
-  virtual StepReport step(double dt) = 0;
+  /// Advances the state by `h` [s] (the driver may shorten steps to land on frame times).
+  virtual StepReport step(double h) = 0;
   /// Reports the first non-finite value of the state ("solid 'ball' position of vertex 12"), or
   /// "" if the state is finite. Called after each step, before anything is written.
   virtual std::string non_finite() const = 0;

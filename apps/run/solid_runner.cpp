@@ -2,7 +2,7 @@
 /// Solid-only scenes with tetrahedral FEM bodies (Chentanez et al. 2006 sec. 3.2, appendix
 /// eqs. 9-18): /fluid/type is "none" and at least one solid deforms (motion "none", model
 /// "tet_fem"; hex8 solids go to the hex runner). Each deforming solid is meshed alone
-/// (mesh::mesh_solid, no fluid), becomes a TetModel advanced by its own TrapezoidalIntegrator
+/// (mesh::mesh_solid, no fluid), becomes a TetModel advanced by its own NewmarkIntegrator
 /// with the scene's gravity, fixed regions, initial velocity and static obstacles. Solids do not
 /// collide with each other. Solids with a prescribed motion in the same scene are not moved
 /// (a warning says so).
@@ -15,13 +15,14 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
-#include "apps/run/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "apps/run/watchdog.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/output/solid_output.hpp"
 #include "solid/solid_error.hpp"
 #include "solid/tet/tet_model.hpp"
@@ -33,7 +34,7 @@ namespace {
 struct Body {
   std::string name;
   std::unique_ptr<solid::TetModel> model;
-  std::unique_ptr<solid::TrapezoidalIntegrator> integrator;
+  std::unique_ptr<solid::NewmarkIntegrator> integrator;
   mesh::SurfaceMesh surface;      ///< boundary of the tet mesh, at rest
   std::vector<int> surface_nodes; ///< tet-mesh node of each surface vertex
   int index = 0;                  ///< /solids/index
@@ -54,7 +55,7 @@ class SolidRunner : public Simulation {
     solid::limit_blas_threads(1);  // solid/README.md: a busy-waiting BLAS costs more than it gains here
     const auto& js = scene.json;
     const auto& sim = js.at("simulation");
-    dt_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
+    h_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     const auto& m = js.at("mesh");
     const mesh::MeshSizing sizing = mesh_sizing(m);
     const auto& obs = js.at("obstacles");
@@ -82,32 +83,16 @@ class SolidRunner : public Simulation {
                mesh::quality_report(tets).summary());
 
       const auto& mat = s.at("material");
-      solid::TetMaterial material;
-      material.youngs_modulus = mat.at("youngs_modulus").get<double>();
-      material.poisson_ratio = mat.at("poissons_ratio").get<double>();
-      material.density = mat.at("density").get<double>();
-      material.rayleigh_alpha = mat.at("rayleigh_alpha").get<double>();
-      material.rayleigh_beta = mat.at("rayleigh_beta").get<double>();
-      const bool neo = mat.at("constitutive") == "neohookean";
-      material.law = neo ? solid::ConstitutiveLaw::kStableNeoHookean : solid::ConstitutiveLaw::kStVK;
-      solid::TetModelOptions options;
-      options.project_spd = neo;  // keeps A positive definite under strong compression (README)
-
-      solid::TrapezoidalSettings settings;
-      settings.time_step = dt_;
-      settings.rayleigh_alpha = material.rayleigh_alpha;
-      settings.rayleigh_beta = material.rayleigh_beta;
-      settings.gravity = vec3(sim.at("gravity"));
+      const solid::TetMaterial material = tet_material(mat);
       try {
         material.validate();
       } catch (const solid::SolidError& e) {
         throw InputError(fmt::format("{}/material: {}", ptr, e.what()));
       }
       try {
-        settings.scheme = solid::parse_newmark_scheme(s.at("integrator").at("scheme").get<std::string>());
-        settings.solver = solid::parse_solver_kind(s.at("integrator").at("linear_solver").get<std::string>());
-        b.model = std::make_unique<solid::TetModel>(tets, material, options);
-        b.integrator = std::make_unique<solid::TrapezoidalIntegrator>(*b.model, settings);
+        const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
+        b.model = std::make_unique<solid::TetModel>(tets, material, tet_model_options(mat));
+        b.integrator = std::make_unique<solid::NewmarkIntegrator>(*b.model, settings);
       } catch (const solid::SolidError& e) {  // e.g. a degenerate tet from the mesher: try another mesh size
         throw InputError(fmt::format("{}: solid '{}' (mesh.edge_length {} m): {}", ptr, b.name,
                                      sizing.edge_length, e.what()));
@@ -138,14 +123,14 @@ class SolidRunner : public Simulation {
         const double size = (P.rowwise().maxCoeff() - P.rowwise().minCoeff()).norm();
         const double mass = b.model->lumped_masses().sum();
         const auto e = integ.energies();
-        b.energy = EnergyWatch(e.total(), mechanical(e), std::max(mass * settings.gravity.norm() * size, 1e-12));
+        b.energy = EnergyWatch(e.total(), mechanical(e), std::max(mass * vec3(sim.at("gravity")).norm() * size, 1e-12));
       }
       log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
                s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),
                mat["constitutive"].get<std::string>());
       bodies_.push_back(std::move(b));
     }
-    log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), dt_);
+    log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), h_);
     watchdog_ = watchdog_settings(sim);
   }
 
@@ -153,18 +138,17 @@ class SolidRunner : public Simulation {
   std::vector<std::string> columns() const override {
     return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts"};
   }
-  double max_dt() const override { return dt_; }
+  double max_dt() const override { return h_; }
 
-  StepReport step(double dt) override {
+  StepReport step(double h) override {
     StepReport r;
-    r.dt = dt;
+    r.dt = h;
     double assemble = 0, solve = 0;
     std::vector<double> v(7, 0.0);
     for (auto& b : bodies_) {
-      b.integrator->set_time_step(dt);  // the driver may shorten a step to land on a frame
       solid::StepStats st;
       try {
-        st = b.integrator->step();
+        st = b.integrator->step(h);  // the driver may shorten a step to land on a frame
       } catch (const solid::SolidError& e) {
         const bool stvk = b.model->material().law == solid::ConstitutiveLaw::kStVK;
         throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
@@ -253,14 +237,14 @@ class SolidRunner : public Simulation {
 
  private:
   std::vector<Body> bodies_;
-  double dt_ = 0;
+  double h_ = 0;
   WatchdogSettings watchdog_;
 };
 
 }  // namespace
 
 RunnerEntry solid_runner() {
-  return {"solid", "deformable tet FEM solids without fluid (trapezoidal implicit integration, contact)",
+  return {"solid", "deformable tet FEM solids without fluid (implicit Newmark integration, contact)",
           [](const scene::Scene& s) {
             if (s["fluid"].at("type") != "none") return false;
             for (const auto& solid : s["solids"])

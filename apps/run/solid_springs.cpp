@@ -9,7 +9,7 @@
 
 namespace tetfsi::run {
 
-int add_scene_springs(solid::TrapezoidalIntegrator& integrator, const scene::Json& solid, int solid_index,
+int add_scene_springs(solid::NewmarkIntegrator& integrator, const scene::Json& solid, int solid_index,
                       const std::string& solid_name, spdlog::logger& log) {
   if (!solid.contains("springs")) return 0;
   const Eigen::VectorXd& X = integrator.model().reference_positions();

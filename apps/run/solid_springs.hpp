@@ -13,7 +13,7 @@
 #include <spdlog/logger.h>
 
 #include "apps/scene/scene.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 
 namespace tetfsi::run {
 
@@ -23,7 +23,7 @@ namespace tetfsi::run {
 /// @param solid_name   the solid's name, for messages
 /// @throws InputError naming the solid and the spring (pointer and name) if a region holds no node
 /// @returns the number of springs added (one per selected node)
-int add_scene_springs(solid::TrapezoidalIntegrator& integrator, const scene::Json& solid, int solid_index,
+int add_scene_springs(solid::NewmarkIntegrator& integrator, const scene::Json& solid, int solid_index,
                       const std::string& solid_name, spdlog::logger& log);
 
 }  // namespace tetfsi::run

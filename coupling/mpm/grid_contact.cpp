@@ -24,17 +24,17 @@ double MpmMembraneCoupling::critical_time_step() const {
   return std::min(mpm_.critical_time_step(), mem_.critical_time_step());
 }
 
-ContactReport MpmMembraneCoupling::step(double dt) {
+ContactReport MpmMembraneCoupling::step(double h) {
   ContactReport rep;
   const auto& grid = mpm_.grid();
   using Clock = std::chrono::steady_clock;
   const auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
   const auto t0 = Clock::now();
   // Steps 2 and 3: trial solutions.
-  mpm_.trial_step(dt);
+  mpm_.trial_step(h);
   const auto t1 = Clock::now();
-  mem_.compute_forces(dt);
-  mem_.trial_velocities(dt);
+  mem_.compute_forces(h);
+  mem_.trial_velocities(h);
   const auto t2 = Clock::now();
 
   // Step 4a: membrane mass, momentum, normals and mass-weighted positions on the grid.
@@ -69,7 +69,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
   // trial momentum is the one the particles carry (see the header).
   const auto& ms = mpm_.node_mass();
   const double eps = mpm_.mass_threshold();
-  const double h = grid.h;
+  const double dx = grid.dx;
   shared_.clear();
   for (auto id : touched_)
     if (at_[id].m > 0 && ms[id] > eps && at_[id].n.norm() > 0) shared_.push_back(id);
@@ -87,18 +87,18 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     candidates_.push_back(id);
   }
   compute_gaps();
-  // Steps 4c-4d. Forces act over dt^n of the current step (eqs. 53, 55, 59); the impulses
-  // dt^n f do not depend on it.
-  const double dtn = mpm_.momentum_step();
+  // Steps 4c-4d. Forces act over h^n of the current step (eqs. 53, 55, 59); the impulses
+  // h^n f do not depend on it.
+  const double h_n = mpm_.momentum_step();
   for (auto id : candidates_) {
     const double g = gap_[id];
     gap_[id] = std::numeric_limits<double>::quiet_NaN();
-    if (!(g < opt_.distance_factor * h)) continue;
+    if (!(g < opt_.distance_factor * dx)) continue;
     const double mr = at_[id].m, m_s = ms[id];
     const Vec3 n = at_[id].n;
     const Vec3 pr = at_[id].p, p_s = ps_[id];
     const Vec3 approach = m_s * pr - mr * p_s;
-    Vec3 f = -approach / ((mr + m_s) * dtn);  // eq. (55), force on r (see header for the sign)
+    Vec3 f = -approach / ((mr + m_s) * h_n);  // eq. (55), force on r (see header for the sign)
     if (opt_.mode == ContactOptions::Mode::Slip) {
       const double fn = f.dot(n);  // eq. (56), < 0: pushes r back
       const Vec3 ft = f - fn * n;  // eq. (57)
@@ -106,9 +106,9 @@ ContactReport MpmMembraneCoupling::step(double dt) {
       f = fn * n + (ft_norm > limit ? Vec3(ft * (limit / ft_norm)) : ft);  // eq. (58)
     }
     at_[id].f = f;
-    mpm_.add_node_impulse(id, -dtn * f);  // eq. (53) with f^s = -f^r
-    rep.impulse_on_mpm -= dtn * f;
-    rep.impulse_on_membrane += dtn * f;
+    mpm_.add_node_impulse(id, -h_n * f);  // eq. (53) with f^s = -f^r
+    rep.impulse_on_mpm -= h_n * f;
+    rep.impulse_on_membrane += h_n * f;
     ++rep.contact_nodes;
   }
 
@@ -126,7 +126,7 @@ ContactReport MpmMembraneCoupling::step(double dt) {
         if (at_[id].m > 0) dv += st.N[c] * at_[id].f / at_[id].m;
       }
       const Vec3 v_trial = Vm[k];
-      Vm[k] += dtn * dv;
+      Vm[k] += h_n * dv;
       for (int a = 0; a < 3; ++a)
         if (fixed[k][a]) Vm[k][a] = 0;
       // Work of the contact force over the step with the mid-step velocity (v^{n-1/2} +
@@ -136,9 +136,9 @@ ContactReport MpmMembraneCoupling::step(double dt) {
     }
   }
   const auto t3 = Clock::now();
-  mem_.update_positions(dt);
+  mem_.update_positions(h);
   const auto t4 = Clock::now();
-  mpm_.finish_step(dt);
+  mpm_.finish_step(h);
   const auto t5 = Clock::now();
   rep.seconds_particle_trial = seconds(t0, t1);
   rep.seconds_membrane = seconds(t1, t2) + seconds(t3, t4);

@@ -10,15 +10,15 @@
 ///      2010): the gap between the membrane (mass centre xbar_I^r of its points around I) and the
 ///      surface of the nearest particle p in the support of I (radius r_p = V_p^{1/3} / 2),
 ///        g_I = min_p (x_p - xbar_I^r) . n_I^r - r_p,
-///      is below `distance_factor` * h (so the membrane is stopped at most that far from the
+///      is below `distance_factor` * dx (so the membrane is stopped at most that far from the
 ///      particles, and false contacts one or two cells away are rejected);
 ///   4. stick force (eq. 55) or Coulomb slip (eqs. 56-58), f^s = -f^r;
-///   5. MPM grid momentum += dt f^s (eq. 53); membrane velocity += dt sum_I N_IK f_I^r / m_I^r
+///   5. MPM grid momentum += h f^s (eq. 53); membrane velocity += h sum_I N_IK f_I^r / m_I^r
 ///      (eq. 59), then membrane positions (eq. 47) and particles (eqs. 65, 19).
 /// n_I^r is the sum of the membrane's area-weighted node normals mapped to the node (the membrane
 /// is two-sided: it is oriented to point into body s, i.e. against the outward normal of eq. 51).
 /// Sign: eq. (55) is printed as the force that would *increase* the approach; the force applied
-/// to r here is f^r = -(m^s p^r - m^r p^s)/((m^r + m^s) dt), which brings both to the common
+/// to r here is f^r = -(m^s p^r - m^r p^s)/((m^r + m^s) h), which brings both to the common
 /// velocity (p^r + p^s)/(m^r + m^s), i.e. eq. (54).
 ///
 /// Particle-side momentum p_I^s (a deviation from the literal eqs. 52-55, which use the grid trial
@@ -60,8 +60,8 @@ struct ContactOptions {
 /// What the contact did in one step.
 struct ContactReport {
   int contact_nodes = 0;
-  Vec3 impulse_on_mpm = Vec3::Zero();       ///< dt sum_I f_I^s [N s]
-  Vec3 impulse_on_membrane = Vec3::Zero();  ///< dt sum_I f_I^r [N s]
+  Vec3 impulse_on_mpm = Vec3::Zero();       ///< h sum_I f_I^s [N s]
+  Vec3 impulse_on_membrane = Vec3::Zero();  ///< h sum_I f_I^r [N s]
   /// Energy removed by the contact in this step [J]: -(work_on_membrane + work_on_mpm).
   double dissipated = 0;
   double work_on_membrane = 0;  ///< work of the contact forces on the FE nodes (eq. 59) [J]
@@ -94,7 +94,7 @@ class MpmMembraneCoupling {
   double critical_time_step() const;
   /// One coupled step of section 6.
   /// @throws std::runtime_error on non-finite states (from either body)
-  ContactReport step(double dt);
+  ContactReport step(double h);
 
   CoupledEnergies energies() const;
   Vec3 total_momentum() const { return mpm_.total_momentum() + mem_.total_momentum(); }

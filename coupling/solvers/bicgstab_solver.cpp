@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "coupling/solvers/solver_impls.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 namespace {
@@ -56,7 +56,7 @@ CoupledSolveReport BiCGSTABSolver::solve(const CoupledSystem& s, Eigen::VectorXd
   // Symmetric Jacobi scaling D^{-1/2} K D^{-1/2}: the two block rows carry different units
   // (forces and volume fluxes); scaling makes one relative tolerance meaningful for both.
   Eigen::VectorXd d(n + m);
-  d << s.A.diagonal(), s.C.diagonal();
+  d << s.A.diagonal(), s.P.diagonal();
   for (int i = 0; i < d.size(); ++i) d[i] = d[i] > 0 ? 1.0 / std::sqrt(d[i]) : 1.0;
   const SparseMatrix K = scaled(paper_form_matrix(s), d);
 

@@ -3,20 +3,20 @@
 /// Three solvers for the simultaneous system of eq. (7) (coupled_system.hpp) behind one interface,
 /// all converging to the same solution:
 ///
-///  - `umfpack`  : sparse LU of the paper-form matrix [A −Hᵀ; H C] with UMFPACK, 64-bit indices
+///  - `umfpack`  : sparse LU of the paper-form matrix [A −Hᵀ; H P] with UMFPACK, 64-bit indices
 ///                 (umfpack_dl; the int interface fails beyond ~500k unknowns). The reference.
 ///  - `bicgstab` : BiCGSTAB on the same unsymmetric matrix, as in the paper (§3.3), preconditioned
 ///                 by the block-diagonal incomplete Cholesky diag(IC(A), IC(Ŝ)) with
-///                 Ŝ = C + H diag(A)⁻¹ Hᵀ.
-///  - `schur_cg` : the fast path using the symmetric structure (methods.md §3, option 1): eliminate
+///                 Ŝ = P + H diag(A)⁻¹ Hᵀ.
+///  - `schur_cg` : the fast path using the symmetric structure (Benzi, Golub & Liesen 2005, sec. 5): eliminate
 ///                 u = A⁻¹(b + Hᵀp), solve the SPD Schur complement
-///                     (C + H A⁻¹ Hᵀ) p = r − H A⁻¹ b
+///                     (P + H A⁻¹ Hᵀ) p = r − H A⁻¹ b
 ///                 by preconditioned CG with A factored once by CHOLMOD (A is the smaller, solid
 ///                 block), then recover u. Its preconditioner is IC(Ŝ) by default, or any SPD
 ///                 approximation the caller plugs in (e.g. BoomerAMG of Ŝ).
 ///                 From the second step on (option `reuse_factorization`), it keeps the Cholesky
 ///                 factor of an earlier A and the preconditioner of an earlier Ŝ, and solves the
-///                 whole system [A −Hᵀ; H C] by GMRES right-preconditioned with the block lower
+///                 whole system [A −Hᵀ; H P] by GMRES right-preconditioned with the block lower
 ///                 triangle [Â 0; H Ŝ] of those lagged blocks (reported as `block_gmres+…`): with
 ///                 exact blocks K P⁻¹ = P [I −A⁻¹Hᵀ; 0 I] P⁻¹, whose minimal polynomial has degree
 ///                 2, so the iterations are those of the Ŝ-preconditioned Schur complement
@@ -26,7 +26,7 @@
 ///                 iterations (beyond the last fresh solve's) add up to twice a fresh solve's, or
 ///                 when GMRES misses its cap (3x a fresh solve's iterations + 20), in which case the
 ///                 step is solved fresh; a new pattern of A rebuilds the factor, a remeshed fluid
-///                 (new C or H pattern) only Ŝ's preconditioner. If the refactorization fails (A
+///                 (new P or H pattern) only Ŝ's preconditioner. If the refactorization fails (A
 ///                 indefinite), the last SPD factor is kept, Ŝ's preconditioner is rebuilt, GMRES
 ///                 solves the step, and the next attempt waits for another two solves' worth of
 ///                 extra iterations. The time-splitting baseline's separate solid (m = 0) and
@@ -53,7 +53,7 @@ struct CoupledSolverOptions {
   double tolerance = 1e-10;   ///< relative residual of each block row (residuals()) to reach
   int max_iterations = 2000;  ///< iterative solvers only
   /// schur_cg only: optional SPD preconditioner z ≈ Ŝ⁻¹ r for the pressure Schur complement, set
-  /// up by `setup` on Ŝ = C + H diag(A)⁻¹ Hᵀ. Empty: incomplete Cholesky of Ŝ.
+  /// up by `setup` on Ŝ = P + H diag(A)⁻¹ Hᵀ. Empty: incomplete Cholesky of Ŝ.
   std::function<void(const SparseMatrix& S_hat)> preconditioner_setup;
   std::function<void(const Eigen::VectorXd& r, Eigen::VectorXd& z)> preconditioner_apply;
   std::string preconditioner_name;  ///< reported in stats (e.g. "boomeramg")

@@ -4,7 +4,7 @@
 
 #include "coupling/solvers/gmres.hpp"
 #include "coupling/solvers/schur_state.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 
@@ -13,9 +13,9 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   const int n = s.num_solid_dofs(), m = s.num_pressures();
   Lag& lag = *lag_;
   Stopwatch clock;
-  // A remesh changes C and H (the solid's A keeps its pattern): Ŝ's preconditioner is rebuilt
+  // A remesh changes P and H (the solid's A keeps its pattern): Ŝ's preconditioner is rebuilt
   // for the new pressure unknowns, A's factor is kept.
-  if ((rebuild_preconditioner || !lag.C_pattern.matches(s.C) || !lag.H_pattern.matches(s.H)) &&
+  if ((rebuild_preconditioner || !lag.P_pattern.matches(s.P) || !lag.H_pattern.matches(s.H)) &&
       !build_schur_preconditioner(s))
     return false;
   report.solver = "block_gmres+" + lag.preconditioner_name;
@@ -30,15 +30,15 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   auto positive = [](double v) { return v > 0 ? v : 1.0; };
   const double solid_scale =
       positive(std::max({s.b.norm(), (s.A * x.head(n)).norm(), (s.H.transpose() * x.tail(m)).norm()}));
-  const double fluid_scale = positive(std::max({s.r.norm(), (s.H * x.head(n)).norm(), (s.C * x.tail(m)).norm()}));
+  const double fluid_scale = positive(std::max({s.r.norm(), (s.H * x.head(n)).norm(), (s.P * x.tail(m)).norm()}));
   Eigen::VectorXd f(n + m);
   f << s.b / solid_scale, s.r / fluid_scale;
 
-  // K x = [(A xᵤ − Hᵀ xₚ)/σₛ; (H xᵤ + C xₚ)/σ_f], the paper form of eq. (7) with scaled rows.
+  // K x = [(A xᵤ − Hᵀ xₚ)/σₛ; (H xᵤ + P xₚ)/σ_f], the paper form of eq. (7) with scaled rows.
   auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
     y.resize(n + m);
     y.head(n) = (s.A * v.head(n) - s.H.transpose() * v.tail(m)) / solid_scale;
-    y.tail(m) = (s.H * v.head(n) + s.C * v.tail(m)) / fluid_scale;
+    y.tail(m) = (s.H * v.head(n) + s.P * v.tail(m)) / fluid_scale;
   };
   // z = P⁻¹ D⁻¹ v with P = [Â 0; H Ŝ]: zᵤ = Â⁻¹ σₛvᵤ, then zₚ = Ŝ⁻¹ (σ_f vₚ − H zᵤ).
   Eigen::VectorXd zp(m);
@@ -52,18 +52,17 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   // Each block's relative residual is at most the scaled norm, so stop at half the tolerance and
   // confirm from scratch; tighten tenfold if the scales at the guess were too loose.
   const int cap = std::min(options_.max_iterations, 3 * lag.fresh_iterations + 20);
-  double target = 0.5 * options_.tolerance;
-  bool converged = false;
-  for (int pass = 0; pass < 5 && report.iterations < cap; ++pass, target *= 0.1) {
-    const GmresResult g = right_preconditioned_gmres(apply, precondition, f, x, target, cap - report.iterations);
-    report.iterations += g.iterations;
-    if (!x.allFinite()) break;
-    report.residual = residuals(s, x.head(n), x.tail(m));
-    if (report.residual.max() <= options_.tolerance) {
-      converged = true;
-      break;
-    }
-  }
+  const bool converged = tighten_until_done(
+      0.5 * options_.tolerance,
+      [&](double target) {
+        if (report.iterations >= cap) return false;
+        const GmresResult g = right_preconditioned_gmres(apply, precondition, f, x, target, cap - report.iterations);
+        report.iterations += g.iterations;
+        if (!x.allFinite()) return false;
+        report.residual = residuals(s, x.head(n), x.tail(m));
+        return true;
+      },
+      [&] { return report.residual.max() <= options_.tolerance; });
   report.solve_seconds = clock.lap();
   if (!converged) return false;
   u = x.head(n);

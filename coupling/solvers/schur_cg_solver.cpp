@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "coupling/solvers/schur_state.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 
@@ -23,7 +23,7 @@ bool SchurCGSolver::refactor(const SparseMatrix& A) {
 bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
   Lag& lag = *lag_;
   lag.precondition = nullptr;
-  lag.C_pattern.assign(SparseMatrix());
+  lag.P_pattern.assign(SparseMatrix());
   lag.H_pattern.assign(SparseMatrix());
   if (s.num_pressures() > 0) {
     const SparseMatrix S_hat = approximate_schur_complement(s);
@@ -41,7 +41,7 @@ bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
     lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
     lag.preconditioner_name = "ic";
   }
-  lag.C_pattern.assign(s.C);
+  lag.P_pattern.assign(s.P);
   lag.H_pattern.assign(s.H);
   return true;
 }
@@ -66,7 +66,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
     fresh.solve_seconds += lagged.solve_seconds;
     return fresh;
   }
-  // A is not positive definite: the Schur complement C + H A⁻¹ Hᵀ is then not SPD and CG is not
+  // A is not positive definite: the Schur complement P + H A⁻¹ Hᵀ is then not SPD and CG is not
   // defined, but GMRES on the whole system, preconditioned with the factor of an earlier SPD A,
   // still is (a light pre-stressed solid whose geometric stiffness outweighs M/h: the bar scene).
   // If the rebuild was due, Ŝ's preconditioner is rebuilt all the same, and the next attempt to
@@ -84,7 +84,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
       "failed: the solid's tangent stiffness K' lost definiteness (strong compression or pre-stress) by more than "
       "M/h makes up for" +
       std::string(can_lag ? ", and GMRES preconditioned with the factor of an earlier step did not converge" : "") +
-      ". Take a smaller dt, or use coupling.solver umfpack, which does not need A to be definite");
+      ". Take a smaller time step (simulation.dt), or use coupling.solver umfpack, which does not need A to be definite");
 }
 
 CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) {
@@ -108,7 +108,7 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   report.setup_seconds = clock.lap();
 
   auto apply_S = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-    Eigen::VectorXd y = s.C * x;
+    Eigen::VectorXd y = s.P * x;
     if (n > 0) y += s.H * A_inv(s.H.transpose() * x);
     return y;
   };
@@ -126,9 +126,8 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   const Eigen::VectorXd rhs = n > 0 ? Eigen::VectorXd(s.r - s.H * A_inv(s.b)) : s.r;
   if (p.size() != m) p = Eigen::VectorXd::Zero(m);
   const double scale = std::max(s.r.norm(), rhs.norm());
-  double target = 0.5 * options_.tolerance * (scale > 0 ? scale : 1.0);
   int it = 0;
-  for (int pass = 0; pass < 5; ++pass, target *= 0.1) {
+  auto cg_pass = [&](double target) {
     Eigen::VectorXd res = rhs - apply_S(p), z(m), dir(m);
     double rz_previous = 0;
     for (bool first = true; m > 0 && res.norm() > target && it < options_.max_iterations; ++it, first = false) {
@@ -142,10 +141,12 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
       res -= alpha * Sd;
     }
     recover_u();
-    if (!u.allFinite() || !p.allFinite()) break;
+    if (!u.allFinite() || !p.allFinite()) return false;
     report.residual = residuals(s, u, p);
-    if (report.residual.max() <= options_.tolerance || it >= options_.max_iterations) break;
-  }
+    return true;
+  };
+  tighten_until_done(0.5 * options_.tolerance * (scale > 0 ? scale : 1.0), cg_pass,
+                     [&] { return report.residual.max() <= options_.tolerance || it >= options_.max_iterations; });
   report.iterations = it;
   report.solve_seconds = clock.lap();
   if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");

@@ -8,7 +8,7 @@ namespace tetfsi::coupling::detail {
 SparseMatrix approximate_schur_complement(const CoupledSystem& s) {
   const Eigen::VectorXd inv_diag_A = s.A.diagonal().cwiseInverse();
   const SparseMatrix HDinv = s.H * inv_diag_A.asDiagonal();
-  SparseMatrix S = s.C + SparseMatrix(HDinv * SparseMatrix(s.H.transpose()));
+  SparseMatrix S = s.P + SparseMatrix(HDinv * SparseMatrix(s.H.transpose()));
   S.makeCompressed();
   return S;
 }

@@ -58,14 +58,14 @@ struct SchurCGSolver::Factor {
   }
 };
 
-/// State of the lagged solves: Ŝ's preconditioner and the patterns of C and H it was set up
-/// for (Ŝ = C + H diag(A)⁻¹ Hᵀ has the pattern of C + H Hᵀ), and the iterations of the last
+/// State of the lagged solves: Ŝ's preconditioner and the patterns of P and H it was set up
+/// for (Ŝ = P + H diag(A)⁻¹ Hᵀ has the pattern of P + H Hᵀ), and the iterations of the last
 /// fresh solve that decide when to rebuild.
 struct SchurCGSolver::Lag {
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>> ic;  // without a caller's preconditioner
   std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)> precondition;     // z ≈ Ŝ⁻¹ r
   std::string preconditioner_name;
-  SparsityPattern C_pattern, H_pattern;
+  SparsityPattern P_pattern, H_pattern;
   int fresh_iterations = 0;  // CG iterations of the last fresh solve
   int age = 0;               // solves since the last fresh one
   int extra_iterations = 0;  // iterations of those solves beyond fresh_iterations, summed

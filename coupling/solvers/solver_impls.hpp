@@ -7,12 +7,26 @@
 
 namespace tetfsi::coupling::detail {
 
-/// Ŝ = C + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement C + H A⁻¹ Hᵀ,
-/// used to precondition the pressure block (methods.md §3, option 2).
+/// Ŝ = P + H diag(A)⁻¹ Hᵀ: a sparse SPD approximation of the Schur complement P + H A⁻¹ Hᵀ,
+/// used to precondition the pressure block (Benzi, Golub & Liesen 2005, sec. 10.1).
 SparseMatrix approximate_schur_complement(const CoupledSystem& system);
 
 /// Throws CoupledSolveError if the residuals of (u, p) exceed the tolerance.
 void require_converged(const CoupledSolveReport& report, double tolerance);
+
+/// Residual replacement of the iterative solvers: an inner solve from the current iterate to a
+/// target on its own (scaled or recursively updated) residual, then the true block residuals from
+/// scratch; if they miss, again with a tenfold tighter target, at most five passes.
+/// `pass(target)` runs one inner solve and returns false to stop (non-finite iterate, budget
+/// spent); `done()` says whether the block residuals are good enough. Returns whether done().
+template <class Pass, class Done>
+bool tighten_until_done(double target, Pass&& pass, Done&& done) {
+  for (int k = 0; k < 5; ++k, target *= 0.1) {
+    if (!pass(target)) return false;
+    if (done()) return true;
+  }
+  return false;
+}
 
 /// Splits the monolithic solution x = [u; p] (n + m), records its residuals in `report` and
 /// checks them against `tolerance` (throws CoupledSolveError).
@@ -49,8 +63,8 @@ class SchurCGSolver final : public CoupledSolver {
   /// Factorizes A into spare_ and, if it is SPD, makes that the current factor (swap with
   /// factor_); otherwise returns false and leaves factor_ as it was.
   bool refactor(const SparseMatrix& A);
-  /// Sets up Ŝ's preconditioner (the caller's or IC of Ŝ = C + H diag(A)⁻¹ Hᵀ) in lag_ and records
-  /// the patterns of C and H it was built for; false if the incomplete Cholesky failed (lag_ is
+  /// Sets up Ŝ's preconditioner (the caller's or IC of Ŝ = P + H diag(A)⁻¹ Hᵀ) in lag_ and records
+  /// the patterns of P and H it was built for; false if the incomplete Cholesky failed (lag_ is
   /// then left without a preconditioner).
   bool build_schur_preconditioner(const CoupledSystem& s);
   /// Fresh Schur-complement CG with factor_ (A's factor, or none for n = 0); sets up Ŝ's

@@ -2,7 +2,7 @@
 #include <Eigen/UmfPackSupport>
 
 #include "coupling/solvers/solver_impls.hpp"
-#include "coupling/solvers/stopwatch.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
 

@@ -34,19 +34,10 @@ FluidFields unpack(const Packed& p) {
   return f;
 }
 
-/// Volume-weighted node averages of packed tet values (the reconstruction; see header).
-Packed to_nodes(const FluidMesh& m, const Packed& tet_values) {
-  Packed n(m.num_nodes());
-  tbb::parallel_for(0, m.num_nodes(), [&](int i) {
-    Eigen::Matrix<double, 5, 1> s = Eigen::Matrix<double, 5, 1>::Zero();
-    double w = 0.0;
-    for (int t : m.node_tets[i]) {
-      s += m.volume[t] * tet_values[t];
-      w += m.volume[t];
-    }
-    n[i] = s / w;
-  });
-  return n;
+/// Weighted node averages of packed tet values (the reconstruction; see header); the weights are
+/// the tet volumes unless `weight` is given.
+Packed to_nodes(const FluidMesh& m, const Packed& tet_values, const std::vector<double>* weight = nullptr) {
+  return weighted_node_average(m, tet_values, weight);
 }
 
 Eigen::Matrix<double, 5, 1> interp(const FluidMesh& m, const Packed& nodal, const Location& l) {
@@ -95,6 +86,22 @@ Location trace_to(const PointLocator& loc, const Eigen::Vector3d& from, const Lo
   return la;
 }
 
+/// RK2 (midpoint) foot of x0, traced for time dt (negative: forward) through the velocity
+/// reconstructed on `vel_mesh`, as a location in `vel_mesh`; the walk starts at `hint`, which
+/// becomes the start's tet. Counts clamped traces and starts outside the fluid.
+Location trace_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
+                    const Eigen::Vector3d& x0, double dt, int& hint, int& clamped, int& outside, bool& cut) {
+  const Location l0 = locator.locate(x0, hint);
+  hint = l0.tet;
+  if (!l0.inside) {
+    ++outside;
+    return l0;
+  }
+  const Eigen::Vector3d xm = x0 - 0.5 * dt * interp_velocity(vel_mesh, nodal, l0);
+  const Location lm = trace_to(locator, x0, l0, xm, clamped);
+  return trace_to(locator, x0, l0, x0 - dt * interp_velocity(vel_mesh, nodal, lm), clamped, &cut);
+}
+
 /// RK2 (midpoint) feet of the centroids of `targets`, traced for time dt (negative: forward) through
 /// the velocity reconstructed on `vel_mesh`; returned as locations in `vel_mesh`. `cut` (if given):
 /// 1 for the samples whose final trace was cut at the fluid boundary.
@@ -113,18 +120,9 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
   tbb::parallel_for(0, blocks, [&](int b) {
     int hint = -1, clamped = 0, outside = 0;
     for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
-      const Eigen::Vector3d& x0 = targets.centroid(t);
-      const Location l0 = locator.locate(x0, same_tets ? t : hint);
-      hint = l0.tet;
-      if (!l0.inside) {
-        ++outside;
-        feet[t] = l0;
-        continue;
-      }
-      const Eigen::Vector3d xm = x0 - 0.5 * dt * interp_velocity(vel_mesh, nodal, l0);
-      const Location lm = trace_to(locator, x0, l0, xm, clamped);
+      if (same_tets) hint = t;
       bool foot_cut = false;
-      feet[t] = trace_to(locator, x0, l0, x0 - dt * interp_velocity(vel_mesh, nodal, lm), clamped, &foot_cut);
+      feet[t] = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), dt, hint, clamped, outside, foot_cut);
       if (cut && foot_cut) (*cut)[t] = 1;
     }
     clamped_total += clamped;
@@ -180,7 +178,10 @@ Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
 }  // namespace
 
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
-                   AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits) {
+                   AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
+                   const std::vector<double>* node_weight) {
+  if (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets())
+    throw std::invalid_argument("advect: node-average weights do not match the old mesh's tet count");
   if (exits && exits->rule.size() != old_mesh.boundary_faces.size())
     throw std::invalid_argument("advect: exit rules do not match the old mesh's boundary faces");
   if (static_cast<int>(old_fields.velocity.size()) != old_mesh.num_tets() ||
@@ -188,7 +189,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
     throw std::invalid_argument("advect: old fields do not match the old mesh's tet count");
   AdvectionReport rep;
   const Packed f = pack(old_fields);
-  const Packed f_nodal = to_nodes(old_mesh, f);
+  const Packed f_nodal = to_nodes(old_mesh, f, node_weight);
   const PointLocator old_locator(old_mesh);
   // Which traces were cut at the boundary matters only where some face is open (apply_exits).
   const bool any_open =
@@ -197,9 +198,13 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   const std::vector<Location> feet =
       trace_feet(old_mesh, old_locator, f_nodal, new_mesh, dt, rep, any_open ? &cut : nullptr);
   Packed forward(new_mesh.num_tets());
+  // With node weights (a liquid), a foot in a tet that is not full of liquid reads the node
+  // interpolant: the tet's own value is poorly constrained there (see node_weight).
+  auto anchored = [&](int tet) { return !node_weight || (*node_weight)[tet] >= old_mesh.volume[tet]; };
   tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
-    forward[t] = scheme == AdvectionScheme::kLinear ? interp_linear(old_mesh, f, f_nodal, feet[t])
-                                                     : interp(old_mesh, f_nodal, feet[t]);
+    forward[t] = scheme == AdvectionScheme::kLinear && anchored(feet[t].tet)
+                     ? interp_linear(old_mesh, f, f_nodal, feet[t])
+                     : interp(old_mesh, f_nodal, feet[t]);
   });
   if (scheme == AdvectionScheme::kBfecc) {
     // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
@@ -218,7 +223,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
         corrected[t] = f[t] + 0.5 * (f[t] - back);
       }
     });
-    const Packed corrected_nodal = to_nodes(old_mesh, corrected);
+    const Packed corrected_nodal = to_nodes(old_mesh, corrected, node_weight);
     tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
       const Eigen::Matrix<double, 5, 1> v = interp(old_mesh, corrected_nodal, feet[t]);
       Eigen::Matrix<double, 5, 1> lo = f_nodal[old_mesh.tets[feet[t].tet][0]], hi = lo;
@@ -234,6 +239,49 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   if (any_open) apply_exits(old_mesh, *exits, feet, cut, forward, rep);
   if (report) *report = rep;
   return unpack(forward);
+}
+
+Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_velocity,
+                             const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double dt,
+                             AdvectionReport* report, const std::vector<double>* node_weight) {
+  if (static_cast<int>(old_velocity.size()) != old_mesh.num_tets() || old_values.size() != old_mesh.num_nodes() ||
+      (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets()))
+    throw std::invalid_argument("advect_nodal: old velocity, values or weights do not match the old mesh");
+  Packed velocity(old_mesh.num_tets());
+  for (int t = 0; t < old_mesh.num_tets(); ++t) velocity[t] << old_velocity[t], 0.0, 0.0;
+  Packed nodal = to_nodes(old_mesh, velocity, node_weight);
+  for (int i = 0; i < old_mesh.num_nodes(); ++i) nodal[i][3] = old_values[i];
+  const PointLocator locator(old_mesh);
+  const int n = new_mesh.num_nodes();
+  // A moved mesh keeps its nodes: node i's walk starts at one of its old tets.
+  const bool same_nodes = n == old_mesh.num_nodes() && new_mesh.tets == old_mesh.tets;
+  Eigen::VectorXd out(n);
+  std::atomic<int> clamped_total{0}, outside_total{0};
+  const int blocks = (n + kBlock - 1) / kBlock;
+  tbb::parallel_for(0, blocks, [&](int b) {
+    int hint = -1, clamped = 0, outside = 0;
+    for (int i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+      if (same_nodes) hint = old_mesh.node_tets[i].front();
+      // Points that leave the fluid are clamped to it (the locator's clamped barycentric
+      // coordinates in the boundary tet its walk ended in), not cut back along the trace: a node
+      // on a wall whose velocity has the slightest outward part would otherwise hardly move.
+      const Eigen::Vector3d& x0 = new_mesh.nodes[i];
+      const Location l0 = locator.locate(x0, hint);
+      outside += !l0.inside;
+      const Location lm = locator.locate(x0 - 0.5 * dt * interp_velocity(old_mesh, nodal, l0), l0.tet);
+      const Location foot = locator.locate(x0 - dt * interp_velocity(old_mesh, nodal, lm), lm.tet);
+      clamped += !lm.inside || !foot.inside;
+      hint = l0.tet;
+      out[i] = interp(old_mesh, nodal, foot)[3];
+    }
+    clamped_total += clamped;
+    outside_total += outside;
+  });
+  if (report) {
+    report->clamped = clamped_total;
+    report->outside_start = outside_total;
+  }
+  return out;
 }
 
 }  // namespace tetfsi::fluid

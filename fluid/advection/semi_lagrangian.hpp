@@ -63,8 +63,25 @@ struct AdvectionReport {
 /// the block (new-mesh order is spatially coherent) or from the grid.
 /// `exits`: boundary_exits(old_mesh, bc) (one entry per old_mesh.boundary_faces), or nullptr to clamp
 /// at every boundary face.
+/// `node_weight`: per old tet, its weight in the node averages (nullptr: its volume). A liquid
+/// passes its liquid volumes (fluid_solver.cpp), so that a tet holding a sliver of liquid, whose
+/// velocity the projection barely constrains, hardly enters the reconstruction; and kLinear
+/// anchors a foot at its tet's own value only where that tet's weight is its whole volume (a tet
+/// full of liquid), reading the node interpolant elsewhere.
 FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double dt,
                    AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
-                   const BoundaryExits* exits = nullptr);
+                   const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr);
+
+/// Advects a nodal (P1) field such as the level set of a liquid (liquid/level_set.hpp) from
+/// `old_mesh` to the nodes of `new_mesh` over dt [s]: each new node is traced back (RK2) through
+/// the node-averaged `old_velocity` and reads the old field by linear interpolation at its foot.
+/// Unlike advect(), a midpoint or foot outside the old fluid is clamped to the boundary tet the
+/// walk ended in (clamped barycentric coordinates), not cut back along the trace: nodes lie on
+/// the walls, and cutting would stop a wall node whose velocity points outward at all.
+/// Deterministic.
+/// `node_weight` as for advect().
+Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_velocity,
+                             const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double dt,
+                             AdvectionReport* report = nullptr, const std::vector<double>* node_weight = nullptr);
 
 }  // namespace tetfsi::fluid

@@ -24,4 +24,12 @@ mesh::io::UnstructuredGrid make_fluid_grid(const FluidMesh& mesh, const FluidFie
   return g;
 }
 
+void add_liquid_fields(mesh::io::UnstructuredGrid& grid, const FluidMesh& mesh, const Eigen::VectorXd& level_set,
+                       const std::vector<double>& liquid_volume) {
+  grid.add_point_data("level_set", 1, std::vector<double>(level_set.data(), level_set.data() + level_set.size()));
+  std::vector<double> fraction(mesh.num_tets());
+  for (int t = 0; t < mesh.num_tets(); ++t) fraction[t] = liquid_volume[t] / mesh.volume[t];
+  grid.add_cell_data("liquid_fraction", 1, std::move(fraction));
+}
+
 }  // namespace tetfsi::fluid

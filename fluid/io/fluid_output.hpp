@@ -12,4 +12,10 @@ namespace tetfsi::fluid {
 mesh::io::UnstructuredGrid make_fluid_grid(const FluidMesh& mesh, const FluidFields& fields,
                                            const Eigen::VectorXd& pressure);
 
+/// Adds a free-surface liquid's fields to `grid` (made by make_fluid_grid): point data
+/// "level_set" [m] (negative in the liquid; its zero contour is the surface) and cell data
+/// "liquid_fraction" |Omega_t| / V_t.
+void add_liquid_fields(mesh::io::UnstructuredGrid& grid, const FluidMesh& mesh, const Eigen::VectorXd& level_set,
+                       const std::vector<double>& liquid_volume);
+
 }  // namespace tetfsi::fluid

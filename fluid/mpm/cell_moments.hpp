@@ -4,17 +4,17 @@
 /// particles add to the 36 accumulators of their own cell (no scattered writes to 8 nodes), and
 /// each node then sums the corner values of its (up to 8) cells in a fixed order.
 ///
-/// With the in-cell position f = (x - x_cell) / h and the 1D hats w_0(f) = 1 - f, w_1(f) = f, the
-/// trilinear function of corner d = (dx, dy, dz) is N_d = w_dx(fx) w_dy(fy) w_dz(fz), and
-///   dN_d/dx = s_dx w_dy(fy) w_dz(fz) / h,  s_0 = -1, s_1 = +1  (and alike for y, z),
+/// With the in-cell position f = (x - x_cell) / dx and the 1D hats w_0(f) = 1 - f, w_1(f) = f, the
+/// trilinear function of corner d = (di, dj, dk) is N_d = w_di(fx) w_dj(fy) w_dk(fz), and
+///   dN_d/dx = s_di w_dj(fy) w_dk(fz) / dx,  s_0 = -1, s_1 = +1  (and alike for y, z),
 /// i.e. the x-derivative is a bilinear function of (fy, fz) written in the corner basis of that
 /// face. Hence, per cell (sums over its particles p):
 ///  - mass and momentum, eqs. (60), (61): the corner values m_d = sum_p m_p N_d and
 ///    P_d = sum_p m_p v_p N_d (32 accumulators, 32 FMAs per particle);
 ///  - internal forces, eq. (17), f_I = -sum_p V_p sigma_p grad N_I: with A_p = -V_p sigma_p,
-///    S^x_(dy,dz) = sum_p A_p[:, 0] w_dy w_dz, S^y_(dx,dz) = sum_p A_p[:, 1] w_dx w_dz,
-///    S^z_(dx,dy) = sum_p A_p[:, 2] w_dx w_dy (36 accumulators, 36 FMAs per particle), and corner d
-///    receives (s_dx S^x_(dy,dz) + s_dy S^y_(dx,dz) + s_dz S^z_(dx,dy)) / h.
+///    S^x_(dj,dk) = sum_p A_p[:, 0] w_dj w_dk, S^y_(di,dk) = sum_p A_p[:, 1] w_di w_dk,
+///    S^z_(di,dj) = sum_p A_p[:, 2] w_di w_dj (36 accumulators, 36 FMAs per particle), and corner d
+///    receives (s_di S^x_(dj,dk) + s_dj S^y_(di,dk) + s_dk S^z_(di,dj)) / dx.
 /// The body force of eq. (18), sum_p N_I m_p g = m_I g, is added per node.
 /// The corner basis (rather than monomials 1, f, ...) keeps a node that only a cell's far side
 /// reaches free of cancellation: every accumulated term is non-negative for the masses.
@@ -27,7 +27,7 @@ namespace tetfsi::mpm {
 
 using CellAcc = std::array<double, 36>;
 
-/// Corners c = dx + 2 dy + 4 dz of a cell, as in Stencil. The layouts below keep the values that
+/// Corners c = di + 2 dj + 4 dk of a cell, as in Stencil. The layouts below keep the values that
 /// one particle scales by the same factor contiguous, so that the sums vectorise.
 /// N_c = w_dx(fx) w_dy(fy) w_dz(fz) of the 8 corners (the values of Grid::fill_stencil).
 inline void corner_weights(const double f[3], double N[8]) {
@@ -44,15 +44,15 @@ inline void corner_weights(const double f[3], double N[8]) {
   N[7] = b11 * wz1;
 }
 
-/// grad N_c of corner c (the value of Grid::fill_stencil), inv_h = 1 / h.
-inline Vec3 corner_gradient(const double f[3], int c, double inv_h) {
-  const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
-  const double w[3] = {dx ? f[0] : 1.0 - f[0], dy ? f[1] : 1.0 - f[1], dz ? f[2] : 1.0 - f[2]};
-  const double g[3] = {dx ? inv_h : -inv_h, dy ? inv_h : -inv_h, dz ? inv_h : -inv_h};
+/// grad N_c of corner c (the value of Grid::fill_stencil), inv_dx = 1 / dx.
+inline Vec3 corner_gradient(const double f[3], int c, double inv_dx) {
+  const int di = c & 1, dj = (c >> 1) & 1, dk = c >> 2;
+  const double w[3] = {di ? f[0] : 1.0 - f[0], dj ? f[1] : 1.0 - f[1], dk ? f[2] : 1.0 - f[2]};
+  const double g[3] = {di ? inv_dx : -inv_dx, dj ? inv_dx : -inv_dx, dk ? inv_dx : -inv_dx};
   return Vec3(g[0] * w[1] * w[2], w[0] * g[1] * w[2], w[0] * w[1] * g[2]);
 }
 
-/// The 8 node ids of cell (i, j, k), corner order c = dx + 2 dy + 4 dz.
+/// The 8 node ids of cell (i, j, k), corner order c = di + 2 dj + 4 dk.
 inline void corner_nodes(const Grid& grid, const std::array<int, 3>& cell, std::int64_t id[8]) {
   const std::int64_t sx = grid.cells[0] + 1, sxy = sx * (grid.cells[1] + 1);
   const std::int64_t n0 = grid.node_index(cell[0], cell[1], cell[2]);
@@ -102,16 +102,16 @@ inline void add_corner_forces(const Stencil& st, const double A[3][3], CellAcc& 
     for (int r = 0; r < 3; ++r) acc[3 * c + r] += (A[r][0] * st.dN[c][0] + A[r][1] * st.dN[c][1]) + A[r][2] * st.dN[c][2];
 }
 
-/// Force on corner c = dx + 2 dy + 4 dz from a cell's stress moments (the solver has multiplied
-/// them by 1 / h once per cell).
+/// Force on corner c = di + 2 dj + 4 dk from a cell's stress moments (the solver has multiplied
+/// them by 1 / dx once per cell).
 inline Vec3 corner_force_moment(const CellAcc& acc, int c) {
-  const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
-  const double* sx = acc.data() + dy + 2 * dz;
-  const double* sy = acc.data() + 12 + dx + 2 * dz;
-  const double* sz = acc.data() + 24 + dx + 2 * dy;
+  const int di = c & 1, dj = (c >> 1) & 1, dk = c >> 2;
+  const double* sx = acc.data() + dj + 2 * dk;
+  const double* sy = acc.data() + 12 + di + 2 * dk;
+  const double* sz = acc.data() + 24 + di + 2 * dj;
   Vec3 f;
   for (int r = 0; r < 3; ++r)
-    f[r] = (dx ? sx[4 * r] : -sx[4 * r]) + (dy ? sy[4 * r] : -sy[4 * r]) + (dz ? sz[4 * r] : -sz[4 * r]);
+    f[r] = (di ? sx[4 * r] : -sx[4 * r]) + (dj ? sy[4 * r] : -sy[4 * r]) + (dk ? sz[4 * r] : -sz[4 * r]);
   return f;
 }
 
@@ -128,7 +128,7 @@ inline void corner_masses(const CellAcc& acc, CornerValues& out) {
     for (int k = 0; k < 4; ++k) out.v[4 * c + k] = acc[8 * k + c];
 }
 
-/// Corner c's force (and a zero) from the stress moments acc (scaled by 1 / h; corner_force_moment).
+/// Corner c's force (and a zero) from the stress moments acc (scaled by 1 / dx; corner_force_moment).
 inline void corner_forces(const CellAcc& acc, CornerValues& out) {
 #pragma GCC unroll 8
   for (int c = 0; c < 8; ++c) {

@@ -6,14 +6,14 @@
 
 namespace tetfsi::mpm {
 
-Grid Grid::covering(const Vec3& lo, const Vec3& hi, double h) {
-  if (!(h > 0.0)) throw std::invalid_argument("mpm::Grid: cell size must be positive");
+Grid Grid::covering(const Vec3& lo, const Vec3& hi, double dx) {
+  if (!(dx > 0.0)) throw std::invalid_argument("mpm::Grid: cell size must be positive");
   Grid g;
   g.lo = lo;
-  g.h = h;
+  g.dx = dx;
   for (int a = 0; a < 3; ++a) {
     if (!(hi[a] > lo[a])) throw std::invalid_argument("mpm::Grid: empty box on axis " + std::to_string(a));
-    g.cells[a] = std::max(1, static_cast<int>(std::ceil((hi[a] - lo[a]) / h - 1e-9)));
+    g.cells[a] = std::max(1, static_cast<int>(std::ceil((hi[a] - lo[a]) / dx - 1e-9)));
   }
   return g;
 }
@@ -21,7 +21,7 @@ Grid Grid::covering(const Vec3& lo, const Vec3& hi, double h) {
 Vec3 Grid::node_position(std::int64_t id) const {
   const std::int64_t nx = cells[0] + 1, ny = cells[1] + 1;
   const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-  return lo + h * Vec3(double(i), double(j), double(k));
+  return lo + dx * Vec3(double(i), double(j), double(k));
 }
 
 Stencil Grid::stencil(const Vec3& x) const {

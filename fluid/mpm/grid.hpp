@@ -34,10 +34,10 @@ struct Stencil {
   std::array<Vec3, 8> dN;
 };
 
-/// The regular grid: origin `lo`, cubic cell size `h` [m], `cells` cells per axis.
+/// The regular grid: origin `lo`, cubic cell size `dx` [m], `cells` cells per axis.
 struct Grid {
   Vec3 lo = Vec3::Zero();
-  double h = 1.0;
+  double dx = 1.0;
   std::array<int, 3> cells{1, 1, 1};
   /// Face conditions, order x-lo, x-hi, y-lo, y-hi, z-lo, z-hi.
   std::array<FaceBc, 6> faces{FaceBc::Free, FaceBc::Free, FaceBc::Free,
@@ -46,11 +46,11 @@ struct Grid {
   /// x-y: {false,false,true}). Implemented as a zero momentum/force component on every node.
   std::array<bool, 3> constrained_axes{false, false, false};
 
-  /// Builds a grid covering [lo, hi] with cells of size h (the upper bound is rounded up).
-  /// @throws std::invalid_argument if h <= 0 or hi <= lo on some axis
-  static Grid covering(const Vec3& lo, const Vec3& hi, double h);
+  /// Builds a grid covering [lo, hi] with cells of size dx (the upper bound is rounded up).
+  /// @throws std::invalid_argument if dx <= 0 or hi <= lo on some axis
+  static Grid covering(const Vec3& lo, const Vec3& hi, double dx);
 
-  Vec3 hi() const { return lo + h * Vec3(cells[0], cells[1], cells[2]); }
+  Vec3 hi() const { return lo + dx * Vec3(cells[0], cells[1], cells[2]); }
   std::int64_t num_nodes() const {
     return std::int64_t(cells[0] + 1) * (cells[1] + 1) * (cells[2] + 1);
   }
@@ -59,11 +59,11 @@ struct Grid {
   }
   Vec3 node_position(std::int64_t id) const;
   /// True if x lies inside the grid box (closed at the low end, open at the high end).
-  bool contains(const Vec3& x) const { return contains(x, 1.0 / h); }
-  /// contains() with inv_h = 1 / h given (hoisted out of particle loops); false for a non-finite x.
-  bool contains(const Vec3& x, double inv_h) const {
+  bool contains(const Vec3& x) const { return contains(x, 1.0 / dx); }
+  /// contains() with inv_dx = 1 / dx given (hoisted out of particle loops); false for a non-finite x.
+  bool contains(const Vec3& x, double inv_dx) const {
     for (int a = 0; a < 3; ++a) {
-      const double s = (x[a] - lo[a]) * inv_h;  // the same scaling as stencil() and cell_of()
+      const double s = (x[a] - lo[a]) * inv_dx;  // the same scaling as stencil() and cell_of()
       if (!(s >= 0.0) || !(s < cells[a])) return false;
     }
     return true;
@@ -81,7 +81,7 @@ struct Grid {
   void fill_stencil(const Vec3& x, Stencil& st) const {
     int base[3];
     double f[3];
-    const double inv = 1.0 / h;
+    const double inv = 1.0 / dx;
     for (int a = 0; a < 3; ++a) {
       const double s = (x[a] - lo[a]) * inv;
       base[a] = static_cast<int>(s);
@@ -101,15 +101,15 @@ struct Grid {
           st.dN[c] = Vec3(g[di] * w[1][dj] * w[2][dk], w[0][di] * g[dj] * w[2][dk], w[0][di] * w[1][dj] * g[dk]);
         }
   }
-  /// Position of x in its cell `cell` (= cell_of(x)), f = (x - x_cell) / h in [0, 1), computed
+  /// Position of x in its cell `cell` (= cell_of(x)), f = (x - x_cell) / dx in [0, 1), computed
   /// as in fill_stencil (the same values).
   void fractions(const Vec3& x, const std::array<int, 3>& cell, double f[3]) const {
-    const double inv = 1.0 / h;
+    const double inv = 1.0 / dx;
     for (int a = 0; a < 3; ++a) f[a] = (x[a] - lo[a]) * inv - cell[a];
   }
   /// Index (i, j, k) of the cell containing x, as used by stencil() (x inside the grid).
   std::array<int, 3> cell_of(const Vec3& x) const {
-    const double inv = 1.0 / h;
+    const double inv = 1.0 / dx;
     return {static_cast<int>((x[0] - lo[0]) * inv), static_cast<int>((x[1] - lo[1]) * inv),
             static_cast<int>((x[2] - lo[2]) * inv)};
   }

@@ -4,19 +4,19 @@
 /// form of their algorithm: per step
 ///   (60)-(61) map mass and momentum p^{n-1/2} to a freshly zeroed grid, apply grid conditions;
 ///   (62)-(63) strain increment and spin from the grid velocities, stress update (22, 25, 26);
-///   (17)-(18) nodal internal and external forces; (64) trial momentum p^{n+1/2} = p^{n-1/2} + dt f;
+///   (17)-(18) nodal internal and external forces; (64) trial momentum p^{n+1/2} = p^{n-1/2} + h f;
 ///   [contact may modify p^{n+1/2} here, eq. 53]
-///   (65) particle velocity v += dt sum_I (f_I + f^c_I) N_Ip / m_I, written as
+///   (65) particle velocity v += h sum_I (f_I + f^c_I) N_Ip / m_I, written as
 ///        sum_I N_Ip (p_I^{n+1/2} - p_I^{n-1/2}) / m_I so grid conditions and contact enter alike;
-///   (19) particle position x += dt sum_I N_Ip p_I^{n+1/2} / m_I.
+///   (19) particle position x += h sum_I N_Ip p_I^{n+1/2} / m_I.
 /// Momentum is conserved to round-off, also when a particle sits exactly on a node plane: the
 /// corners beyond it then have N_I = 0 but N_I,j != 0, and if they have no mass the particle's
 /// stencil is closed (close_stencil: their gradients moved onto the corners with mass) so that no
 /// force goes to a node no particle takes it back from and an empty node's zero velocity is not
 /// read as strain.
-/// Variable steps as in section 3.2: dt^{n+1/2} is the step being taken (positions, eq. 19),
-/// momentum advances by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 (eq. 64), and the strain increment of
-/// eq. (62) uses dt^{n-1/2} (see mpm_solver.cpp). The first step takes dt^{-1/2} = dt^{1/2}.
+/// Variable steps as in section 3.2: h^{n+1/2} is the step being taken (positions, eq. 19),
+/// momentum advances by h^n = (h^{n-1/2} + h^{n+1/2}) / 2 (eq. 64), and the strain increment of
+/// eq. (62) uses h^{n-1/2} (see mpm_solver.cpp). The first step takes h^{-1/2} = h^{1/2}.
 ///
 /// Parallelism and determinism: the particle-to-grid sums (eqs. 60, 61 and 17) are taken per cell
 /// (cell_moments.hpp), cells in parallel, each cell's particles in bin order; each node then sums
@@ -68,29 +68,29 @@ class MpmSolver {
   const std::vector<Material>& materials() const { return materials_; }
   const MpmOptions& options() const { return options_; }
 
-  /// Critical step of eq. (21): cfl * min_p h / (c_p + |v_p|), further limited by the explicit
-  /// viscous bound rho h^2 / (8 mu) for viscous fluids. Evaluated for the current state (at the
+  /// Critical step of eq. (21): cfl * min_p dx / (c_p + |v_p|), further limited by the explicit
+  /// viscous bound rho dx^2 / (8 mu) for viscous fluids. Evaluated for the current state (at the
   /// end of each step, within the particle update). For elastic solids c_p + |v_p| is taken per
   /// cell as sqrt((lambda + 2 G) / rho_min) + |v|_max over the cell's particles (a bound above
   /// the exact value by at most the spread of |v| within a cell, to an ulp of the square root).
   /// Infinite without particles.
-  double critical_time_step() const { return critical_dt_; }
+  double critical_time_step() const { return critical_h_; }
 
-  /// Steps (60)-(64) for the step dt = dt^{n+1/2}: trial grid momentum. After this call
+  /// Steps (60)-(64) for the step h = h^{n+1/2}: trial grid momentum. After this call
   /// node_momentum() holds p^{n+1/2}.
-  void trial_step(double dt);
-  /// dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2 of the current step (valid after trial_step): the factor
+  void trial_step(double h);
+  /// h^n = (h^{n-1/2} + h^{n+1/2}) / 2 of the current step (valid after trial_step): the factor
   /// between a nodal force and its momentum change (eqs. 53, 64, 65).
-  double momentum_step() const { return dt_n_; }
+  double momentum_step() const { return h_n_; }
   /// Adds a contact impulse dp [N s] to the trial momentum p^{n+1/2} of `node` (eq. 53); the
   /// components held by the grid conditions are dropped. Between trial_step and finish_step.
   void add_node_impulse(std::int64_t node, const Vec3& dp);
   /// Steps (65) and (19) with the grid momentum p^{n+1/2} plus the impulses.
   /// @throws std::runtime_error if a particle state becomes non-finite or leaves the grid,
-  ///         std::invalid_argument if dt is not the step passed to trial_step
-  void finish_step(double dt);
+  ///         std::invalid_argument if h is not the step passed to trial_step
+  void finish_step(double h);
   /// trial_step + finish_step.
-  void step(double dt);
+  void step(double h);
 
   // Grid state of the current step (valid after trial_step; zero outside the occupied box).
   const std::vector<double>& node_mass() const { return mass_; }
@@ -157,7 +157,7 @@ class MpmSolver {
   /// Stress, density and energy update of particle p (eqs. 22-26) with its velocity gradient L;
   /// returns its new volume m / rho.
   /// (Forced inline, defined in mpm_solver.cpp, its only user: 5% faster than a call per particle.)
-  __attribute__((always_inline)) inline double update_particle_stress(std::size_t p, double dt, const Mat3& L);
+  __attribute__((always_inline)) inline double update_particle_stress(std::size_t p, double h, const Mat3& L);
   /// Zeroes mass, momenta and force of the nodes of the box [lo, hi] (the previous step's node box)
   /// that lie outside the current node box.
   void reset_nodes_outside_box(const std::array<int, 3>& lo, const std::array<int, 3>& hi);
@@ -168,7 +168,7 @@ class MpmSolver {
   /// Calls f(id) for every node of the box of occupied cells (in parallel, one writer per node).
   template <class F>
   void for_each_box_node(F&& f) const;
-  void check_particles(double dt) const;
+  void check_particles(double h) const;
 
   Grid grid_;
   std::vector<Material> materials_;
@@ -189,24 +189,24 @@ class MpmSolver {
   std::vector<CornerValues> cell_corners_;  // per cell of the box: corner masses and momenta, then forces
   struct StepBounds {  // reductions of the grid-to-particle update, per cell
     double c_max = 0;  // largest c + |v| (eq. 21)
-    double dt = std::numeric_limits<double>::infinity();  // smallest viscous bound
+    double h_viscous = std::numeric_limits<double>::infinity();  // smallest viscous bound
     std::size_t bad = std::numeric_limits<std::size_t>::max();  // first invalid particle
     bool moved = false;  // some particle left its cell
   };
   std::vector<StepBounds> cell_bounds_;
   std::vector<std::uint8_t> cell_stress_bad_;  // per cell of the box: a non-finite stress moment
-  std::vector<double> visc_factor_;      // per material: h^2 / (8 mu), infinite if not viscous
+  std::vector<double> visc_factor_;      // per material: dx^2 / (8 mu), infinite if not viscous
   std::vector<std::int64_t> impulse_nodes_;
   std::vector<std::uint8_t> cell_mark_;        // per cell of the box: flags of cells_around
   std::vector<std::array<int, 3>> around_;     // result of cells_around
   std::vector<std::array<double, 48>> around_acc_;  // per cell of around_: corner sums of particle_trial_momenta
   std::vector<std::uint8_t> marked_;  // node flags of particle_trial_momenta
   double mass_eps_ = 0;
-  double critical_dt_ = 0;
+  double critical_h_ = 0;
   double impulse_work_ = 0;
-  double dt_prev_ = 0;  // dt^{n-1/2}: the last step taken (0 before the first)
-  double dt_n_ = 0;     // dt^n of the current step
-  double dt_step_ = 0;  // dt^{n+1/2} passed to trial_step
+  double h_prev_ = 0;  // h^{n-1/2}: the last step taken (0 before the first)
+  double h_n_ = 0;     // h^n of the current step
+  double h_step_ = 0;  // h^{n+1/2} passed to trial_step
   double time_ = 0;
   long steps_ = 0;
 };

@@ -5,8 +5,10 @@
 ///
 /// With u_b linear on the triangle (P1 from its three vertex velocities u_j) the integral is exact:
 ///   f_i = sum_j M_ij (u_j . n),   M_ij = int phi_i phi_j dA = A (1 + delta_ij) / 12
-/// (the P1 surface mass matrix). The coupling builds H from this same matrix and J = H^T
-/// (shared/design.md "Coupling: decided", methods.md sec. 3).
+/// (the P1 surface mass matrix). The coupling builds H from this same matrix and J = H^T, so that
+/// the pressure's work on the solid equals the flux work on the fluid and eq. (7) of Chentanez et
+/// al. 2006 scales into a symmetric system (as in Robinson-Mosher, Shinar, Gretarsson, Su & Fedkiw
+/// 2008, "Two-way coupling of fluids to rigid and deformable solids and shells", sec. 5).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>

@@ -6,7 +6,8 @@
 /// tetrahedral meshes", sec. 3): pressure p lives at the mesh NODES (P1 hat functions phi_i),
 /// velocity u_t is constant per TET. The pressure matrix L = G^T V G (the P1 stiffness matrix)
 /// is symmetric positive semi-definite on every mesh with positive tet volumes, Delaunay or not
-/// (circumcentric pressures as in KFCO06 need a Delaunay mesh; shared/design.md, methods.md sec. 1).
+/// (circumcentric pressures as in Klingner, Feldman, Chentanez & O'Brien 2006 need a Delaunay mesh
+/// for positive weights).
 #include <Eigen/Core>
 #include <array>
 #include <vector>

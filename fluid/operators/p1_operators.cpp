@@ -29,16 +29,6 @@ Eigen::VectorXd gradient_transpose_volume(const FluidMesh& mesh, const TetVector
   return r;
 }
 
-Eigen::SparseMatrix<double> gradient_matrix(const FluidMesh& mesh) {
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(12 * static_cast<size_t>(mesh.num_tets()));
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    for (int k = 0; k < 4; ++k)
-      for (int c = 0; c < 3; ++c) trip.emplace_back(3 * t + c, mesh.tets[t][k], mesh.grad[t][k][c]);
-  Eigen::SparseMatrix<double> g(3 * mesh.num_tets(), mesh.num_nodes());
-  g.setFromTriplets(trip.begin(), trip.end());
-  return g;
-}
 
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh) {
   const int nt = mesh.num_tets();
@@ -54,31 +44,11 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh) {
   return l;
 }
 
-TetVectors average_to_nodes(const FluidMesh& mesh, const TetVectors& u) {
-  TetVectors n(mesh.num_nodes());
-  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    Eigen::Vector3d s = Eigen::Vector3d::Zero();
-    double w = 0.0;
-    for (int t : mesh.node_tets[i]) {
-      s += mesh.volume[t] * u[t];
-      w += mesh.volume[t];
-    }
-    n[i] = s / w;
-  });
-  return n;
-}
+TetVectors average_to_nodes(const FluidMesh& mesh, const TetVectors& u) { return weighted_node_average(mesh, u); }
 
 Eigen::VectorXd average_to_nodes(const FluidMesh& mesh, const Eigen::VectorXd& s) {
-  Eigen::VectorXd n(mesh.num_nodes());
-  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    double a = 0.0, w = 0.0;
-    for (int t : mesh.node_tets[i]) {
-      a += mesh.volume[t] * s[t];
-      w += mesh.volume[t];
-    }
-    n[i] = a / w;
-  });
-  return n;
+  const std::vector<double> n = weighted_node_average(mesh, std::vector<double>(s.data(), s.data() + s.size()));
+  return Eigen::Map<const Eigen::VectorXd>(n.data(), static_cast<Eigen::Index>(n.size()));
 }
 
 double kinetic_energy(const FluidMesh& mesh, const TetVectors& u) {

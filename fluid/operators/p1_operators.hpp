@@ -11,6 +11,9 @@
 ///    of the gradient, and the projection u = u* - (h/rho) G p is V-orthogonal (energy conserving).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <tbb/parallel_for.h>
+
+#include <type_traits>
 #include <vector>
 
 #include "fluid/operators/fluid_mesh.hpp"
@@ -26,13 +29,32 @@ TetVectors gradient(const FluidMesh& mesh, const Eigen::VectorXd& p);
 /// is -(G^T V u) + boundary flux (boundary_flux.hpp).
 Eigen::VectorXd gradient_transpose_volume(const FluidMesh& mesh, const TetVectors& u);
 
-/// The sparse gradient matrix G (3T x N), row 3t + c = component c of the gradient on tet t.
-/// For the coupling, which needs G and its adjoint as matrices.
-Eigen::SparseMatrix<double> gradient_matrix(const FluidMesh& mesh);
 
 /// P1 stiffness matrix L = G^T V G (N x N), symmetric positive semi-definite (constant null space).
 /// Assembled per tet in parallel into fixed triplet slots, then summed: deterministic.
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh);
+
+/// Weighted average of per-tet values at the nodes, x_i = sum_{t ni i} w_t x_t / sum_{t ni i} w_t,
+/// with w_t = `weight`[t] (nullptr: the tet volumes V_t). Summed over each node's tets in
+/// ascending order, nodes in parallel: deterministic. Value: double or a fixed-size Eigen vector.
+template <class Value>
+std::vector<Value> weighted_node_average(const FluidMesh& mesh, const std::vector<Value>& values,
+                                         const std::vector<double>* weight = nullptr) {
+  const std::vector<double>& w = weight ? *weight : mesh.volume;
+  std::vector<Value> out(mesh.num_nodes());
+  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
+    Value sum;
+    if constexpr (std::is_arithmetic_v<Value>) sum = 0.0;
+    else sum = Value::Zero();
+    double total = 0.0;
+    for (int t : mesh.node_tets[i]) {
+      sum += w[t] * values[t];
+      total += w[t];
+    }
+    out[i] = sum / total;
+  });
+  return out;
+}
 
 /// Volume-weighted average of tet vectors at the nodes: u_i = sum_t V_t u_t / sum_t V_t
 /// (the velocity reconstruction used for advection and output; it smooths, see advection docs).

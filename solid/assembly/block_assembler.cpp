@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "mesh/incidence.hpp"
 #include "solid/solid_error.hpp"
 
 namespace tetfsi::solid {
@@ -17,19 +18,10 @@ BlockAssembler::BlockAssembler(int num_nodes, int nodes_per_element, const std::
     if (v < 0 || v >= num_nodes_) throw SolidError("BlockAssembler: element node index out of range");
 
   // Incidence lists (counting sort keeps element order).
-  incident_start_.assign(num_nodes_ + 1, 0);
-  for (int v : elements_) ++incident_start_[v + 1];
-  for (int i = 0; i < num_nodes_; ++i) incident_start_[i + 1] += incident_start_[i];
-  incident_element_.resize(elements_.size());
-  incident_local_.resize(elements_.size());
-  std::vector<int> fill(incident_start_.begin(), incident_start_.end() - 1);
-  for (int e = 0; e < num_elements_; ++e)
-    for (int i = 0; i < npe_; ++i) {
-      const int v = elements_[e * npe_ + i];
-      incident_element_[fill[v]] = e;
-      incident_local_[fill[v]] = i;
-      ++fill[v];
-    }
+  mesh::VertexIncidence inc = mesh::vertex_incidence(num_nodes_, npe_, elements_);
+  incident_start_ = std::move(inc.start);
+  incident_element_ = std::move(inc.element);
+  incident_local_ = std::move(inc.local);
 
   // Node adjacency (sorted, unique) -> block column pattern.
   std::vector<std::vector<int>> adj(num_nodes_);

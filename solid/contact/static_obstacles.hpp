@@ -3,7 +3,7 @@
 /// Contact of solid nodes with static obstacles: half-spaces (floor planes) and axis-aligned
 /// boxes.
 ///
-/// The primary contact treatment is inside the implicit solve (TrapezoidalIntegrator::step():
+/// The primary contact treatment is inside the implicit solve (NewmarkIntegrator::step():
 /// active set of landing constraints, inelastic normal, Coulomb friction from the constraint
 /// force). This class gives the geometry (signed distance, normal) and the fallback used after
 /// every update (and the only one when a caller uses form_system/advance directly):

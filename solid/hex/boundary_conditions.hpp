@@ -15,7 +15,7 @@
 ///    Because t is free the constraint transmits no net force, only a couple (the reaction moment
 ///    StaticResult reports), so this is the pure end moment of the elastica, and it turns with the
 ///    section. It is displacement control of the rotation, conservative and with a symmetric
-///    tangent. This is what the roll-up to a full circle (benchmarks.md sec. 3.2) uses: the end
+///    tangent. This is what the roll-up to a full circle uses: the end
 ///    rotation of the elastica is theta = M L / (EI), and M is read back as the reaction.
 #include <Eigen/Core>
 #include <array>

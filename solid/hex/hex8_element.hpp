@@ -1,9 +1,8 @@
 #pragma once
 /// @file hex8_element.hpp
-/// The geometrically nonlinear 8-node hexahedron in the Total Lagrangian form of the seed paper
-/// (shared/papers/002): per element a 24 x 24 tangent K_T = K_L + K_NL and internal force F_int.
+/// The geometrically nonlinear 8-node hexahedron in the Total Lagrangian form: per element a 24 x 24 tangent K_T = K_L + K_NL and internal force F_int.
 ///
-/// Notation (seed 002; Bathe, Finite Element Procedures, sec. 6.3.2 for the TL form):
+/// Notation (Bathe 1996, Finite Element Procedures, sec. 6.3.2 for the TL form):
 ///  - N_a(xi, eta, zeta) = (1 + xi_a xi)(1 + eta_a eta)(1 + zeta_a zeta) / 8, trilinear, with
 ///    (xi_a, eta_a, zeta_a) the corners of [-1, 1]^3 in VTK_HEXAHEDRON order;
 ///  - J = dX/dxi, dN/dX = dN/dxi J^-1, dV = det J w_g (2 x 2 x 2 Gauss, w_g = 1, points +-1/sqrt 3);

@@ -6,17 +6,14 @@
 #include <Eigen/SparseCholesky>
 #include <spdlog/spdlog.h>
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
 
+#include "support/stopwatch.hpp"
+
 namespace tetfsi::solid::hex {
 namespace {
-
-double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 // u = T q + g(lambda): dof_map[i] = column of T that dof i copies (or -1 for prescribed dofs).
 struct Reduction {
@@ -205,19 +202,19 @@ StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, c
 
   // One Newton solve with K_T at u: returns Delta q or false on a failed factorisation.
   auto newton_solve = [&](const Eigen::VectorXd& rhs, Eigen::VectorXd& dq) {
-    double t0 = now();
+    const Stopwatch clock;
     std::fill(red.reduced.valuePtr(), red.reduced.valuePtr() + red.reduced.nonZeros(), 0.0);
     for (std::size_t k = 0; k < red.slot.size(); ++k) {
       if (red.slot[k] >= 0) red.reduced.valuePtr()[red.slot[k]] += K.valuePtr()[k];
     }
     const bool ok = solver.factorize(red.reduced) && solver.solve(rhs, dq);
-    result.solve_seconds += now() - t0;
+    result.solve_seconds += clock.seconds();
     return ok && dq.allFinite();
   };
   auto assemble = [&](const Eigen::VectorXd& d) {
-    const double t0 = now();
+    const Stopwatch clock;
     const bool ok = model.evaluate(d, force, &K);
-    result.assembly_seconds += now() - t0;
+    result.assembly_seconds += clock.seconds();
     if (!ok) {
       cause = model.last_failed_element() >= 0
                   ? "element " + std::to_string(model.last_failed_element()) + " inverted (det F <= 0)"

@@ -2,11 +2,11 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/IterativeLinearSolvers>
-#include <chrono>
 
 #include <dlfcn.h>
 
 #include "solid/solid_error.hpp"
+#include "support/stopwatch.hpp"
 
 namespace tetfsi::solid {
 
@@ -59,7 +59,7 @@ void SpdSolver::run_cg(Solver& cg, const Eigen::SparseMatrix<double>& A, const E
 
 void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                       const std::string& context) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   const std::string where = context.empty() ? std::string() : context + ": ";
   if (A.rows() != A.cols() || A.rows() != b.size()) throw SolidError(where + "solid system has inconsistent sizes");
   // The pattern is fixed for a given model, so the symbolic analysis (ordering) is redone only
@@ -83,7 +83,7 @@ void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorX
   impl_->analyzed_rows = A.rows();
   impl_->analyzed_nnz = A.nonZeros();
   if (!x.allFinite()) throw SolidError(where + "the linear solve produced non-finite velocities");
-  stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats_.seconds = clock.seconds();
 }
 
 }  // namespace tetfsi::solid

@@ -89,25 +89,25 @@ int Membrane::fix_where(const std::function<bool(const Vec3&)>& where, std::arra
 
 double Membrane::critical_time_step(double cfl) const {
   const double c = std::sqrt(mat_.plate_modulus() / mat_.rho);
-  double dt = std::numeric_limits<double>::infinity();
+  double h = std::numeric_limits<double>::infinity();
   for (const auto& q : quads_) {
     const auto X = corners(x_, q);
     double lmax = 0;
     for (int k = 0; k < 4; ++k) lmax = std::max(lmax, (X[(k + 1) % 4] - X[k]).norm());
     const double area = 0.5 * (X[2] - X[0]).cross(X[3] - X[1]).norm();
-    dt = std::min(dt, area / lmax / c);
+    h = std::min(h, area / lmax / c);
   }
-  return cfl * dt;
+  return cfl * h;
 }
 
-void Membrane::compute_forces(double dt) {
+void Membrane::compute_forces(double h) {
   const int n = num_nodes();
-  // Variable steps (section 3.2): v^{n-1/2} moved the nodes over the last step dt^{n-1/2}, so the
+  // Variable steps (section 3.2): v^{n-1/2} moved the nodes over the last step h^{n-1/2}, so the
   // strain and hourglass increments and the mid-step geometry use it; eq. (46) then advances the
-  // velocities by dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2. Equal steps: all three are dt, bit for bit.
-  const double dt_last = dt_prev_ > 0 ? dt_prev_ : dt;
-  dt_n_ = 0.5 * (dt_last + dt);
-  dt_step_ = dt;
+  // velocities by h^n = (h^{n-1/2} + h^{n+1/2}) / 2. Equal steps: all three are h, bit for bit.
+  const double h_last = h_prev_ > 0 ? h_prev_ : h;
+  h_n_ = 0.5 * (h_last + h);
+  h_step_ = h;
   const double C11 = mat_.plate_modulus(), C12 = mat_.poisson * C11, C33 = 0.5 * (1 - mat_.poisson) * C11;
   // Per element, in parallel (each task writes only its elements' state and corner forces).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, quads_.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -115,9 +115,9 @@ void Membrane::compute_forces(double dt) {
       const auto& ids = quads_[e];
       const QuadFrame fr = quad_frame(corners(x_, ids));
       // Eq. (41): local nodal velocities; eq. (40): centre strain rate. v^{n-1/2} is evaluated on
-      // the mid-step geometry x^{n-1/2} = x^n - dt^{n-1/2}/2 v^{n-1/2} (second-order consistent rate).
+      // the mid-step geometry x^{n-1/2} = x^n - h^{n-1/2}/2 v^{n-1/2} (second-order consistent rate).
       std::array<Vec3, 4> xh;
-      for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * dt_last * v_[ids[k]];
+      for (int k = 0; k < 4; ++k) xh[k] = x_[ids[k]] - 0.5 * h_last * v_[ids[k]];
       const QuadFrame frh = quad_frame(xh);
       std::array<Vec3, 4> vl;
       for (int k = 0; k < 4; ++k) vl[k] = frh.q.transpose() * v_[ids[k]];
@@ -131,15 +131,15 @@ void Membrane::compute_forces(double dt) {
       }
       // Plane-stress elastic law in the co-rotational frame (no objective rate needed there).
       auto& s = stress_[e];
-      s[0] += dt_last * (C11 * dxx + C12 * dyy);
-      s[1] += dt_last * (C12 * dxx + C11 * dyy);
-      s[2] += dt_last * (C33 * gxy);
+      s[0] += h_last * (C11 * dxx + C12 * dyy);
+      s[1] += h_last * (C12 * dxx + C11 * dyy);
+      s[2] += h_last * (C33 * gxy);
       // Flanagan-Belytschko stiffness hourglass forces, accumulated in the element frame.
       const double k = mat_.hourglass * hg_k_[e], kn = mat_.hourglass_normal * hg_k_[e];
       Vec3& Q = hg_force_[e];
-      Q[0] += dt_last * k * qdot[0];
-      Q[1] += dt_last * k * qdot[1];
-      Q[2] += dt_last * kn * qdot[2];
+      Q[0] += h_last * k * qdot[0];
+      Q[1] += h_last * k * qdot[1];
+      Q[2] += h_last * kn * qdot[2];
       // Eqs. (42)-(45): f_int = -q f_hat with f_hat = V (B sigma), plus hourglass -Q gamma_K.
       const double V = fr.area * mat_.thickness;
       for (int kk = 0; kk < 4; ++kk) {
@@ -170,38 +170,38 @@ void Membrane::compute_forces(double dt) {
 }
 
 void Membrane::trial_velocities(double dt_step) {
-  if (dt_step != dt_step_) throw std::invalid_argument("membrane: trial_velocities got another step than compute_forces");
-  const double dt = dt_n_;  // dt^n of eq. (46), set by compute_forces
+  if (dt_step != h_step_) throw std::invalid_argument("membrane: trial_velocities got another step than compute_forces");
+  const double h = h_n_;  // h^n of eq. (46), set by compute_forces
   for (int i = 0; i < num_nodes(); ++i) {
     const Vec3 v_old = v_[i];
-    v_[i] += dt * f_[i] / mass_[i];  // eq. (46)
+    v_[i] += h * f_[i] / mass_[i];  // eq. (46)
     for (int a = 0; a < 3; ++a)
       if (fixed_[i][a]) v_[i][a] = 0;
     // Work of the external and damping forces over the step (midpoint velocity at t^n).
     const Vec3 vm = 0.5 * (v_old + v_[i]);
     const Vec3 fd = -damping_ * mass_[i] * v_old;
-    ext_work_ += dt * (f_ext_[i] - fd).dot(vm);
-    damp_loss_ -= dt * fd.dot(vm);
+    ext_work_ += h * (f_ext_[i] - fd).dot(vm);
+    damp_loss_ -= h * fd.dot(vm);
   }
 }
 
-void Membrane::update_positions(double dt) {
-  if (dt != dt_step_) throw std::invalid_argument("membrane: update_positions got another step than compute_forces");
+void Membrane::update_positions(double h) {
+  if (h != h_step_) throw std::invalid_argument("membrane: update_positions got another step than compute_forces");
   for (int i = 0; i < num_nodes(); ++i) {
-    x_[i] += dt * v_[i];  // eq. (47)
+    x_[i] += h * v_[i];  // eq. (47)
     if (!x_[i].allFinite() || !v_[i].allFinite()) {
       std::ostringstream msg;
       msg << "membrane: node " << i << " became non-finite; the time step is probably above the critical step";
       throw std::runtime_error(msg.str());
     }
   }
-  dt_prev_ = dt;
+  h_prev_ = h;
 }
 
-void Membrane::step(double dt) {
-  compute_forces(dt);
-  trial_velocities(dt);
-  update_positions(dt);
+void Membrane::step(double h) {
+  compute_forces(h);
+  trial_velocities(h);
+  update_positions(h);
 }
 
 Mat3 Membrane::global_stress(int e) const {

@@ -1,14 +1,14 @@
 #pragma once
 /// @file solid_output.hpp
 /// Output of a tet solid: a VTU grid of the deformed body with its fields, and the per-step
-/// statistics as CSV rows (stats.csv of shared/design.md "Scenes, output, statistics").
+/// statistics as CSV rows (the rows of stats.csv, docs/scene_format.md).
 #include <Eigen/Core>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "mesh/io/vtu_writer.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/tet/tet_model.hpp"
 
 namespace tetfsi::solid {

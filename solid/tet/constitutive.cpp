@@ -22,13 +22,6 @@ NeoHookeanConstants nh_constants(const ConstitutiveParams& p) {
 
 }  // namespace
 
-ConstitutiveLaw parse_constitutive_law(const std::string& name) {
-  if (name == "stvk") return ConstitutiveLaw::kStVK;
-  if (name == "stable_neohookean") return ConstitutiveLaw::kStableNeoHookean;
-  throw SolidError("unknown constitutive model '" + name +
-                   "' (expected \"stvk\" or \"stable_neohookean\")");
-}
-
 void TetMaterial::validate() const {
   if (!(youngs_modulus > 0)) throw SolidError("material: youngs_modulus must be > 0 [Pa]");
   if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5))

@@ -1,7 +1,6 @@
 #pragma once
 /// @file material.hpp
-/// Material parameters of a tetrahedral FEM body (scene keys in brackets).
-#include <string>
+/// Material parameters of a tetrahedral FEM body (keys of the scene's /solids/i/material in brackets).
 
 namespace tetfsi::solid {
 
@@ -18,16 +17,13 @@ enum class ConstitutiveLaw {
   kStableNeoHookean,
 };
 
-/// Parses "stvk" or "stable_neohookean" (scene key "model"). @throws SolidError otherwise.
-ConstitutiveLaw parse_constitutive_law(const std::string& name);
-
 struct TetMaterial {
   double youngs_modulus = 1e6;  ///< E [Pa] ("youngs_modulus")
-  double poisson_ratio = 0.3;   ///< nu, in (-1, 0.5) ("poisson_ratio")
+  double poisson_ratio = 0.3;   ///< nu, in (-1, 0.5) ("poissons_ratio")
   double density = 1000.0;      ///< rho [kg/m^3] ("density")
   double rayleigh_alpha = 0.0;  ///< mass-proportional damping alpha [1/s] ("rayleigh_alpha")
   double rayleigh_beta = 0.0;   ///< stiffness-proportional damping beta [s] ("rayleigh_beta")
-  ConstitutiveLaw law = ConstitutiveLaw::kStVK;  ///< ("model")
+  ConstitutiveLaw law = ConstitutiveLaw::kStVK;  ///< ("constitutive": "stvk" or "neohookean")
 
   /// Lame parameters: lambda = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) [Pa].
   double lambda() const {

@@ -5,7 +5,7 @@
 // Mechanism. The bar (m_s = ρ_s V, ρ_s = 250 kg/m³) is lighter than the water it has to push
 // aside. Time splitting applies the pressure of step n to the solid of step n+1; that pressure
 // carries the added-mass reaction to the previous velocity change, −m_a (uⁿ − uⁿ⁻¹)/h, so as
-// h → 0 the bar's velocity change is multiplied by −m_a/m_s each step (benchmarks.md §6): an
+// h → 0 the bar's velocity change is multiplied by −m_a/m_s each step (Causin, Gerbeau & Nobile 2005): an
 // oscillation of alternating sign that grows until a fluid tet inverts and the run stops (exit
 // code 1, nothing of the failed step written). The one-degree-of-freedom version of the staggered
 // step (solid eq. 18 with θ = 1 and the spring k = 1000 N/m implicit, pressure one step late)

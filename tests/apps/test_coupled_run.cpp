@@ -1,6 +1,6 @@
 // The coupled runner through the command line: a light ball released in a closed tank of water
 // (data/scenes/light_ball_in_water.json) rises with the buoyant acceleration corrected by the
-// added mass of a sphere, a = g (ρ_f − ρ_s) / (ρ_s + ρ_f/2) (benchmarks.md §2.1): g/2 here.
+// added mass of a sphere, a = g (ρ_f − ρ_s) / (ρ_s + ρ_f/2) (added mass ½ρ_f V, Lamb 1932, §92): g/2 here.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -80,7 +80,7 @@ TEST(CoupledRun, SceneWithoutCouplingBlockRunsCoupledWithDefaults) {
 TEST(CoupledRun, BallRisesSeveralCellsWhileTheFluidMeshFollows) {
   // The ball rises about 0.2 m = 8 near-solid cells in 0.3 s: the fluid vertices follow it
   // (coupling/mesh_update.hpp; the stiffened Laplacian keeps the min dihedral angle above 4 deg
-  // here, so no remesh is needed). Position against y = ½ (g/2) t² (benchmarks.md §2.1); at this
+  // here, so no remesh is needed). Position against y = ½ (g/2) t²; at this
   // coarse size the early acceleration is +11% too high (test above) and the closed tank's walls
   // slow the ball as it nears the lid, so the band is 10%. Seen: +0.3% (0.2214 m against 0.2207 m).
   TempDir dir("rise");

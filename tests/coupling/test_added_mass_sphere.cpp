@@ -1,4 +1,4 @@
-// A stiff sphere on springs in a large fluid box (benchmarks.md §2.1): the simultaneous system
+// A stiff sphere on springs in a large fluid box (added mass ½ρ_f V, Lamb 1932, §92): the simultaneous system
 // oscillates at f = (1/2π)√(k/(m + ½ρ_f V)), the added mass of a sphere in unbounded fluid.
 // CI size: a coarse graded CGAL mesh; the finer level is in apps/bench/coupling.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tests/coupling/sphere_fixture.hpp"
+#include "apps/fixtures/sphere_fixture.hpp"
 
 using namespace tetfsi;
 

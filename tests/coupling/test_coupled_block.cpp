@@ -5,7 +5,7 @@
 // and must throw, not fall back, when its iteration cap is too small.
 #include <gtest/gtest.h>
 
-#include "tests/coupling/block_fixture.hpp"
+#include "apps/fixtures/block_fixture.hpp"
 
 using namespace tetfsi;
 

@@ -13,8 +13,8 @@ namespace {
 
 // A system with the structure of eq. (7) at a realistic scale: a chain of solid nodes
 // (A = M/h + (h/2)K, mass 0.1 kg per node, springs 1e4 N/m, h = 1/60 s) whose last 6 dofs touch
-// a 2D grid of pressure nodes through H (areas ~1e-2 m²), and C = (h/ρ) L with L a 5-point
-// Laplacian (ρ = 1000 kg/m³) with one Dirichlet node, so C is positive definite.
+// a 2D grid of pressure nodes through H (areas ~1e-2 m²), and P = (h/ρ) L with L a 5-point
+// Laplacian (ρ = 1000 kg/m³) with one Dirichlet node, so P is positive definite.
 CoupledSystem make_system(int solid_nodes, int grid) {
   const double h = 1.0 / 60, mass = 0.1, k = 1e4, rho = 1000, cell = 0.05;
   const int n = solid_nodes, m = grid * grid;
@@ -46,8 +46,8 @@ CoupledSystem make_system(int solid_nodes, int grid) {
   CoupledSystem s;
   s.A.resize(n, n);
   s.A.setFromTriplets(ta.begin(), ta.end());
-  s.C.resize(m, m);
-  s.C.setFromTriplets(tc.begin(), tc.end());
+  s.P.resize(m, m);
+  s.P.setFromTriplets(tc.begin(), tc.end());
   s.H.resize(m, n);
   s.H.setFromTriplets(th.begin(), th.end());
   s.b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);      // forces [N]
@@ -254,12 +254,12 @@ TEST(CoupledSolversReport, SchurCGWithoutReuseFactorizesEverySolve) {
 }
 
 TEST(CoupledSolversReport, PressureOnlySystemIsAPlainProjection) {
-  // No solid: eq. (7) reduces to the fluid projection C p = r.
+  // No solid: eq. (7) reduces to the fluid projection P p = r.
   CoupledSystem s = make_system(30, 8);
   s.A.resize(0, 0);
-  s.H.resize(s.C.rows(), 0);
+  s.H.resize(s.P.rows(), 0);
   s.b.resize(0);
-  const Eigen::VectorXd ref = Eigen::MatrixXd(s.C).llt().solve(s.r);
+  const Eigen::VectorXd ref = Eigen::MatrixXd(s.P).llt().solve(s.r);
   for (auto kind : {CoupledSolverKind::Umfpack, CoupledSolverKind::SchurCG}) {
     Eigen::VectorXd u, p;
     make_coupled_solver(kind)->solve(s, u, p);

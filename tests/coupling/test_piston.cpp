@@ -1,4 +1,4 @@
-// Piston in a fluid-filled tube (benchmarks.md §6): the simultaneous system oscillates at
+// Piston in a fluid-filled tube (Causin, Gerbeau & Nobile 2005): the simultaneous system oscillates at
 // f = (1/2π)√(k/(m_s + ρ_f L A)); time splitting blows up when ρ_f L A / m_s > 1 and stays
 // bounded below it, for any time step.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "tests/coupling/piston_fixture.hpp"
+#include "apps/fixtures/piston_fixture.hpp"
 
 using namespace tetfsi;
 using test::PistonSetup;
@@ -78,7 +78,7 @@ TEST(Piston, SimultaneousCouplingOscillatesAtAddedMassFrequency) {
 
 TEST(Piston, PaperSchemeAsPrintedKeepsTheFrequencyButDampsAtOmegaHOverFour) {
   // Eq. (18) as printed is Newmark β = ½, γ = 1: the amplitude decays by 1/√(1 + (ωh)²/2) a step
-  // (solid/integrator/trapezoidal.hpp), so the energy by 1/(1 + (ωh)²/2), while the frequency moves
+  // (solid/integrator/newmark.hpp), so the energy by 1/(1 + (ωh)²/2), while the frequency moves
   // by O((ωh)²) only.
   PistonSetup s;
   s.newmark = solid::NewmarkScheme::kChentanez;

@@ -93,7 +93,7 @@ void print(const char* name, const BalloonRun& run) {
 
 }  // namespace
 
-// Trapezoidal rule (energy-conserving for linear systems, benchmarks.md §3.6). With H and G fixed,
+// Trapezoidal rule (energy-conserving for linear systems, Krenk 2006). With H and G fixed,
 // the coupled step conserves energy exactly: the step's mean state satisfies the constraint, so the
 // pressure's work on the solid, h pᵀH(uⁿ + u^{n+1})/2, cancels the fluid's. What remains is the motion of the
 // interface between steps (H and G change, and vⁿ is carried onto the moved mesh), which breaks

@@ -1,4 +1,4 @@
-// Still water stays still on a mesh that changes every step (benchmarks.md sec. 4.4): closed box,
+// Still water stays still on a mesh that changes every step (p = p₀ + ρ g (H − z), v = 0): closed box,
 // gravity, zero initial velocity, interior vertices re-jittered every step and the state advected
 // from the previous mesh. In P1 the hydrostatic pressure rho g (H - z) is exact, so the projection
 // cancels gravity to solver tolerance.

@@ -1,5 +1,5 @@
-// Still water stays still when the mesh is remeshed every step (issue 5 acceptance; benchmarks.md
-// sec. 4.4): closed box, gravity on, zero initial velocity; every step the interior vertices are
+// Still water stays still when the mesh is remeshed every step (issue 5 acceptance;
+// p = p₀ + ρ g (H − z), v = 0): closed box, gravity on, zero initial velocity; every step the interior vertices are
 // jittered and mesh::remesh_step remeshes the fluid with CGAL (the remesh is forced: the jittered
 // mesh is handed over as the new one, remesh_only_when_needed off), then the solver advects the
 // state onto the new mesh and projects. In P1 the hydrostatic pressure rho g (H - z) is exact on

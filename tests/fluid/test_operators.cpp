@@ -11,6 +11,20 @@
 namespace tetfsi::fluid {
 namespace {
 
+/// The sparse gradient matrix G (3T x N), row 3t + c = component c of the gradient on tet t,
+/// assembled independently of gradient() and assemble_laplacian() to check them.
+Eigen::SparseMatrix<double> gradient_matrix(const FluidMesh& mesh) {
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(12 * static_cast<size_t>(mesh.num_tets()));
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k)
+      for (int c = 0; c < 3; ++c) trip.emplace_back(3 * t + c, mesh.tets[t][k], mesh.grad[t][k][c]);
+  Eigen::SparseMatrix<double> g(3 * mesh.num_tets(), mesh.num_nodes());
+  g.setFromTriplets(trip.begin(), trip.end());
+  return g;
+}
+
+
 const Eigen::Vector3d kLo(0, 0, 0), kHi(1, 0.75, 0.5);
 
 FluidMesh jittered_box(int n, unsigned seed) {

@@ -1,8 +1,8 @@
 // Sphere cases on CGAL complex meshes (mesh::build_complex):
-//  - potential flow past a fixed sphere (benchmarks.md sec. 4.4): one projection of a uniform flow;
+//  - potential flow past a fixed sphere (Lamb 1932, §92): one projection of a uniform flow;
 //    surface C_p against 1 - (9/4) sin^2(theta).
 //  - added mass of an oscillating sphere: prescribed x(t) = A sin(w t); pressure force = -1/2 rho V x''
-//    (benchmarks.md sec. 2.1).
+//    (Lamb 1932, §92).
 // Both impose the exact unbounded far field on the box faces (apps/bench/fluid/sphere_cases.hpp), so
 // the small box (L = 2a; the CGAL mesher loses the sphere for L >= 3a at the time of writing) needs no
 // blockage correction.

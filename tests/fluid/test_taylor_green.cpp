@@ -1,4 +1,4 @@
-// Inviscid Taylor-Green cells in a slip-walled box [0, pi]^2 x [0, Lz] (benchmarks.md sec. 4.1):
+// Inviscid Taylor-Green cells in a slip-walled box [0, pi]^2 x [0, Lz] (Taylor & Green 1937):
 // u = (sin x cos y, -cos x sin y, 0) is a steady Euler solution with p = (rho/4)(cos 2x + cos 2y), so
 // every loss of kinetic energy is numerical dissipation (mostly the node averaging of the velocity
 // reconstruction, see semi_lagrangian.hpp). Reported against mesh size and time step, on a static

@@ -1,4 +1,4 @@
-// Validation: cantilever under an end moment (shared/references/benchmarks.md sec. 3.2).
+// Validation: cantilever under an end moment (Euler-Bernoulli elastica: uniform curvature M / (EI)).
 // Exact elastica: uniform curvature M/EI, end rotation theta = M L / EI, tip (end-face centroid)
 //   x = (EI/M) sin(ML/EI) = L sin(theta)/theta,  y = (EI/M)(1 - cos(ML/EI)) = L (1 - cos theta)/theta
 // relative to the root centroid; at M = 2 pi EI / L the beam closes into a full circle.

@@ -1,6 +1,6 @@
-// The hex8 model inside the tet solid's trapezoidal integrator (solid/integrator/trapezoidal.hpp,
+// The hex8 model inside the tet solid's trapezoidal integrator (solid/integrator/newmark.hpp,
 // Chentanez et al. 2006 appendix eqs. 9-18), through the ElasticModel interface: no second copy.
-// Validation: free vibration of a clamped cantilever against Euler-Bernoulli (benchmarks.md 3.4):
+// Validation: free vibration of a clamped cantilever against Euler-Bernoulli (beta_1 L = 1.875104):
 //   omega_1 = (beta_1 L)^2 sqrt(EI / (rho A L^4)),  (beta_1 L)^2 = 3.516015.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/static_solver.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 
 using namespace tetfsi::solid::hex;
 
@@ -38,10 +38,10 @@ TEST(HexDynamic, CantileverFirstFrequencyMatchesEulerBernoulli) {
   opt.load_steps = 1;
   const auto deflected = solve_static(model, bc, opt);
 
-  tetfsi::solid::TrapezoidalSettings settings;
+  tetfsi::solid::NewmarkSettings settings;
   settings.scheme = tetfsi::solid::NewmarkScheme::kTrapezoidal;  // beta = 1/4, gamma = 1/2
   settings.time_step = period / 60;
-  tetfsi::solid::TrapezoidalIntegrator integ(model, settings);
+  tetfsi::solid::NewmarkIntegrator integ(model, settings);
   integ.fix_nodes(root);
   integ.set_displacement(deflected.displacement);
   auto tip_y = [&]() {

@@ -111,28 +111,72 @@ TEST(GridContact, ContactForcesConserveMomentum) {
   }
 }
 
-#include "coupling/mpm/examples/gas_expansion.hpp"
+#include <functional>
+#include <memory>
+
+#include <tbb/global_control.h>
+
+#include "apps/mpm/probes.hpp"
+#include "apps/mpm/setup.hpp"
+#include "apps/scene/scene.hpp"
+#include "coupling/mpm/frames.hpp"
+#include "tests/test_support.hpp"
+
+namespace {
+
+/// A committed mpm scene (data/scenes/<name>.json) built as the mpm runner builds it, with `patch`
+/// applied to its resolved /mpm block; probes in the scene's order.
+struct SceneModel {
+  mpm_setup::Setup setup;
+  std::vector<mpm_setup::Probe> probes;
+  std::unique_ptr<mpm_contact::CoupledModel> model;
+  double probe(std::size_t i) const { return mpm_setup::evaluate(probes[i], setup, *model); }
+  double stored() const { return model->stored_energy(); }
+};
+
+SceneModel scene_model(const std::string& name, const std::function<void(nlohmann::json&)>& patch = nullptr) {
+  const auto sc = scene::load_scene(std::filesystem::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / (name + ".json"));
+  nlohmann::json m = sc["mpm"];
+  if (patch) patch(m);
+  SceneModel r;
+  r.setup = mpm_setup::build_setup(m, Vec3::Zero());
+  r.probes = mpm_setup::resolve_probes(r.setup, sc["probes"]);
+  r.model = mpm_setup::make_model(r.setup);
+  return r;
+}
+
+/// Advances to t_end with the model's largest stable step; calls `each` after every step.
+void run_to(mpm_contact::CoupledModel& m, double t_end, const std::function<void(long, int)>& each = nullptr) {
+  long step = 0;
+  for (double t = 0; t < t_end * (1 - 1e-12);) {
+    const double dt = std::min(m.max_dt(), t_end - t);
+    const int contacts = m.step(dt).contact_nodes;
+    t += dt;
+    if (each) each(++step, contacts);
+  }
+}
+
+}  // namespace
 
 TEST(GasExpansion, EarlyExpansionKeepsGasInsideAndBalancesEnergy) {
-  // Section 7.3 at a coarse particle spacing (0.05 instead of 0.025) for the first 0.3 time
-  // units: the gas pushes the membrane out; no particle may leave the membrane polygon and the
-  // stored energy plus the contact dissipation must stay equal to the initial energy.
-  mpm_contact::GasExpansionParams prm;
-  prm.particle_spacing = 0.05;
-  prm.t_end = 0.3;
-  prm.record_every = 25;
-  int records = 0, outside = 0;
-  double worst_balance = 0, e0 = 0;
-  const auto res = mpm_contact::run_gas_expansion(prm, [&](const mpm_contact::StepRecord& r) {
-    const auto& e = r.energies;
-    const double stored = e.mpm.kinetic + e.mpm.internal + e.membrane.kinetic + e.membrane.strain + e.membrane.hourglass;
-    if (records++ == 0) e0 = stored;
-    worst_balance = std::max(worst_balance, std::abs(stored + e.contact - e0) / e0);
+  // Section 7.3 at a coarse particle spacing (0.05 instead of 0.025, data/scenes/gas_expansion_ci.json)
+  // for the first 0.3 time units: the gas pushes the membrane out; no particle may leave the
+  // membrane polygon and the stored energy plus the contact dissipation must stay equal to the
+  // initial energy.
+  auto sm = scene_model("gas_expansion_ci");
+  auto& model = *sm.model;
+  const double e0 = sm.stored();
+  int outside = 0;
+  double worst_balance = 0;
+  run_to(model, 0.3, [&](long step, int) {
+    if (step % 25) return;
+    const auto e = model.coupling().energies();
+    worst_balance = std::max(worst_balance, std::abs(mpm_contact::CoupledModel::stored_energy(e) + e.contact - e0) / e0);
     // Quarter polygon: origin, membrane line at z = 0 (the first nodes), back to the origin.
     std::vector<Eigen::Vector2d> poly{Eigen::Vector2d::Zero()};
-    const auto& X = r.membrane->positions();
-    for (int k = 0; k < r.membrane->num_nodes() / 2; ++k) poly.push_back(X[k].head<2>());
-    for (const auto& x : r.mpm->particles().x) {
+    const auto& X = model.membrane().positions();
+    for (int k = 0; k < model.membrane().num_nodes() / 2; ++k) poly.push_back(X[k].head<2>());
+    for (const auto& x : model.mpm().particles().x) {
       bool in = false;  // even-odd rule
       for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
         if ((poly[i][1] > x[1]) != (poly[j][1] > x[1]) &&
@@ -142,28 +186,18 @@ TEST(GasExpansion, EarlyExpansionKeepsGasInsideAndBalancesEnergy) {
     }
   });
   std::printf("[gas] t=0.3: r_0deg=%.4f r_90deg=%.4f, worst |stored + contact - E0|/E0 = %.2e, particles outside = %d\n",
-              res.radius_0deg, res.radius_90deg, worst_balance, outside);
+              sm.probe(0), sm.probe(1), worst_balance, outside);
   EXPECT_NEAR(e0, 25.0 * 0.45 * 0.95 * 0.1, 1e-9);  // E0 V0 of the quarter gas block (Table 2)
   EXPECT_EQ(outside, 0);
   EXPECT_LT(worst_balance, 0.01);
-  EXPECT_GT(res.radius_0deg, 0.8);  // the short side was pushed out from 0.5
+  EXPECT_GT(sm.probe(0), 0.8);  // the short side was pushed out from 0.5
 }
 
-#include "coupling/mpm/examples/frames.hpp"
-#include "tests/test_support.hpp"
-
 TEST(GasExpansion, FramesAreReadableVtu) {
-  mpm_contact::GasExpansionParams prm;
-  prm.particle_spacing = 0.05;
-  prm.t_end = 0.01;
-  prm.record_every = 1000000;  // only the first and the last records
+  auto sm = scene_model("gas_expansion_ci");
   test::TempDir dir("mpm_frames");
-  int written = 0;
-  mpm_contact::run_gas_expansion(prm, [&](const mpm_contact::StepRecord& r) {
-    if (written++ > 0) return;
-    mesh::io::write_vtu(dir.path() / "particles.vtu", mpm_contact::particle_frame(*r.mpm));
-    mesh::io::write_vtu(dir.path() / "membrane.vtu", mpm_contact::membrane_frame(*r.membrane));
-  });
+  mesh::io::write_vtu(dir.path() / "particles.vtu", mpm_contact::particle_frame(sm.model->mpm()));
+  mesh::io::write_vtu(dir.path() / "membrane.vtu", mpm_contact::membrane_frame(sm.model->membrane()));
   int status = 0;
   EXPECT_EQ(test::vtk_describe(dir.path() / "particles.vtu", &status),
             "342 342 p:velocity:3 p:pressure:1 p:density:1 p:internal_energy:1\n");
@@ -178,23 +212,16 @@ TEST(GasExpansion, SettlesToPaperRadiusAndEnergyLoss) {
   // radii change by less than 0.1% after t = 2.5) and 3-7% of the energy has been lost (paper:
   // about 5%, Fig. 18). The loss keeps creeping up after settling (about 0.85% per time unit at
   // this spacing and step, see coupling/mpm/README.md), which is why the end time matters.
-  mpm_contact::GasExpansionParams prm;
-  prm.particle_spacing = 0.05;
-  prm.t_end = 3.0;
-  prm.record_every = 1000000;
-  const auto res = mpm_contact::run_gas_expansion(prm);
-  std::printf("[gas settled] r_0deg=%.4f r_90deg=%.4f energy lost=%.2f%%\n", res.radius_0deg, res.radius_90deg,
-              100 * res.energy_loss_fraction());
-  EXPECT_NEAR(res.radius_0deg / 0.96, 1.0, 0.02);
-  EXPECT_NEAR(res.radius_90deg / 0.96, 1.0, 0.02);
-  EXPECT_GT(res.energy_loss_fraction(), 0.03);
-  EXPECT_LT(res.energy_loss_fraction(), 0.07);
+  auto sm = scene_model("gas_expansion_ci");
+  const double e0 = sm.stored();
+  run_to(*sm.model, 3.0);
+  const double lost = 1 - sm.stored() / e0;
+  std::printf("[gas settled] r_0deg=%.4f r_90deg=%.4f energy lost=%.2f%%\n", sm.probe(0), sm.probe(1), 100 * lost);
+  EXPECT_NEAR(sm.probe(0) / 0.96, 1.0, 0.02);
+  EXPECT_NEAR(sm.probe(1) / 0.96, 1.0, 0.02);
+  EXPECT_GT(lost, 0.03);
+  EXPECT_LT(lost, 0.07);
 }
-
-#include <tbb/global_control.h>
-
-#include "coupling/mpm/examples/example_model.hpp"
-#include "coupling/mpm/examples/sphere_membrane.hpp"
 
 namespace {
 
@@ -205,26 +232,31 @@ struct EnergyTrace {
   int contact_steps = 0;
 };
 
-/// Section 7.1b (elastic sphere at 10 m/s on a clamped membrane) at cell 2 mm with the paper's
-/// particle spacing 0.5 mm, advanced to t_end with the given contact.
+/// Section 7.1b (elastic sphere at 10 m/s on a clamped membrane, data/scenes/sphere_on_membrane.json)
+/// at cell 2 mm with the paper's particle spacing 0.5 mm (grid: the membrane square plus two cells,
+/// up to four cells above the sphere), advanced to t_end with the given contact.
 EnergyTrace sphere_on_membrane_energy(mpm_contact::ContactOptions contact, double t_end) {
-  mpm_contact::SphereMembraneParams prm;
-  prm.cell = 2e-3;
-  prm.t_end = t_end;
-  prm.contact = contact;
-  auto model = mpm_contact::make_sphere_membrane(prm);
-  const double e0 = model->stored_energy();
+  auto sm = scene_model("sphere_on_membrane", [&](nlohmann::json& m) {
+    const double cell = 2e-3, edge = 25e-3 + 2 * cell;
+    m["grid"]["lo"] = {-edge, -edge, -25e-3};
+    m["grid"]["hi"] = {edge, edge, 5.5e-3 + 4.5e-3 + 4 * cell};
+    m["grid"]["cell"] = cell;
+    m["membrane"]["element_size"] = cell;
+    m["contact"]["mode"] = contact.mode == mpm_contact::ContactOptions::Mode::Slip ? "slip" : "stick";
+    m["contact"]["friction"] = contact.friction;
+    m["contact"]["distance_factor"] = contact.distance_factor;
+  });
+  auto& model = *sm.model;
+  const double e0 = sm.stored();
   EnergyTrace tr;
-  for (double t = 0; t < t_end;) {
-    const double dt = std::min(model->max_dt(), t_end - t);
-    if (model->step(dt).contact_nodes > 0) ++tr.contact_steps;
-    t += dt;
-    const double stored = model->stored_energy(), diss = model->coupling().energies().contact;
+  run_to(model, t_end, [&](long, int contacts) {
+    if (contacts > 0) ++tr.contact_steps;
+    const double stored = model.stored_energy(), diss = model.coupling().energies().contact;
     tr.max_gain = std::max(tr.max_gain, stored / e0 - 1);
     tr.max_balance = std::max(tr.max_balance, std::abs(stored + diss - e0) / e0);
     tr.final_stored = stored / e0;
     tr.final_dissipated = diss / e0;
-  }
+  });
   return tr;
 }
 
@@ -265,17 +297,11 @@ TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
   // of the particle passes and of the contact passes).
   auto run = [](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    mpm_contact::GasExpansionParams prm;
-    prm.particle_spacing = 0.025;
-    prm.t_end = 0.05;
-    auto model = mpm_contact::make_gas_expansion(prm);
+    auto sm = scene_model("gas_expansion");
+    auto* model = sm.model.get();
     EXPECT_GE(model->mpm().particles().size(), mpm::CellBins::kParallelMin);
     int contacts = 0;
-    for (double t = 0; t < prm.t_end;) {
-      const double dt = std::min(model->max_dt(), prm.t_end - t);
-      contacts += model->step(dt).contact_nodes > 0;
-      t += dt;
-    }
+    run_to(*model, 0.05, [&](long, int c) { contacts += c > 0; });
     EXPECT_GT(contacts, 100);
     const auto& P = model->mpm().particles();
     std::vector<double> state;
@@ -328,11 +354,10 @@ TEST(GridContact, CoupledRunIsBitIdenticalForOneAndTwoThreads) {
 
 TEST(GasExpansion, StepAboveTheCriticalStepIsCaughtByTheEnergyBalance) {
   // Four times the critical step: the explicit scheme grows exponentially. The energy-growth check
-  // that the runner makes after every row (ExampleModel::check_energy_growth) must stop the run
+  // that the runner makes after every row (CoupledModel::check_energy_growth) must stop the run
   // while every value is still finite, before a non-finite state would.
-  mpm_contact::GasExpansionParams prm;
-  prm.particle_spacing = 0.05;
-  auto model = mpm_contact::make_gas_expansion(prm);
+  auto sm = scene_model("gas_expansion_ci");
+  auto* model = sm.model.get();
   EXPECT_NO_THROW(model->check_energy_growth());
   const double dt = 4 * model->max_dt();
   std::string caught;

@@ -1,5 +1,5 @@
 // Validation of the Belytschko-Tsay membrane (solid/membrane/): patch test, hourglass/rigid modes,
-// and the equilibrium of a pressurised cylinder (N / R = p, benchmarks.md 5.4 reduced to a cylinder).
+// and the equilibrium of a pressurised cylinder (N / R = p, Laplace's law for a cylinder).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

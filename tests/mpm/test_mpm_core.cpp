@@ -1,4 +1,5 @@
-// Validation of the MPM core (fluid/mpm/) against benchmarks.md sections 5.1 and 5.2 and the EOS
+// Validation of the MPM core (fluid/mpm/) against the colliding disks of Sulsky, Chen & Schreyer 1994, the vibrating bar of
+// Bardenhagen 2002 and the EOS
 // formulas of Lian, Liu & Zhang (2014) eqs. (66), (67), Tables 1 and 2.
 #include <gtest/gtest.h>
 
@@ -18,7 +19,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// 1D vibrating bar (benchmarks.md 5.2) as a 3D bar of one cell cross-section with y and z motion
+/// 1D vibrating bar (Bardenhagen 2002) as a 3D bar of one cell cross-section with y and z motion
 /// suppressed. Returns the measured angular frequency and the ratio of the last to the first
 /// velocity amplitude over `periods` periods.
 struct BarResult {
@@ -32,7 +33,7 @@ MpmSolver make_bar(int cells, int per_cell) {
   const double L = 25, E = 100, rho = 1, v0 = 0.1;
   const double h = L / cells, beta = kPi / (2 * L), dx = h / per_cell;
   Grid g;
-  g.h = h;
+  g.dx = h;
   g.cells = {cells + 2, 1, 1};
   g.faces[0] = FaceBc::Slip;  // fixed end x = 0
   g.constrained_axes = {false, true, true};
@@ -106,12 +107,12 @@ TEST(MpmCore, VibratingBarFrequencyWithin2Percent) {
 }
 
 TEST(MpmCore, VibratingBarKeepsItsEnergyWithVaryingSteps) {
-  // The bar of benchmarks.md 5.2 (20 cells, 2 particles per cell) at 0.9 of the critical step
+  // The bar of Bardenhagen 2002 (20 cells, 2 particles per cell) at 0.9 of the critical step
   // h / c over 500 s (about 50 periods), with a repeating step pattern: 18 full steps, then 2
   // shorter ones (0.6 or 0.3 of a full step), as a run that shortens its last steps to land on
   // output times. Central differences with variable steps (section 3.2): momentum advances by
-  // dt^n = (dt^{n-1/2} + dt^{n+1/2}) / 2, the strain by dt^{n-1/2}. Taking dt^{n+1/2} for both
-  // (the code before session 5) blew up in both patterns (|E/E0 - 1| > 1). The bound is that of
+  // h^n = (h^{n-1/2} + h^{n+1/2}) / 2, the strain by h^{n-1/2}. Taking h^{n+1/2} for both
+  // blew up in both patterns (|E/E0 - 1| > 1). The bound is that of
   // equal steps' staggered energy measure (3.8e-2 at this step) with some margin.
   const int cells = 20;
   const double h = 25.0 / cells, c = 10;  // c = sqrt(E / rho)
@@ -134,12 +135,12 @@ TEST(MpmCore, VibratingBarKeepsItsEnergyWithVaryingSteps) {
 }
 
 TEST(MpmCore, CollidingDisksEnergyAndMomentum) {
-  // benchmarks.md 5.1: E = 1000, nu = 0.3, rho = 1000, r = 0.2, v = +-(0.1, 0.1), h = 0.05,
+  // Sulsky, Chen & Schreyer 1994: E = 1000, nu = 0.3, rho = 1000, r = 0.2, v = +-(0.1, 0.1), h = 0.05,
   // 4 particles per cell (2 x 2 in plane), dt = 0.001, to t = 3. Plane strain: one cell in z.
   const double h = 0.05, dx = h / 2, r = 0.2, rho = 1000;
   Grid g;
   g.lo = Vec3(-0.1, -0.1, 0);
-  g.h = h;
+  g.dx = h;
   g.cells = {24, 24, 1};
   g.constrained_axes = {false, false, true};
   Particles P;

@@ -1,15 +1,15 @@
-// Cantilever against Euler-Bernoulli (benchmarks.md 3.4): static tip deflection and first
+// Cantilever against Euler-Bernoulli beam theory: static tip deflection and first
 // bending frequency converge with refinement; a Rayleigh-damped run decays at
-// zeta = alpha / (2 omega) + beta omega / 2 (benchmarks.md 3.6) within 5%.
+// zeta = alpha / (2 omega) + beta omega / 2 (Rayleigh damping) within 5%.
 // Beam: L = 1 m, 0.1 m x 0.1 m (L/b = 10), E = 1 MPa, nu = 0, rho = 1000 kg/m^3; n x m x m
 // cells with n = 10 m, 6 tets per cell. Constant-strain tets are stiff in bending, so the coarse
 // test meshes are far from the reference; the benchmark (apps/bench/solid) runs finer levels.
 #include <gtest/gtest.h>
 
 #include "solid/analysis/linear_analysis.hpp"
-#include "solid/integrator/trapezoidal.hpp"
-#include "solid/linearized_model.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "solid/integrator/newmark.hpp"
+#include "tests/solid/linearized_model.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
 using namespace tetfsi::solid;
@@ -59,10 +59,10 @@ TEST(Cantilever, DynamicFrequencyMatchesModalAnalysis) {
   LinearizedModel linear(*beam.model);
   const Eigen::VectorXd d = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, d);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.05 / mode.omega;
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   integ.set_displacement(1e-3 * mode.shape);
   std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
@@ -75,7 +75,7 @@ TEST(Cantilever, DynamicFrequencyMatchesModalAnalysis) {
 }
 
 // Rayleigh damping: log decrement of the first-mode amplitude gives zeta within 5% of
-// alpha / (2 omega) + beta omega / 2 (benchmarks.md 3.6). With the paper's scheme (eq. 18) the
+// alpha / (2 omega) + beta omega / 2 (Rayleigh damping). With the paper's scheme (eq. 18) the
 // numerical damping of Newmark gamma = 1, about omega h / 4 [calc], adds to it.
 namespace {
 double measured_damping_ratio(NewmarkScheme scheme, double& expected) {
@@ -83,7 +83,7 @@ double measured_damping_ratio(NewmarkScheme scheme, double& expected) {
   LinearizedModel linear(*beam.model);
   const Eigen::VectorXd d = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, d);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.rayleigh_alpha = 0.02 * mode.omega;  // contributes zeta = 0.01
   settings.rayleigh_beta = 0.02 / mode.omega;   // contributes zeta = 0.01
   double zeta = settings.rayleigh_alpha / (2 * mode.omega) + settings.rayleigh_beta * mode.omega / 2;
@@ -92,7 +92,7 @@ double measured_damping_ratio(NewmarkScheme scheme, double& expected) {
   settings.scheme = scheme;
   if (scheme == NewmarkScheme::kChentanez) zeta += 0.25 * mode.omega * settings.time_step;
   expected = zeta;
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   integ.set_displacement(1e-3 * mode.shape);
   std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};

@@ -10,7 +10,7 @@
 #include <cstring>
 
 #include "mesh/structured_box.hpp"
-#include "solid/integrator/trapezoidal.hpp"
+#include "solid/integrator/newmark.hpp"
 #include "solid/output/solid_output.hpp"
 #include "tests/test_support.hpp"
 #include "solid/solid_error.hpp"
@@ -26,7 +26,7 @@ using test::unit_tet;
 
 TetMaterial soft(ConstitutiveLaw law) { return test::tet_material(law, 2e4); }
 
-double min_z(const TrapezoidalIntegrator& integ) {
+double min_z(const NewmarkIntegrator& integ) {
   const Eigen::VectorXd x = integ.positions();
   double z = 1e300;
   for (Eigen::Index v = 0; v < x.size() / 3; ++v) z = std::min(z, x[3 * v + 2]);
@@ -47,11 +47,11 @@ TEST(SolidRobustness, SoftBodyDroppedOnFloorStaysBounded) {
     TetMaterial mat = soft(law);
     if (law == ConstitutiveLaw::kStVK) mat.youngs_modulus = 1e5;
     TetModel model(mesh, mat, options);
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = 1.0 / 30.0;
     settings.gravity = {0, 0, -9.81};
     settings.rayleigh_beta = 0.002;
-    TrapezoidalIntegrator integ(model, settings);
+    NewmarkIntegrator integ(model, settings);
     integ.obstacles().add_plane({Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()});
     const double e0 = integ.energies().total();
     double worst = -1e300;
@@ -72,9 +72,9 @@ TEST(SolidRobustness, SoftBodyDroppedOnFloorStaysBounded) {
 
 TEST(SolidRobustness, InvertedStVKElementStopsWithClearMessage) {
   TetModel model(unit_tet(), soft(ConstitutiveLaw::kStVK));
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 1.0 / 30.0;
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   integ.fix_nodes({0, 1, 2});
   Eigen::VectorXd u = Eigen::VectorXd::Zero(12);
   u[11] = -45.0;  // apex moves ~1.5 m down in the first step: through the base
@@ -93,10 +93,10 @@ TEST(SolidRobustness, InvertedStVKElementStopsWithClearMessage) {
 
 TEST(SolidRobustness, InvertedNeoHookeanElementRecovers) {
   TetModel model(unit_tet(), soft(ConstitutiveLaw::kStableNeoHookean));
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 1.0 / 30.0;
   settings.rayleigh_beta = 0.05;
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   integ.fix_nodes({0, 1, 2});
   Eigen::VectorXd u = Eigen::VectorXd::Zero(12);
   u[11] = -45.0;
@@ -119,11 +119,11 @@ TEST(SolidRobustness, FrictionStopsSlidingBlockNearCoulombDistance) {
   TetMaterial mat = soft(ConstitutiveLaw::kStableNeoHookean);
   mat.youngs_modulus = 1e6;
   TetModel model(mesh, mat);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 1e-3;
   settings.gravity = {0, 0, -9.81};
   settings.rayleigh_beta = 1e-3;
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   integ.obstacles().add_plane({Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()});
   integ.obstacles().set_friction(0.5);
   integ.set_uniform_velocity({1, 0, 0});
@@ -137,11 +137,11 @@ TEST(SolidRobustness, FrictionStopsSlidingBlockNearCoulombDistance) {
 
 TEST(SolidRobustness, BadSettingsAreRejected) {
   TetModel model(unit_tet(), soft(ConstitutiveLaw::kStVK));
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0;
-  EXPECT_THROW(TrapezoidalIntegrator(model, settings), SolidError);
+  EXPECT_THROW(NewmarkIntegrator(model, settings), SolidError);
   settings.time_step = 0.01;
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   EXPECT_THROW(integ.fix_nodes({7}), SolidError);
   EXPECT_THROW(integ.set_external_forces(Eigen::VectorXd::Constant(12, std::nan(""))), SolidError);
   EXPECT_THROW(integ.obstacles().add_plane({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}), SolidError);
@@ -169,9 +169,9 @@ TEST(SolidRobustness, RunIsBitwiseReproducibleAcrossThreadCounts) {
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     TetModel model(mesh, soft(ConstitutiveLaw::kStableNeoHookean));
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.gravity = {0, 0, -9.81};
-    TrapezoidalIntegrator integ(model, settings);
+    NewmarkIntegrator integ(model, settings);
     integ.obstacles().add_plane({Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()});
     integ.obstacles().set_friction(0.3);
     integ.set_uniform_velocity({0.5, 0, 0});
@@ -191,10 +191,10 @@ TEST(SolidRobustness, DivergingRunStopsWithClearMessage) {
   TetModelOptions options;
   options.project_spd = true;
   TetModel model(mesh, soft(ConstitutiveLaw::kStableNeoHookean), options);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.gravity = {0, 0, -9.81};
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   integ.obstacles().add_plane({Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()});
   try {
     for (int n = 0; n < 150; ++n) {
@@ -224,10 +224,10 @@ TEST(SolidRobustness, BlockRestsOnBoxObstacle) {
   TetMaterial mat = soft(ConstitutiveLaw::kStableNeoHookean);
   mat.youngs_modulus = 1e5;
   TetModel model(mesh, mat);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 1.0 / 60.0;
   settings.gravity = {0, 0, -9.81};
-  TrapezoidalIntegrator integ(model, settings);
+  NewmarkIntegrator integ(model, settings);
   integ.obstacles().add_box({Eigen::Vector3d(-0.5, -0.5, -1), Eigen::Vector3d(0.5, 0.5, 0)});
   for (int n = 0; n < 90; ++n) {
     integ.step();

@@ -187,7 +187,6 @@ TEST(TetElement, BadInputIsRejectedWithAClearError) {
   d[5] = std::nan("");
   EXPECT_FALSE(model.evaluate(d, f, nullptr));
   EXPECT_NE(model.last_error().find("non-finite"), std::string::npos) << model.last_error();
-  EXPECT_THROW(parse_constitutive_law("hookean"), SolidError);
 }
 
 TEST(TetElement, TangentMatrixMatchesDirectionalDerivative) {

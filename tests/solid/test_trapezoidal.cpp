@@ -1,14 +1,14 @@
 // The trapezoidal integrator (Chentanez 2006 appendix) on the linearized cantilever:
-// energy conservation (benchmarks.md 3.6), period elongation (omega h)^2 / 12 (3.6), static
+// energy conservation (Krenk 2006), period elongation (omega h)^2 / 12 (Krenk 2006), static
 // limit of a damped run, prescribed Dirichlet velocities.
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "solid/analysis/linear_analysis.hpp"
-#include "solid/integrator/trapezoidal.hpp"
-#include "solid/linearized_model.hpp"
-#include "solid/scenarios/cantilever.hpp"
+#include "solid/integrator/newmark.hpp"
+#include "tests/solid/linearized_model.hpp"
+#include "apps/fixtures/cantilever.hpp"
 #include "solid_test_helpers.hpp"
 
 using namespace tetfsi::solid;
@@ -29,14 +29,14 @@ CantileverSpec small_beam() {
 }  // namespace
 
 // Linear, undamped: the discrete energy 1/2 u^T M u + 1/2 d^T K' d is conserved to 1e-10
-// relative over 1000 steps (benchmarks.md 3.6: round-off level).
+// relative over 1000 steps (Krenk 2006: round-off level).
 TEST(Trapezoidal, LinearUndampedConservesEnergy) {
   auto beam = make_cantilever(small_beam());
   LinearizedModel linear(*beam.model);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.01;
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> dist(-1e-3, 1e-3);
@@ -58,7 +58,7 @@ TEST(Trapezoidal, LinearUndampedConservesEnergy) {
 }
 
 // Period elongation: started in the first mode, the discrete motion has tan(w_bar h/2) = w h/2,
-// T_bar / T = 1 + (w h)^2 / 12 + O((w h)^4) (benchmarks.md 3.6, measured there 1.03206,
+// T_bar / T = 1 + (w h)^2 / 12 + O((w h)^4) (Krenk 2006; 1.03206,
 // 1.00817, 1.00131 at w h = 0.63, 0.31, 0.13).
 TEST(Trapezoidal, PeriodElongationFollowsOmegaHSquaredOver12) {
   auto beam = make_cantilever(small_beam());
@@ -66,10 +66,10 @@ TEST(Trapezoidal, PeriodElongationFollowsOmegaHSquaredOver12) {
   const Eigen::VectorXd static_shape = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, static_shape);
   for (double wh : {0.63, 0.31, 0.13}) {
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = wh / mode.omega;
     settings.scheme = NewmarkScheme::kTrapezoidal;
-    TrapezoidalIntegrator integ(linear, settings);
+    NewmarkIntegrator integ(linear, settings);
     integ.fix_nodes(beam.clamped_nodes);
     integ.set_displacement(1e-3 * mode.shape);
     std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
@@ -101,10 +101,10 @@ TEST(Trapezoidal, ChentanezSchemeMatchesItsAmplificationFactor) {
   const Eigen::VectorXd static_shape = solve_linear_static(linear, beam.fixed_dofs, beam.tip_load({0, 0, -1}));
   const Mode mode = lowest_mode(linear, beam.fixed_dofs, static_shape);
   for (double wh : {0.3, 0.1}) {
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = wh / mode.omega;
     settings.scheme = NewmarkScheme::kChentanez;
-    TrapezoidalIntegrator integ(linear, settings);
+    NewmarkIntegrator integ(linear, settings);
     integ.fix_nodes(beam.clamped_nodes);
     integ.set_displacement(1e-3 * mode.shape);
     std::vector<double> q{modal_coordinate(mode.shape, linear.lumped_masses(), integ.displacement())};
@@ -126,13 +126,13 @@ TEST(Trapezoidal, ChentanezSchemeMatchesItsAmplificationFactor) {
 TEST(Trapezoidal, DampedRunSettlesToLinearStatics) {
   auto beam = make_cantilever(small_beam());
   LinearizedModel linear(*beam.model);
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.05;
   settings.scheme = NewmarkScheme::kChentanez;  // damps the stiff modes (theta = 1/2 would not)
   settings.rayleigh_alpha = 8.0;
   settings.rayleigh_beta = 0.01;
   settings.gravity = {0, 0, -9.81};
-  TrapezoidalIntegrator integ(linear, settings);
+  NewmarkIntegrator integ(linear, settings);
   integ.fix_nodes(beam.clamped_nodes);
   const Eigen::VectorXd tip = beam.tip_load({0, 0.5, 0});
   integ.set_external_forces(tip);
@@ -147,10 +147,10 @@ TEST(Trapezoidal, DampedRunSettlesToLinearStatics) {
 TEST(Trapezoidal, PrescribedVelocityAndSolverChoice) {
   auto beam = make_cantilever(small_beam());
   for (auto kind : {SolverKind::kCholmod, SolverKind::kConjugateGradient, SolverKind::kConjugateGradientIC}) {
-    TrapezoidalSettings settings;
+    NewmarkSettings settings;
     settings.time_step = 0.01;
     settings.solver = kind;
-    TrapezoidalIntegrator integ(*beam.model, settings);
+    NewmarkIntegrator integ(*beam.model, settings);
     const Eigen::Vector3d v(0.1, 0, 0);
     integ.fix_nodes(beam.clamped_nodes, v);
     for (int n = 0; n < 10; ++n) integ.step();
@@ -163,15 +163,15 @@ TEST(Trapezoidal, PrescribedVelocityAndSolverChoice) {
 }
 
 // Springs to fixed anchors: a body on springs k_i = c m_i moves rigidly with omega = sqrt(c)
-// (spring-mounted body, benchmarks.md 2.1 "f = sqrt(k/m) / 2 pi" without fluid); the
+// (spring-mounted body, f = sqrt(k/m) / 2 pi, without fluid); the
 // trapezoidal scheme shows exactly its discrete frequency 2/h atan(omega h / 2).
 TEST(Trapezoidal, SpringMountedBodyOscillatesAtSqrtKOverM) {
   auto beam = make_cantilever(small_beam());
   const double c = 400.0;  // omega = 20 rad/s
-  TrapezoidalSettings settings;
+  NewmarkSettings settings;
   settings.time_step = 0.005;
   settings.scheme = NewmarkScheme::kTrapezoidal;
-  TrapezoidalIntegrator integ(*beam.model, settings);
+  NewmarkIntegrator integ(*beam.model, settings);
   const auto& X = beam.model->reference_positions();
   const auto& m = beam.model->lumped_masses();
   for (int v = 0; v < beam.model->num_nodes(); ++v) integ.add_spring({v, X.segment<3>(3 * v), c * m[v]});

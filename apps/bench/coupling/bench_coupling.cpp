@@ -1,5 +1,5 @@
 // Benchmark of the simultaneous coupling (issue 6), printing the common table:
-//  1. piston (benchmarks.md §6): frequency error vs the exact added-mass frequency, by resolution;
+//  1. piston (the staggered-scheme model of Causin, Gerbeau & Nobile 2005): frequency error vs the exact added-mass frequency, by resolution;
 //  2. a soft block in a fluid box (structured mesh, 16³ ... max_cells³ cells): the per-step time of
 //     each solver of eq. (7) (fast path schur_cg, bicgstab, umfpack) and of the whole coupled step
 //     against a fluid-only step on the same mesh with the same BoomerAMG set-up and tolerance,
@@ -17,9 +17,9 @@
 #include "coupling/coupled_stepper.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/structured_box.hpp"
-#include "tests/coupling/block_fixture.hpp"
-#include "tests/coupling/piston_fixture.hpp"
-#include "tests/coupling/sphere_fixture.hpp"
+#include "apps/fixtures/block_fixture.hpp"
+#include "apps/fixtures/piston_fixture.hpp"
+#include "apps/fixtures/sphere_fixture.hpp"
 
 using namespace tetfsi;
 

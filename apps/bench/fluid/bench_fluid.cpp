@@ -1,15 +1,19 @@
 // bench_fluid: seconds per phase of a fluid step (advect, assemble, solve) at ~25k, 100k and 400k
 // tets, and the validation errors of tests/fluid at finer resolutions.
-//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only]   (max tets default 450000)
+//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only] [--standing-wave] [--liquid]
+//   (max tets default 450000; --liquid: the free-surface step at about 25k, 100k and 400k tets)
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "apps/bench/bench_support.hpp"
 #include "apps/bench/fluid/sphere_cases.hpp"
+#include "apps/bench/fluid/standing_wave.hpp"
 #include "fluid/fluid_solver.hpp"
+#include "fluid/liquid/level_set.hpp"
 #include "mesh/structured_box.hpp"
 
 namespace {
@@ -69,6 +73,48 @@ void scaling(int n, fluid::SolverBackend backend, fluid::AdvectionScheme scheme,
       fmt::format("per step: advect {:.3f} s, assemble {:.3f} s, solve {:.3f} s ({} it); max|div| h/U {:.1e}",
                   adv / steps, asmb / steps, sol / steps, iters / steps, div),
       total / steps);
+}
+
+/// Dam break in a closed n x n/2 x n/4 box (2 m x 1 m x 0.5 m), the column a quarter of its
+/// length and 0.6 of its height, jittered Kuhn tets, static mesh: seconds per phase of a
+/// free-surface step (surface tracking, advect, assemble, solve), steps 6-10 after 5 steps of run-up
+/// at CFL 0.8. Returns the seconds per step.
+double liquid_scaling(int n) {
+  const Eigen::Vector3d lo(0, 0, 0), hi(2, 1, 0.5);
+  const double h = 2.0 / n;
+  std::mt19937 rng(3);
+  const mesh::TetMesh m = jittered(mesh::structured_box(lo, hi, n, n / 2, n / 4), lo, hi, h, rng);
+  fluid::FluidParams p;
+  p.density = 1000;
+  p.gravity = Eigen::Vector3d(0, -9.81, 0);
+  p.solver.tolerance = 1e-8;
+  fluid::FluidSolver s(p);
+  s.initialize(m);
+  fluid::LiquidOptions liquid;
+  liquid.band = 4 * h;
+  const Eigen::Vector3d column_hi(0.5, 0.6, 0.5);
+  s.set_liquid(fluid::sample_level_set(s.mesh(), [&](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo - Eigen::Vector3d::Ones(), column_hi); }), liquid);
+  double surface = 0, adv = 0, asmb = 0, sol = 0, total = 0, drift = 0;
+  const int runup = 5, steps = 5;
+  for (int k = 0; k < runup + steps; ++k) {
+    double umax = std::sqrt(9.81 * h);
+    for (const auto& u : s.fields().velocity) umax = std::max(umax, u.norm());
+    tetfsi::bench::Stopwatch w;
+    const fluid::StepReport r = s.step(m, {}, 0.8 * h / umax);
+    if (k < runup) continue;
+    total += w.seconds();
+    surface += r.surface_seconds;
+    adv += r.advect_seconds;
+    asmb += r.assemble_seconds;
+    sol += r.solve_seconds;
+    drift = std::max(drift, std::abs(r.volume_drift));
+  }
+  tetfsi::bench::print_row(
+      "free-surface step, dam break, static jittered box", fmt::format("{} tets, {} nodes", s.mesh().num_tets(), s.mesh().num_nodes()),
+      fmt::format("per step: surface {:.3f} s, advect {:.3f} s, assemble {:.3f} s, solve {:.3f} s; drift {:.1e}/step",
+                  surface / steps, adv / steps, asmb / steps, sol / steps, drift),
+      total / steps);
+  return total / steps;
 }
 
 /// Taylor-Green cells (tests/fluid/test_taylor_green.cpp) at finer meshes: KE loss rate over 1 s.
@@ -156,6 +202,17 @@ void sphere_cases(double h_near, double h_far, int steps) {
   }
 }
 
+/// Standing wave (standing_wave.hpp) at n cells per tank length: period against linear theory.
+void standing_wave_case(int n) {
+  tetfsi::bench::Stopwatch w;
+  const tetfsi::bench::StandingWaveResult r = tetfsi::bench::standing_wave(n);
+  tetfsi::bench::print_row(
+      "standing wave (free surface, kH = pi/2)", fmt::format("{} cells/L, {} tets, {} steps", n, r.tets, r.steps),
+      fmt::format("period {:+.2f}% vs omega^2 = g k tanh(kH); amplitude decay {:.1f}%/period; volume drift {:.1e}/step",
+                  100 * (r.period / r.period_theory - 1), 100 * r.decay_per_period, r.max_volume_drift),
+      w.seconds());
+}
+
 int main(int argc, char** argv) {
   long max_tets = 450000;
   bool sphere_only = false, scaling_only = false;
@@ -163,6 +220,26 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--max-tets") == 0 && i + 1 < argc) max_tets = std::atol(argv[i + 1]);
     if (std::strcmp(argv[i], "--sphere-only") == 0) sphere_only = true;
     if (std::strcmp(argv[i], "--scaling-only") == 0) scaling_only = true;
+    if (std::strcmp(argv[i], "--standing-wave") == 0) {
+      tetfsi::bench::print_header();
+      for (int n : {16, 32, 64}) standing_wave_case(n);
+      return 0;
+    }
+    if (std::strcmp(argv[i], "--liquid") == 0) {
+      tetfsi::bench::print_header();
+      std::vector<std::pair<long, double>> cost;
+      for (int n : {32, 51, 81}) {
+        if (6L * n * (n / 2) * (n / 4) > max_tets) continue;
+        const double t = liquid_scaling(n);
+        cost.emplace_back(6L * n * (n / 2) * (n / 4), t);
+      }
+      if (cost.size() >= 2)
+        fmt::print("growth of the free-surface step: n^{:.2f} from {} to {} tets\n",
+                   std::log(cost.back().second / cost.front().second) /
+                       std::log(double(cost.back().first) / double(cost.front().first)),
+                   cost.front().first, cost.back().first);
+      return 0;
+    }
   }
   tetfsi::bench::print_header();
   if (!scaling_only)
@@ -180,5 +257,6 @@ int main(int argc, char** argv) {
                         fluid::AdvectionScheme::kLinear})
       taylor_green(n, 0.05, scheme);
   hydrostatic(std::min(20, static_cast<int>(std::cbrt(max_tets / 6.0))));
+  for (int n : {16, 32, 64}) standing_wave_case(n);
   return 0;
 }

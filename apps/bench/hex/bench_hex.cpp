@@ -2,7 +2,7 @@
 //  1. Newton iterations per load step and seconds per iteration (assembly + linear solve) for a
 //     neo-Hookean cube compressed by 20 % in 2 load steps, at ~1k, ~10k, ~50k hexes;
 //  2. TBB assembly speed-up (F_int + K_T) on 1 vs 2 threads at the largest size;
-//  3. the cantilever roll-up (benchmarks.md sec. 3.2, M = 2 pi EI / L as a prescribed end rotation
+//  3. the cantilever roll-up (Euler-Bernoulli elastica, curvature M / (EI); M = 2 pi EI / L as a prescribed end rotation
 //     of 2 pi) at the benchmark resolution: tip-root gap, worst tip error along the path, moment error.
 // Usage: bench_hex [--max-cells N] [--direct-10k] [--assembly-only] [--rollup-only] [--out DIR]
 //   --direct-10k: also the ~10k case with CHOLMOD (minutes: ~23 GFlop per factorisation);

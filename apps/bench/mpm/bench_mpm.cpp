@@ -3,6 +3,7 @@
 // Fig. 16 radii). Usage: bench_mpm [--cases bar,disks,gas,fig11,membrane_on_sphere,water,sphere_steps]
 //                                  [--gas-t-end 4] [--sphere-t-end 0.4e-3] [--threads N] [--stats-dir DIR]
 // The paper examples run at the paper's resolution and the committed scenes' end times by default;
+// The paper examples are the committed scenes (data/scenes/), run by the mpm runner's model;
 // each row reports particle updates (particles x coupled steps) per second of wall and of CPU time.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -11,13 +12,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <set>
 #include <sstream>
 
 #include "apps/bench/bench_support.hpp"
-#include "coupling/mpm/examples/gas_expansion.hpp"
-#include "coupling/mpm/examples/sphere_membrane.hpp"
+#include "apps/mpm/probes.hpp"
+#include "apps/mpm/setup.hpp"
+#include "apps/scene/scene.hpp"
 #include "fluid/mpm/mpm_solver.hpp"
 
 #include <sys/resource.h>
@@ -35,28 +38,13 @@ double cpu_seconds() {
   return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
 }
 
-/// Writes StepRecords to <dir>/<name>_stats.csv when a directory was given.
-struct StatsWriter {
-  std::unique_ptr<std::ofstream> out;
-  StatsWriter(const std::string& dir, const std::string& name) {
-    if (dir.empty()) return;
-    std::filesystem::create_directories(dir);
-    out = std::make_unique<std::ofstream>(std::filesystem::path(dir) / (name + "_stats.csv"));
-  }
-  void operator()(const mpm_contact::StepRecord& r) {
-    if (!out) return;
-    if (r.step == 0) *out << mpm_contact::csv_header(r) << "\n";
-    *out << mpm_contact::csv_row(r) << "\n";
-  }
-};
-
 void bench_bar() {
   bench::Stopwatch sw;
   const double L = 25, E = 100, rho = 1, v0 = 0.1;
   const int cells = 13;
   const double h = L / cells, beta = kPi / (2 * L), c = std::sqrt(E / rho);
   mpm::Grid g;
-  g.h = h;
+  g.dx = h;
   g.cells = {cells + 2, 1, 1};
   g.faces[0] = mpm::FaceBc::Slip;
   g.constrained_axes = {false, true, true};
@@ -95,7 +83,7 @@ void bench_disks() {
   const double h = 0.05, dx = h / 2, r = 0.2, rho = 1000;
   mpm::Grid g;
   g.lo = Vec3(-0.1, -0.1, 0);
-  g.h = h;
+  g.dx = h;
   g.cells = {24, 24, 1};
   g.constrained_axes = {false, false, true};
   mpm::Particles P;
@@ -125,72 +113,97 @@ void bench_disks() {
                    sw.seconds());
 }
 
-void bench_gas(double spacing, double t_end, const std::string& stats_dir) {
+/// A committed mpm scene (data/scenes/<name>.json) run to t_end with `patch` applied to its
+/// resolved /mpm block: the tracked probes every t_end / 8, then one row with the final probes,
+/// the energy lost and booked as contact dissipation, the coupled steps and the throughput.
+void bench_scene(const std::string& scene_name, const std::string& label, double t_end,
+                 const std::function<void(scene::Json&)>& patch, const std::string& stats_dir) {
   bench::Stopwatch sw;
   const double cpu0 = cpu_seconds();
-  mpm_contact::GasExpansionParams prm;
-  prm.particle_spacing = spacing;
-  prm.t_end = t_end;
-  prm.record_every = 200;
-  StatsWriter stats(stats_dir, fmt::format("gas_expansion_dx{}", spacing));
-  std::ostringstream radii;
-  double next_print = 0;
-  const auto res = mpm_contact::run_gas_expansion(prm, [&](const mpm_contact::StepRecord& r) {
-    stats(r);
-    if (r.time >= next_print) {
-      radii << fmt::format("#   t={:.2f} r_0deg={:.4f} r_90deg={:.4f}\n", r.time, r.probes[0].second, r.probes[1].second);
-      next_print += 0.5;
-    }
-  });
-  const double wall = sw.seconds(), cpu = cpu_seconds() - cpu0;
-  fmt::print("# gas expansion (7.3), particle spacing {}: radii history (Fig. 16)\n{}", spacing, radii.str());
-  const double r_mean = 0.5 * (res.radius_0deg + res.radius_90deg);
-  bench::print_row("gas expansion (paper 7.3, quarter)",
-                   fmt::format("dx {} ({} particles), cell 0.1, {} quads, t {}", spacing, res.particles, res.elements,
-                               t_end),
-                   fmt::format("r_0 {:.4f}, r_90 {:.4f} vs 0.96: {:+.1f}%/{:+.1f}%; energy lost {:.1f}% (paper ~5%), "
-                               "booked as contact dissipation {:.1f}%; {} steps, "
-                               "{:.3g} particle upd/s wall, {:.3g} per cpu s, cpu {:.1f} s",
-                               res.radius_0deg, res.radius_90deg, 100 * (res.radius_0deg / 0.96 - 1),
-                               100 * (res.radius_90deg / 0.96 - 1), 100 * res.energy_loss_fraction(),
-                               100 * res.contact_dissipated / res.energy_initial, res.steps,
-                               res.particle_updates / wall, res.particle_updates / cpu, cpu),
-                   wall);
-  (void)r_mean;
-}
-
-void bench_sphere(mpm_contact::SphereMembraneParams::Case which, double cell, double t_end, const std::string& name,
-                  const std::string& stats_dir, bool print_history, double mpm_cfl = 0.5) {
-  bench::Stopwatch sw;
-  const double cpu0 = cpu_seconds();
-  mpm_contact::SphereMembraneParams prm;
-  prm.which = which;
-  prm.cell = cell;
-  prm.t_end = t_end;
-  prm.mpm_cfl = mpm_cfl;
-  prm.record_every = 20;
-  StatsWriter stats(stats_dir, fmt::format("{}_cell{}mm", name, cell * 1e3));
+  const auto sc = scene::load_scene(std::filesystem::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / (scene_name + ".json"));
+  scene::Json m = sc["mpm"];
+  if (patch) patch(m);
+  const auto& g = sc["simulation"]["gravity"];
+  const auto setup = mpm_setup::build_setup(m, Vec3(g[0].get<double>(), g[1].get<double>(), g[2].get<double>()));
+  const auto probes = mpm_setup::resolve_probes(setup, sc["probes"]);
+  auto model = mpm_setup::make_model(setup);
+  std::unique_ptr<std::ofstream> stats;
+  if (!stats_dir.empty()) {
+    std::filesystem::create_directories(stats_dir);
+    stats = std::make_unique<std::ofstream>(std::filesystem::path(stats_dir) / (label + "_stats.csv"));
+    *stats << "step,time,dt,contact_nodes,stored_energy,contact_dissipation,energy_balance";
+    for (const auto& p : sc["probes"]) *stats << "," << p.at("name").get<std::string>();
+    *stats << "\n";
+  }
+  auto values = [&] {
+    std::string s;
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      s += fmt::format(" {}={:.6g}", sc["probes"][i].at("name").get<std::string>(), mpm_setup::evaluate(probes[i], setup, *model));
+    return s;
+  };
+  const double e0 = model->stored_energy();
+  std::vector<double> lowest(probes.size());  // smallest value of each position probe over the steps
+  for (std::size_t i = 0; i < probes.size(); ++i) lowest[i] = mpm_setup::evaluate(probes[i], setup, *model);
   std::ostringstream hist;
-  double next = 0;
-  const auto res = mpm_contact::run_sphere_membrane(prm, [&](const mpm_contact::StepRecord& r) {
-    stats(r);
-    if (r.time >= next - 1e-12) {
-      hist << fmt::format("#   t={:.3f} ms membrane_center_z={:+.4f} mm {}={:+.4f} mm\n", r.time * 1e3,
-                          r.probes[0].second * 1e3, r.probes[1].first, r.probes[1].second * 1e3);
+  double t = 0, next = 0;
+  long steps = 0;
+  const std::size_t particles0 = model->mpm().particles().size();
+  long particle_updates = 0;
+  while (t < t_end * (1 - 1e-12)) {
+    if (t >= next - 1e-12 * t_end) {
+      hist << fmt::format("#   t={:.6g}{}\n", t, values());
       next += t_end / 8;
     }
-  });
+    const double dt = std::min(model->max_dt(), t_end - t);
+    const auto rep = model->step(dt);
+    t += dt;
+    ++steps;
+    particle_updates += static_cast<long>(model->mpm().particles().size());
+    for (std::size_t i = 0; i < probes.size(); ++i)  // positions only: energies would cost a particle pass
+      if (probes[i].kind != mpm_setup::Probe::Kind::TotalEnergy && probes[i].kind != mpm_setup::Probe::Kind::BodyEnergy)
+        lowest[i] = std::min(lowest[i], mpm_setup::evaluate(probes[i], setup, *model));
+    if (stats && steps % 50 == 0) {
+      const auto e = model->coupling().energies();
+      *stats << fmt::format("{},{:.9g},{:.6g},{},{:.9g},{:.9g},{:.9g}", steps, t, dt, rep.contact_nodes,
+                            mpm_contact::CoupledModel::stored_energy(e), e.contact, model->balance(e));
+      for (const auto& p : probes) *stats << fmt::format(",{:.9g}", mpm_setup::evaluate(p, setup, *model));
+      *stats << "\n";
+    }
+  }
+  hist << fmt::format("#   t={:.6g}{}\n", t, values());
   const double wall = sw.seconds(), cpu = cpu_seconds() - cpu0;
-  if (print_history) fmt::print("# {} cell {} mm: tracked points (Figs. 6, 9, 11, 12)\n{}", name, cell * 1e3, hist.str());
-  bench::print_row(name, fmt::format("cell {} mm, spacing 0.5 mm, {} particles, {} quads, t {} ms, mpm_cfl {}",
-                                     cell * 1e3, res.particles, res.elements, t_end * 1e3, mpm_cfl),
-                   fmt::format("no reference curve (figures only); min centre z {:+.4f} mm; stored energy {:+.1f}%, "
-                               "contact dissipation {:.1f}%; {} steps, "
-                               "{:.3g} particle upd/s wall, {:.3g} per cpu s, cpu {:.1f} s",
-                               res.min_membrane_center_z * 1e3, 100 * (res.energy_final / res.energy_initial - 1),
-                               100 * res.contact_dissipated / res.energy_initial, res.steps,
-                               res.particle_updates / wall, res.particle_updates / cpu, cpu),
+  const auto e = model->coupling().energies();
+  std::string minima;
+  for (std::size_t i = 0; i < probes.size(); ++i)
+    if (probes[i].kind != mpm_setup::Probe::Kind::TotalEnergy && probes[i].kind != mpm_setup::Probe::Kind::BodyEnergy)
+      minima += fmt::format(" {}={:.6g}", sc["probes"][i].at("name").get<std::string>(), lowest[i]);
+  fmt::print("# {} ({}): probes (scene {})\n{}", label, scene_name, scene_name, hist.str());
+  bench::print_row(label,
+                   fmt::format("cell {} m, {} particles, {} quads, t {}", setup.grid.dx, particles0,
+                               model->membrane().num_elements(), t_end),
+                   fmt::format("final{}; min over the steps (positions){}; energy lost {:.2f}%, booked as contact dissipation {:.2f}%; {} steps, {:.3g} particle "
+                               "upd/s wall, {:.3g} per cpu s, cpu {:.1f} s",
+                               values(), minima, 100 * (1 - model->stored_energy() / e0), 100 * e.contact / e0, steps,
+                               particle_updates / wall, particle_updates / cpu, cpu),
                    wall);
+}
+
+/// Grid of the section-7.1 sphere-on-membrane scene at another cell size (Fig. 11): the membrane
+/// square with a margin of two cells, z from -25 mm to the sphere top + 4 cells, the lower corner
+/// moved down by the part of a spacing that puts the particle lattice at in-cell positions
+/// (i + 1/2) / n of the cells, never on node planes (coupling/mpm/README.md).
+void sphere_on_membrane_grid(scene::Json& m, double cell) {
+  const double mm = 1e-3, half = 25 * mm, R = 4.5 * mm, zc = 5.5 * mm, dx = 0.5 * mm, margin = 2 * cell;
+  Vec3 lo(-half - margin, -half - margin, -25 * mm);
+  const Vec3 hi(half + margin, half + margin, zc + R + 4 * cell), box_lo(-R, -R, zc - R);
+  for (int a = 0; a < 3; ++a) {
+    const double s = (box_lo[a] - lo[a]) / dx, r = s - std::floor(s);
+    if (r > 1e-9 && r < 1 - 1e-9) lo[a] -= (1 - r) * dx;
+  }
+  m["grid"]["lo"] = {lo[0], lo[1], lo[2]};
+  m["grid"]["hi"] = {hi[0], hi[1], hi[2]};
+  m["grid"]["cell"] = cell;
+  m["membrane"]["element_size"] = cell;
 }
 
 /// Cost of the MPM particle passes alone, at the size of the section-7.1 sphere (R = 15 mm,
@@ -252,20 +265,23 @@ int main(int argc, char** argv) {
   for (std::string c; std::getline(ss, c, ',');) want.insert(c);
   try {
     bench::print_header();
-    using Case = mpm_contact::SphereMembraneParams::Case;
     if (want.count("bar")) bench_bar();
     if (want.count("disks")) bench_disks();
-    if (want.count("gas_coarse")) bench_gas(0.05, gas_t_end, stats_dir);
-    if (want.count("gas")) bench_gas(0.025, gas_t_end, stats_dir);
+    if (want.count("gas_coarse"))
+      bench_scene("gas_expansion", "gas expansion (paper 7.3, quarter), spacing 0.05", gas_t_end,
+                  [](scene::Json& m) { m["bodies"][0]["spacing"] = 0.05; }, stats_dir);
+    if (want.count("gas"))
+      bench_scene("gas_expansion", "gas expansion (paper 7.3, quarter)", gas_t_end, nullptr, stats_dir);
     if (want.count("fig11"))
       for (double cell : {2e-3, 1.5e-3, 1e-3})
-        bench_sphere(Case::SphereOnMembrane, cell, 0.4e-3, "sphere on membrane (7.1, Fig. 11)", stats_dir, true);
+        bench_scene("sphere_on_membrane", fmt::format("sphere on membrane (7.1, Fig. 11), cell {} mm", cell * 1e3), 0.4e-3,
+                    [cell](scene::Json& m) { sphere_on_membrane_grid(m, cell); }, stats_dir);
     if (want.count("membrane_on_sphere"))
-      bench_sphere(Case::MembraneOnSphere, 1e-3, sphere_t_end, "membrane on sphere (7.1, Fig. 6)", stats_dir, true,
-                   mos_cfl);
+      bench_scene("membrane_on_sphere", "membrane on sphere (7.1, Fig. 6)", sphere_t_end,
+                  [mos_cfl](scene::Json& m) { m["mpm_cfl"] = mos_cfl; }, stats_dir);
     if (want.count("sphere_steps")) bench_sphere_steps();
     if (want.count("water"))
-      bench_sphere(Case::WaterSphere, 1e-3, sphere_t_end, "water sphere (7.2, Fig. 12)", stats_dir, true);
+      bench_scene("water_sphere", "water sphere (7.2, Fig. 12)", sphere_t_end, nullptr, stats_dir);
   } catch (const std::exception& e) {
     fmt::print(stderr, "bench_mpm: {}\n", e.what());
     return 1;

@@ -46,6 +46,27 @@ Field remesh_band() {
       .at_least(0).def(0);
 }
 
+/// Initial liquid of `fill: regions`: one shape each; the liquid is their union.
+Field liquid_regions() {
+  Field region = Field::object("", "", {
+      Field::enumeration("type", {"box", "sphere", "below"},
+                         "`box`: [lo, hi]; `sphere`: centre and radius; `below`: everything whose height "
+                         "(the coordinate along -simulation.gravity) is below `height`.").req()})
+      .tagged_by("type")
+      .variant("box", {Field::vector("lo", 3, "m", "Lower corner.").req(),
+                       Field::vector("hi", 3, "m", "Upper corner.").req()})
+      .variant("sphere", {Field::vector("center", 3, "m", "Centre.").req(),
+                          Field::number("radius", "m", "Radius.").req().greater(0)})
+      .variant("below", {Field::number("height", "m", "Height of the still surface (along -gravity, from the "
+                                                       "origin).").req()})
+      .check(lo_below_hi());
+  return Field::array("regions",
+                      "With `fill: regions`: the liquid at t = 0, the union of these shapes (within the domain); "
+                      "the rest of the domain is air, which is void (p = 0 on the free surface).",
+                      std::move(region))
+      .def(Json::array());
+}
+
 }  // namespace
 
 Field fluid() {
@@ -69,12 +90,21 @@ Field fluid() {
         advection(), apply_gravity(false), remesh_band(), solver()})
     .variant("liquid", {density(1000), viscosity(1e-3), advection(), apply_gravity(true), remesh_band(),
                         solver(),
-                        Field::enumeration("fill", {"domain", "cavities"},
+                        Field::enumeration("fill", {"domain", "cavities", "regions"},
                                            "`domain`: the liquid fills the domain box around the solids "
                                            "and the cavities of `sphere_shell` solids; `cavities`: only the "
                                            "cavity of the scene's one `sphere_shell` (a liquid-filled toy "
-                                           "with nothing outside; no domain box).")
-                            .def("domain")});
+                                           "with nothing outside; no domain box); `regions`: the liquid "
+                                           "fills `regions` and has a free surface (static or kinematic "
+                                           "solids only).")
+                            .def("domain"),
+                        liquid_regions(),
+                        Field::number("surface_edge_length", "m",
+                                      "With `fill: regions`: target edge length of the mesh within three of it "
+                                      "of the liquid surface, graded to `mesh.edge_length` over "
+                                      "max(`mesh.grading_distance`, three of it); the fluid is remeshed when the "
+                                      "surface leaves the refined zone. 0: a mesh that ignores the surface.")
+                            .at_least(0).def(0)});
 }
 
 }  // namespace tetfsi::scene::blocks

@@ -32,30 +32,37 @@ Field emitters() {
       Field::number("start_time", "s", "Time the source switches on.").at_least(0).def(0),
       Field::number("end_time", "s", "Time the source switches off; absent: never.").greater(0),
   });
-  return Field::array("emitters", "Smoke or liquid sources.", std::move(emitter)).def(Json::array());
+  return Field::array("emitters",
+                      "Smoke or liquid sources. With a free-surface liquid (fluid.fill `regions`) the source "
+                      "keeps its box full of liquid moving at `velocity` while it is on (a nozzle; a sphere acts "
+                      "on its bounding box); the liquid it adds is added to the volume the run keeps.",
+                      std::move(emitter))
+      .def(Json::array());
 }
 
 Field probes() {
   Field probe = Field::object("", "", {
       Field::string("name", "Column name in probes.csv.").req(),
       Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy",
-                                  "membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min",
-                                  "membrane_radius_max", "membrane_center_z", "membrane_corner_z",
-                                  "sphere_top_z", "fluid_point", "fluid_kinetic_energy", "fluid_volume"},
+                                  "membrane_point", "membrane_radius", "membrane_volume", "particle_point",
+                                  "body_energy", "fluid_point", "fluid_kinetic_energy", "fluid_volume"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
-                         "+ elastic + gravitational energy [J] of everything. Scenes with an `mpm` block "
-                         "(Lian et al. 2014): `membrane_radius_0deg` / `_90deg`: x of the membrane node on "
-                         "y = 0 / y of the node on x = 0, `membrane_radius_min` / `_max`: smallest / largest "
-                         "node distance from the z axis (gas_expansion, Fig. 16); `membrane_center_z`: z [m] "
-                         "of the membrane's centre node (Figs. 6, 9, 11, 12); `membrane_corner_z`: z [m] of "
-                         "the corner (-25, -25) mm (membrane_on_sphere, Fig. 6); `sphere_top_z`: z [m] of "
-                         "the particle starting at the sphere's top (sphere_on_membrane, water_sphere_impact, "
-                         "Figs. 9, 11, 12); `total_energy`: stored energy of particles and membrane. Fluid runner: "
+                         "+ elastic + gravitational energy [J] of everything (mpm scenes: the stored energy of "
+                         "particles and membrane). Scenes with an `mpm` block: `membrane_point`: a `quantity` of "
+                         "the membrane node nearest to `point` at t = 0 (its position x, y, z [m] or displacement); "
+                         "`membrane_radius`: smallest or largest node distance [m] from the axis through `center` "
+                         "along `axis`; `membrane_volume`: volume [m^3] enclosed by a closed membrane (with "
+                         "symmetry planes: the modelled part, the planes closing it); `particle_point`: a `quantity` "
+                         "of the body's particle nearest to `point` at t = 0; `body_energy`: kinetic, internal "
+                         "(fluids: E V0; solids and membrane: strain, + hourglass) or total energy [J] of a body or "
+                         "of the membrane (by name). Fluid runner: "
                          "`fluid_point`: one fluid `quantity` at `point` (NaN outside the fluid); "
-                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J]. Coupled runner: "
-                         "`fluid_volume`: volume of the fluid [m^3] with the solids at their current "
-                         "position (the cavity volume when the fluid fills only a shell's cavity).").req()})
+                         "`fluid_kinetic_energy`: 1/2 rho sum V |u|^2 of the fluid [J] (of the liquid part of each "
+                         "tet for a free surface); `fluid_volume`: volume of the fluid [m^3]: the liquid's "
+                         "for a free surface (fluid.fill `regions`), else the fluid mesh's; in the coupled "
+                         "runner with the solids at their current position (the cavity volume when the "
+                         "fluid fills only a shell's cavity).").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
@@ -70,9 +77,25 @@ Field probes() {
                              "`speed` and velocity components [m/s] (the tet's value).").req()})
       .variant("fluid_kinetic_energy", {})
       .variant("fluid_volume", {});
-  for (const char* k : {"membrane_radius_0deg", "membrane_radius_90deg", "membrane_radius_min", "membrane_radius_max",
-                        "membrane_center_z", "membrane_corner_z", "sphere_top_z"})
-    probe.variants[k] = {};
+  const std::vector<std::string> point_quantities = {"x", "y", "z", "displacement_x", "displacement_y",
+                                                     "displacement_z", "displacement"};
+  const std::string quantity_doc = "`x`, `y`, `z`: position [m]; `displacement_x` ... `_z`: displacement component, "
+                                   "`displacement`: its length [m] (from the position at t = 0).";
+  probe.variants["membrane_point"] = {
+      Field::vector("point", 3, "m", "The node nearest to this point at t = 0 is tracked.").req(),
+      Field::enumeration("quantity", point_quantities, quantity_doc).req()};
+  probe.variants["membrane_radius"] = {
+      Field::vector("center", 3, "m", "A point on the axis.").def({0, 0, 0}),
+      Field::vector("axis", 3, "", "Direction of the axis.").def({0, 0, 1}),
+      Field::enumeration("statistic", {"min", "max"}, "Smallest or largest distance over the nodes.").req()};
+  probe.variants["membrane_volume"] = {};
+  probe.variants["particle_point"] = {
+      Field::string("body", "Name of the particle body (/mpm/bodies).").req(),
+      Field::vector("point", 3, "m", "The body's particle nearest to this point at t = 0 is tracked.").req(),
+      Field::enumeration("quantity", point_quantities, quantity_doc).req()};
+  probe.variants["body_energy"] = {
+      Field::string("body", "Name of a particle body or of the membrane.").req(),
+      Field::enumeration("energy", {"kinetic", "internal", "total"}, "Which energy.").def("total")};
   return Field::array("probes", "Quantities written to probes.csv every step.", std::move(probe))
       .def(Json::array());
 }

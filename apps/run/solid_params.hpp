@@ -1,0 +1,28 @@
+#pragma once
+/// @file solid_params.hpp
+/// The one reader from a resolved scene's /solids/i block to the solid models' parameter structs
+/// (keys and defaults: apps/scene/blocks/solids.cpp). Every runner that builds a solid reads it here.
+#include "apps/scene/scene.hpp"
+#include "solid/hex/material.hpp"
+#include "solid/integrator/newmark.hpp"
+#include "solid/tet/material.hpp"
+#include "solid/tet/tet_model.hpp"
+
+namespace tetfsi::run {
+
+/// /solids/i/material of a tet FEM solid: E, nu, density, Rayleigh damping, constitutive law.
+solid::TetMaterial tet_material(const scene::Json& material);
+
+/// Element options /solids/i/material implies: the neo-Hookean law projects the element tangent to
+/// PSD (TetModelOptions::project_spd), which keeps A positive definite under strong compression.
+solid::TetModelOptions tet_model_options(const scene::Json& material);
+
+/// /solids/i/material of a hex8 solid.
+solid::hex::Material hex_material(const scene::Json& material);
+
+/// Time integration of a solid alone: step h [s], gravity (/simulation/gravity), the Rayleigh damping
+/// of /solids/i/material and the scheme and linear solver of /solids/i/integrator.
+/// @throws solid::SolidError on an unknown scheme or solver name
+solid::NewmarkSettings newmark_settings(const scene::Json& solid, const scene::Json& scene, double h);
+
+}  // namespace tetfsi::run

@@ -1,0 +1,98 @@
+#include "fluid/liquid/cut_tet.hpp"
+
+#include <Eigen/Dense>
+#include <utility>
+
+namespace tetfsi::fluid {
+namespace {
+
+/// Vertex k of the reference tet (node 0 at the origin, node k at the k-th unit vector): points of
+/// the tet in these coordinates make volume fractions plain determinants.
+Eigen::Vector3d reference_vertex(int k) {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  if (k > 0) v[k - 1] = 1.0;
+  return v;
+}
+
+Eigen::Vector3d reference_crossing(int a, int b, const std::array<double, 4>& phi) {
+  const double theta = crossing_fraction(phi[a], phi[b]);
+  return (1.0 - theta) * reference_vertex(a) + theta * reference_vertex(b);
+}
+
+double fraction_of(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                   const Eigen::Vector3d& p3) {
+  Eigen::Matrix3d m;
+  m << p1 - p0, p2 - p0, p3 - p0;
+  return std::abs(m.determinant());
+}
+
+/// Volume fraction of the triangular prism (a0 a1 a2 | b0 b1 b2) whose faces are planar, split into
+/// the three tets (a0 a1 a2 b0), (a1 a2 b0 b1), (a2 b0 b1 b2).
+double prism_fraction(const std::array<Eigen::Vector3d, 3>& a, const std::array<Eigen::Vector3d, 3>& b) {
+  return fraction_of(a[0], a[1], a[2], b[0]) + fraction_of(a[1], a[2], b[0], b[1]) +
+         fraction_of(a[2], b[0], b[1], b[2]);
+}
+
+/// Faces of a tet as local vertex triples (face f is opposite vertex f).
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+}  // namespace
+
+double liquid_fraction(const std::array<double, 4>& phi) {
+  int liquid[4], air[4], nl = 0, na = 0;
+  for (int k = 0; k < 4; ++k) (phi[k] < 0.0 ? liquid[nl++] : air[na++]) = k;
+  if (nl == 0) return 0.0;
+  if (nl == 4) return 1.0;
+  if (nl == 1) {  // a corner of liquid at liquid[0]: the edges from it are cut at theta
+    double f = 1.0;
+    for (int j = 0; j < 3; ++j) f *= crossing_fraction(phi[liquid[0]], phi[air[j]]);
+    return f;
+  }
+  if (nl == 3) {  // everything but a corner of air at air[0]
+    double f = 1.0;
+    for (int j = 0; j < 3; ++j) f *= 1.0 - crossing_fraction(phi[liquid[j]], phi[air[0]]);
+    return 1.0 - f;
+  }
+  // Two liquid nodes a, b and two air nodes c, d: the prism (a, X_ac, X_ad | b, X_bc, X_bd); its
+  // faces lie on the tet faces abc, abd and on the (planar) surface.
+  const int a = liquid[0], b = liquid[1], c = air[0], d = air[1];
+  return prism_fraction({reference_vertex(a), reference_crossing(a, c, phi), reference_crossing(a, d, phi)},
+                        {reference_vertex(b), reference_crossing(b, c, phi), reference_crossing(b, d, phi)});
+}
+
+CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi,
+               const std::array<int, 4>& ids) {
+  CutTet c;
+  for (auto& a : c.wet_moment) a.setZero();
+  const double volume = (x[1] - x[0]).cross(x[2] - x[0]).dot(x[3] - x[0]) / 6.0;
+  c.liquid_volume = volume * liquid_fraction(phi);
+  for (int f = 0; f < 4; ++f) {
+    // Outward area vector of the face (positively oriented tet: kFace is counter-clockwise from outside).
+    const int i0 = kFace[f][0], i1 = kFace[f][1], i2 = kFace[f][2];
+    const Eigen::Vector3d s = 0.5 * (x[i1] - x[i0]).cross(x[i2] - x[i0]);
+    int liquid[3], air[3], nl = 0, na = 0;
+    for (int k : {i0, i1, i2}) (phi[k] < 0.0 ? liquid[nl++] : air[na++]) = k;
+    if (nl == 0) continue;
+    if (nl == 3) {  // fully wet: int psi_k dA = A_F / 3
+      for (int k : {i0, i1, i2}) c.wet_moment[k] += s / 3.0;
+      continue;
+    }
+    if (nl == 1) {  // wet triangle (m, X_mp, X_mq): area fraction theta_mp theta_mq
+      const int m = liquid[0];
+      const double w = crossing_fraction(phi[m], phi[air[0]]) * crossing_fraction(phi[m], phi[air[1]]);
+      c.wet_moment[m] += (w / 3.0) * s;
+      continue;
+    }
+    // Two liquid nodes m < n (global ids) and air q: the wet quad (m, n, X_nq, X_mq) split along
+    // m-X_nq into (m, n, X_nq), area fraction theta_nq, and (m, X_nq, X_mq), theta_mq (1 - theta_nq).
+    int m = liquid[0], n = liquid[1];
+    if (ids[n] < ids[m]) std::swap(m, n);
+    const int q = air[0];
+    const double tn = crossing_fraction(phi[n], phi[q]), tm = crossing_fraction(phi[m], phi[q]);
+    c.wet_moment[m] += ((tn + tm * (1.0 - tn)) / 3.0) * s;
+    c.wet_moment[n] += (tn / 3.0) * s;
+  }
+  return c;
+}
+
+}  // namespace tetfsi::fluid

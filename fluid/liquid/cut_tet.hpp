@@ -1,0 +1,46 @@
+#pragma once
+/// @file cut_tet.hpp
+/// Geometry of a tetrahedron cut by the zero set of a level set phi that is linear on it
+/// (P1, nodal values). Liquid is phi < 0, air phi >= 0.
+///
+/// The free-surface projection (free_surface_projection.hpp) integrates only over the liquid part
+/// Omega_t of each tet. Its pressure trial and test functions are the hats psi_k of the liquid
+/// nodes on the liquid part, linear between a liquid node and the points where the tet's edges
+/// cross the surface, where they vanish (p = 0 on the surface, located to second order). What the
+/// projection needs per tet is
+///
+///   |Omega_t|                                       (the liquid volume), and
+///   a_k = int_{Omega_t} grad psi_k dV = sum_{faces F of t, k in F} n_F int_{F wet} psi_k dA
+///
+/// (divergence theorem; psi_k = 0 on the free surface, so only the wet parts of the tet's faces
+/// contribute). On a tet with no air node a_k = V_t grad(phi_k), the ordinary P1 hat gradient times
+/// the volume. A linear pressure that vanishes on the (planar) surface piece is reproduced exactly:
+/// sum_k a_k p_k = |Omega_t| grad p.
+///
+/// Edge crossing: on an edge from liquid node a to air node b the surface lies at
+/// x_a + theta_ab (x_b - x_a) with theta_ab = phi_a / (phi_a - phi_b), in (0, 1].
+#include <Eigen/Core>
+#include <array>
+
+namespace tetfsi::fluid {
+
+/// Where the edge from liquid node value phi_a (< 0) to air node value phi_b (>= 0) crosses zero,
+/// as a fraction of the edge from a: theta = phi_a / (phi_a - phi_b).
+inline double crossing_fraction(double phi_a, double phi_b) { return phi_a / (phi_a - phi_b); }
+
+struct CutTet {
+  double liquid_volume = 0.0;                   ///< |Omega_t| [m^3]
+  std::array<Eigen::Vector3d, 4> wet_moment{};  ///< a_k [m^2]; zero for air nodes
+};
+
+/// Liquid part of tet (x, phi). `ids` are the nodes' global indices: where a face has two liquid
+/// nodes its wet quadrilateral is split along the diagonal from the lower id, so that both tets
+/// sharing the face split it the same way. x must be positively oriented.
+CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi,
+               const std::array<int, 4>& ids);
+
+/// Volume fraction |Omega_t| / V_t of the liquid (phi < 0) in a tet with nodal values phi, for
+/// phi linear on the tet (exact).
+double liquid_fraction(const std::array<double, 4>& phi);
+
+}  // namespace tetfsi::fluid

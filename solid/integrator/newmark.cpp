@@ -1,0 +1,235 @@
+#include "solid/integrator/newmark.hpp"
+
+#include "solid/solid_error.hpp"
+#include "support/stopwatch.hpp"
+
+namespace tetfsi::solid {
+
+NewmarkScheme parse_newmark_scheme(const std::string& name) {
+  if (name == "chentanez") return NewmarkScheme::kChentanez;
+  if (name == "trapezoidal") return NewmarkScheme::kTrapezoidal;
+  throw SolidError("unknown time integration scheme '" + name + "' (expected \"chentanez\" or \"trapezoidal\")");
+}
+
+NewmarkIntegrator::NewmarkIntegrator(const ElasticModel& model, const NewmarkSettings& settings)
+    : model_(model), settings_(settings), solver_(settings.solver, settings.cg_tolerance) {
+  if (!(settings_.time_step > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
+  if (!(settings_.rayleigh_alpha >= 0) || !(settings_.rayleigh_beta >= 0))
+    throw SolidError("solid integrator: Rayleigh alpha and beta must be >= 0");
+  if (!settings_.gravity.allFinite()) throw SolidError("solid integrator: gravity must be finite");
+  const int n = 3 * model_.num_nodes();
+  d_.setZero(n);
+  u_.setZero(n);
+  f_ext_.setZero(n);
+  prescribed_.setZero(n);
+  fixed_.assign(n, 0);
+  u_next_.setZero(n);
+}
+
+void NewmarkIntegrator::fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity) {
+  for (int v : nodes) {
+    if (v < 0 || v >= model_.num_nodes()) throw SolidError("fix_nodes: node " + std::to_string(v) + " out of range");
+    for (int a = 0; a < 3; ++a) {
+      fixed_[3 * v + a] = 1;
+      prescribed_[3 * v + a] = velocity[a];
+      u_[3 * v + a] = velocity[a];
+    }
+  }
+}
+
+std::vector<int> NewmarkIntegrator::nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+  std::vector<int> nodes;
+  const auto& X = model_.reference_positions();
+  for (int v = 0; v < model_.num_nodes(); ++v) {
+    const Eigen::Vector3d x = X.segment<3>(3 * v);
+    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) nodes.push_back(v);
+  }
+  return nodes;
+}
+
+void NewmarkIntegrator::set_displacement(const Eigen::VectorXd& d) {
+  if (d.size() != d_.size() || !d.allFinite()) throw SolidError("set_displacement: wrong size or non-finite");
+  d_ = d;
+}
+
+void NewmarkIntegrator::set_velocity(const Eigen::VectorXd& u) {
+  if (u.size() != u_.size() || !u.allFinite()) throw SolidError("set_velocity: wrong size or non-finite");
+  for (Eigen::Index i = 0; i < u.size(); ++i) u_[i] = fixed_[i] ? prescribed_[i] : u[i];
+}
+
+void NewmarkIntegrator::set_uniform_velocity(const Eigen::Vector3d& v) {
+  set_velocity(v.replicate(model_.num_nodes(), 1));
+}
+
+void NewmarkIntegrator::set_external_forces(const Eigen::VectorXd& f) {
+  if (f.size() != f_ext_.size() || !f.allFinite()) throw SolidError("set_external_forces: wrong size or non-finite");
+  f_ext_ = f;
+}
+
+void NewmarkIntegrator::add_spring(const LinearSpring& s) {
+  if (s.node < 0 || s.node >= model_.num_nodes() || !(s.stiffness >= 0) || !s.anchor.allFinite())
+    throw SolidError("add_spring: bad node index, anchor or stiffness");
+  springs_.push_back(s);
+}
+
+void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& b) {
+  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
+  const int next = step_ + 1;
+  if (!model_.evaluate(d_, K_force_, &K_tangent_))
+    throw SolidError("solid step " + std::to_string(next) + " (t = " + std::to_string(time_) +
+                     " s): " + model_.last_error());
+  const auto& X = model_.reference_positions();
+  for (const auto& s : springs_) {
+    const Eigen::Vector3d x = X.segment<3>(3 * s.node) + d_.segment<3>(3 * s.node);
+    K_force_.segment<3>(3 * s.node) += s.stiffness * (x - s.anchor);
+    for (int a = 0; a < 3; ++a) K_tangent_.coeffRef(3 * s.node + a, 3 * s.node + a) += s.stiffness;
+  }
+  const auto& m = model_.lumped_masses();
+  const double theta = settings_.scheme == NewmarkScheme::kChentanez ? 1.0 : 0.5;
+  const double alpha = settings_.rayleigh_alpha, beta = settings_.rayleigh_beta;
+  // A = (1/h + theta alpha) M + theta (beta + h/2) K'
+  A = K_tangent_ * (theta * (beta + 0.5 * h));
+  const double mass_coef = 1.0 / h + theta * alpha;
+  for (int v = 0; v < model_.num_nodes(); ++v)
+    for (int a = 0; a < 3; ++a) A.coeffRef(3 * v + a, 3 * v + a) += mass_coef * m[v];
+  // b = (M/h) u - theta (h/2) K' u - (1 - theta)(alpha M + beta K') u - K(d) + M g + f_ext
+  b = -(theta * 0.5 * h + (1 - theta) * beta) * (K_tangent_ * u_) - K_force_ + f_ext_;
+  const double mass_u_coef = 1.0 / h - (1 - theta) * alpha;
+  for (int v = 0; v < model_.num_nodes(); ++v)
+    b.segment<3>(3 * v) += m[v] * (mass_u_coef * u_.segment<3>(3 * v) + settings_.gravity);
+  // Symmetric elimination of Dirichlet DOFs.
+  for (int col = 0; col < A.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(A, col); it; ++it) {
+      const int row = static_cast<int>(it.row());
+      if (!fixed_[col] && !fixed_[row]) continue;
+      if (row == col) {
+        b[row] = it.value() * prescribed_[row];
+      } else {
+        if (fixed_[col] && !fixed_[row]) b[row] -= it.value() * prescribed_[col];
+        it.valueRef() = 0.0;
+      }
+    }
+  stats_.inverted = model_.last_inverted_count();
+}
+
+void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
+  const int next = step_ + 1;
+  if (u_next.size() != u_.size()) throw SolidError("advance: velocity has the wrong size");
+  for (Eigen::Index i = 0; i < u_next.size(); ++i)
+    if (!std::isfinite(u_next[i]))
+      throw SolidError("solid step " + std::to_string(next) + ": non-finite velocity at node " +
+                       std::to_string(i / 3) + " (diverged)");
+  d_ += 0.5 * h * (u_ + u_next);  // eq. (5)
+  u_ = u_next;
+  for (Eigen::Index i = 0; i < u_.size(); ++i)
+    if (fixed_[i]) u_[i] = prescribed_[i];
+  // Contacts of the implicit solve: inelastic normal, Coulomb friction from the constraint force.
+  const auto& m = model_.lumped_masses();
+  for (const auto& c : active_) {
+    Eigen::Vector3d vel = u_.segment<3>(3 * c.node);
+    vel -= vel.dot(c.normal) * c.normal;
+    const double vt = vel.norm(), dv = obstacles_.friction() * std::max(0.0, c.force) * h / m[c.node];
+    if (vt > 0) vel *= std::max(0.0, 1.0 - dv / vt);
+    u_.segment<3>(3 * c.node) = vel;
+  }
+  const int solved_contacts = static_cast<int>(active_.size());
+  active_.clear();
+  stats_.contacts = std::max(solved_contacts, obstacles_.project(model_.reference_positions(), d_, u_, fixed_));
+  ++step_;
+  time_ += h;
+}
+
+const StepStats& NewmarkIntegrator::step(double h) {
+  const Stopwatch clock;
+  form_system(h, A_, b_);
+  const double assembly = clock.seconds();
+  u_next_ = u_;
+  solve_with_contact(h, "solid step " + std::to_string(step_ + 1));
+  const double solve_seconds = clock.seconds() - assembly;
+  advance(h, u_next_);
+  const int inverted = stats_.inverted, contacts = stats_.contacts;
+  if (settings_.track_energy) stats_ = energies();
+  stats_.step = step_;
+  stats_.time = time_;
+  stats_.assembly_seconds = assembly;
+  stats_.solve_seconds = solve_seconds;
+  stats_.solver_iterations = solver_.last_stats().iterations;
+  stats_.inverted = inverted;
+  stats_.contacts = contacts;
+  return stats_;
+}
+
+void NewmarkIntegrator::solve_with_contact(double h, const std::string& context) {
+  active_.clear();
+  solver_.solve(A_, b_, u_next_, context);
+  if (obstacles_.empty()) return;
+  const auto& X = model_.reference_positions();
+  const int n = model_.num_nodes();
+  SparseMatrix A_free;
+  Eigen::VectorXd b_free;
+  std::vector<char> is_active(n, 0);
+  for (int round = 0; round < 8; ++round) {
+    bool changed = false;
+    // Release pulling constraints.
+    for (size_t k = 0; k < active_.size();) {
+      auto& c = active_[k];
+      c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
+      if (c.force < 0) {
+        is_active[c.node] = 0;
+        active_[k] = active_.back();
+        active_.pop_back();
+        changed = true;
+      } else {
+        ++k;
+      }
+    }
+    // Activate nodes that would end inside an obstacle.
+    for (int v = 0; v < n; ++v) {
+      if (is_active[v] || fixed_[3 * v] || fixed_[3 * v + 1] || fixed_[3 * v + 2]) continue;
+      const Eigen::Vector3d x0 = X.segment<3>(3 * v) + d_.segment<3>(3 * v);
+      const Eigen::Vector3d x1 = x0 + 0.5 * h * (u_.segment<3>(3 * v) + u_next_.segment<3>(3 * v));
+      Eigen::Vector3d normal;
+      if (!(obstacles_.signed_distance(x1, normal) < 0)) continue;
+      Eigen::Vector3d n0;
+      const double phi0 = std::max(0.0, obstacles_.signed_distance(x0, n0));
+      const double diag = A_.coeff(3 * v, 3 * v) + A_.coeff(3 * v + 1, 3 * v + 1) + A_.coeff(3 * v + 2, 3 * v + 2);
+      active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), 1e7 * diag / 3.0, 0.0});
+      is_active[v] = 1;
+      changed = true;
+    }
+    if (!changed) break;
+    if (A_free.rows() == 0) {
+      A_free = A_;
+      b_free = b_;
+    }
+    A_ = A_free;
+    b_ = b_free;
+    for (const auto& c : active_) {
+      const Eigen::Matrix3d P = c.kappa * c.normal * c.normal.transpose();
+      for (int a = 0; a < 3; ++a) {
+        b_[3 * c.node + a] += c.kappa * c.target * c.normal[a];
+        for (int b = 0; b < 3; ++b) A_.coeffRef(3 * c.node + a, 3 * c.node + b) += P(a, b);
+      }
+    }
+    solver_.solve(A_, b_, u_next_, context);
+  }
+  for (auto& c : active_) c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
+}
+
+StepStats NewmarkIntegrator::energies() const {
+  StepStats s;
+  const auto& m = model_.lumped_masses();
+  const auto& X = model_.reference_positions();
+  for (int v = 0; v < model_.num_nodes(); ++v) {
+    s.kinetic += 0.5 * m[v] * u_.segment<3>(3 * v).squaredNorm();
+    s.gravity_potential -= m[v] * settings_.gravity.dot(X.segment<3>(3 * v) + d_.segment<3>(3 * v));
+  }
+  for (const auto& sp : springs_)
+    s.spring += 0.5 * sp.stiffness * (X.segment<3>(3 * sp.node) + d_.segment<3>(3 * sp.node) - sp.anchor).squaredNorm();
+  s.strain = model_.strain_energy(d_);
+  s.step = step_;
+  s.time = time_;
+  return s;
+}
+
+}  // namespace tetfsi::solid

@@ -1,0 +1,165 @@
+#pragma once
+/// @file newmark.hpp
+/// Implicit Newmark integration with stiffness linearized at d^n (Chentanez et al. 2006, sec. 3.2
+/// and appendix, eqs. 9-18), generic over ElasticModel. By default the paper's Newmark beta = 1/2,
+/// gamma = 1 (dissipative, not the trapezoidal rule); the trapezoidal rule is the other scheme.
+///
+/// One step, solid alone (p = 0 in eq. 4):
+///   A u^{n+1} = b,   A = M/h + C + (h/2) K',   C = alpha M + beta K'            (eq. 18)
+///   b = (M/h) u^n - (h/2) K' u^n - K(d^n) + f_e                                 (eq. 18)
+///   d^{n+1} = d^n + (h/2)(u^n + u^{n+1})                                        (eq. 5/12)
+/// with K' = dK/dd at d^n, f_e = M g + nodal forces + spring forces.
+///
+/// Note on the scheme. The appendix chooses Newmark beta = 1/2, gamma = 1 (eqs. 10-13): the
+/// velocity update u^{n+1} = u^n + h a^{n+1} takes the force at d^{n+1}. That is NOT the
+/// energy-conserving trapezoidal rule (beta = 1/4, gamma = 1/2; Newmark 1959; Hughes 2000, ch. 9): on
+/// a linear undamped mode it multiplies the amplitude by 1/sqrt(1 + (omega h)^2 / 2) per step
+/// (numerical damping ratio ~ omega h / 4 for small omega h). Both are offered, written with a
+/// weight theta on the end-of-step forces,
+///   M (u^{n+1} - u^n)/h = -[(1-theta) K(d^n) + theta K(d^{n+1})] - C[(1-theta) u^n + theta u^{n+1}] + f_e,
+/// K(d^{n+1}) ~ K(d^n) + (h/2) K' (u^n + u^{n+1}) (eq. 16), giving
+///   A = M/h + theta C + theta (h/2) K',
+///   b = (M/h) u^n - theta (h/2) K' u^n - (1-theta) C u^n - K(d^n) + f_e:
+/// theta = 1 is the paper's eq. (18) exactly (NewmarkScheme::kChentanez, the default);
+/// theta = 1/2 is Newmark beta = 1/4, gamma = 1/2 (NewmarkScheme::kTrapezoidal), which for a
+/// linear model conserves 1/2 u^T M u + 1/2 d^T K d and has T_bar/T = 1 + (omega h)^2/12.
+/// Pressure forces J p^{n+1} enter with weight 1 in both (fully implicit constraint).
+///
+/// The coupling uses the pieces: form_system() gives A and b at the current state (it then adds
+/// -J p to the rows and solves together with the fluid), and advance() applies eq. (5) for a
+/// given u^{n+1}, then contact, the Dirichlet values and the stability checks.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "solid/contact/static_obstacles.hpp"
+#include "solid/elastic_model.hpp"
+#include "solid/integrator/spd_solver.hpp"
+
+namespace tetfsi::solid {
+
+enum class NewmarkScheme {
+  kChentanez,   ///< theta = 1: eqs. (9)-(18) as printed (Newmark beta = 1/2, gamma = 1)
+  kTrapezoidal  ///< theta = 1/2: Newmark beta = 1/4, gamma = 1/2 (energy conserving)
+};
+
+/// Parses "chentanez" or "trapezoidal". @throws SolidError otherwise.
+NewmarkScheme parse_newmark_scheme(const std::string& name);
+
+struct NewmarkSettings {
+  NewmarkScheme scheme = NewmarkScheme::kChentanez;
+  double time_step = 1.0 / 30.0;                     ///< h [s] of step() (step(h) takes its own)
+  double rayleigh_alpha = 0.0;                       ///< C = alpha M + beta K' [1/s]
+  double rayleigh_beta = 0.0;                        ///< [s]
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s^2]
+  SolverKind solver = SolverKind::kCholmod;
+  double cg_tolerance = 1e-10;     ///< relative residual for SolverKind::kConjugateGradient
+  bool track_energy = true;        ///< fill the energy fields of StepStats (one extra pass)
+};
+
+/// Linear spring from a node to a fixed anchor: force -k (x - anchor) on the node.
+struct LinearSpring {
+  int node = 0;
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  ///< [m]
+  double stiffness = 0;                              ///< k [N/m]
+};
+
+/// Per-step record (written to stats.csv by the runners).
+struct StepStats {
+  int step = 0;                 ///< index of the completed step (1 after the first)
+  double time = 0;              ///< t^{n+1} [s]
+  double assembly_seconds = 0;  ///< K(d), K', A and b
+  double solve_seconds = 0;     ///< linear solve
+  int solver_iterations = 0;
+  double kinetic = 0;            ///< 1/2 u^T M u [J]
+  double strain = 0;             ///< model strain energy [J]
+  double gravity_potential = 0;  ///< -sum m g.x [J]
+  double spring = 0;             ///< sum 1/2 k |x - anchor|^2 [J]
+  double total() const { return kinetic + strain + gravity_potential + spring; }
+  int inverted = 0;              ///< inverted elements at d^n (robust models)
+  int contacts = 0;              ///< nodes projected out of obstacles
+};
+
+class NewmarkIntegrator {
+ public:
+  /// Starts at rest (d = u = 0, t = 0). The model must outlive the integrator.
+  /// @throws SolidError on h <= 0 or negative damping
+  NewmarkIntegrator(const ElasticModel& model, const NewmarkSettings& settings);
+
+  // ---- set-up ----
+  /// Dirichlet: the nodes' velocity is prescribed (default: fixed in place).
+  void fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero());
+  /// Nodes whose reference position lies in the box [lo, hi].
+  std::vector<int> nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
+  void set_displacement(const Eigen::VectorXd& d);
+  void set_velocity(const Eigen::VectorXd& u);
+  void set_uniform_velocity(const Eigen::Vector3d& v);
+  /// Constant external nodal forces, 3n [N] (added to M g).
+  void set_external_forces(const Eigen::VectorXd& f);
+  void add_spring(const LinearSpring& spring);
+  StaticObstacles& obstacles() { return obstacles_; }
+
+  // ---- pieces for the coupling ----
+  /// A and b of eq. (4)/(18) at the current state for a step of length h [s] (see the scheme note above). Dirichlet DOFs are eliminated
+  /// symmetrically: their rows and columns are zero except the diagonal A_ii, b_i = A_ii v_i,
+  /// and b of the other rows is corrected by -A_ij v_j. (The coupling must leave fixed rows
+  /// out of J.) @throws SolidError if h <= 0, naming the step and element if the model fails at d^n.
+  void form_system(double h, SparseMatrix& A, Eigen::VectorXd& b);
+  /// Eq. (5) over a step of length h [s] with the given u^{n+1}, then Dirichlet values, contact
+  /// and finiteness checks; advances the time and step counter. @throws SolidError on non-finite values.
+  void advance(double h, const Eigen::VectorXd& u_next);
+
+  // ---- whole step ----
+  /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
+  /// (active set): every free node whose end-of-step position would lie inside an obstacle
+  /// gets the constraint n.u^{n+1} = -2 phi^n / h - n.u^n (it lands on the surface at t^{n+1}
+  /// by eq. 5), imposed by a stiff penalty kappa n n^T on its diagonal block (kappa = 1e7 x
+  /// the block's diagonal), and the system is solved again (at most 8 rounds; nodes whose
+  /// constraint force would pull are released). The rest of the body thus responds to the
+  /// contact within the same step. After eq. (5), constrained nodes lose their normal velocity
+  /// (inelastic) and Coulomb friction removes up to mu |f_c| h / m of tangential velocity, f_c
+  /// being the constraint force. Nodes still inside are projected (StaticObstacles::project).
+  /// @throws SolidError (see above)
+  const StepStats& step(double h);
+  /// One step of length settings().time_step.
+  const StepStats& step() { return step(settings_.time_step); }
+
+  // ---- state ----
+  const Eigen::VectorXd& displacement() const { return d_; }
+  const Eigen::VectorXd& velocity() const { return u_; }
+  Eigen::VectorXd positions() const { return model_.reference_positions() + d_; }
+  double time() const { return time_; }
+  int step_index() const { return step_; }
+  const std::vector<char>& fixed_dofs() const { return fixed_; }
+  const StepStats& last_stats() const { return stats_; }
+  const NewmarkSettings& settings() const { return settings_; }
+  const ElasticModel& model() const { return model_; }
+  /// Energies of the current state (fills the energy fields of a StepStats).
+  StepStats energies() const;
+
+ private:
+  const ElasticModel& model_;
+  NewmarkSettings settings_;
+  Eigen::VectorXd d_, u_, f_ext_, prescribed_;
+  std::vector<char> fixed_;
+  std::vector<LinearSpring> springs_;
+  StaticObstacles obstacles_;
+  SpdSolver solver_;
+  struct ActiveContact {
+    int node;
+    Eigen::Vector3d normal;
+    double target;   // n.u^{n+1} [m/s]
+    double kappa;    // penalty [kg/s]
+    double force;    // constraint force along n [N], after the solve
+  };
+  std::vector<ActiveContact> active_;
+  /// Solves A u = b with the contact active set (see step()); fills active_.
+  void solve_with_contact(double h, const std::string& context);
+  SparseMatrix K_tangent_, A_;
+  Eigen::VectorXd K_force_, b_, u_next_;
+  double time_ = 0;
+  int step_ = 0;
+  StepStats stats_;
+};
+
+}  // namespace tetfsi::solid

@@ -1,0 +1,101 @@
+// Cut-tet geometry of the free-surface projection (fluid/liquid/cut_tet.hpp): the liquid volume of
+// a tet cut by a plane, and the wet moments a_k, which must reproduce a linear pressure that
+// vanishes on the plane exactly (sum_k a_k p_k = |Omega| grad p) and reduce to V grad(phi_k) on a
+// fully wet tet.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "fluid/liquid/cut_tet.hpp"
+
+namespace tetfsi::fluid {
+namespace {
+
+struct RandomCase {
+  std::array<Eigen::Vector3d, 4> x;
+  Eigen::Vector3d normal;
+  double offset;
+  std::array<double, 4> phi;
+};
+
+/// A positively oriented random tet and a random plane phi = n.x - d through it.
+RandomCase random_case(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  RandomCase c;
+  for (;;) {
+    for (auto& p : c.x) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const double v = (c.x[1] - c.x[0]).cross(c.x[2] - c.x[0]).dot(c.x[3] - c.x[0]) / 6.0;
+    if (std::abs(v) < 0.05) continue;
+    if (v < 0) std::swap(c.x[2], c.x[3]);
+    break;
+  }
+  c.normal = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  const Eigen::Vector3d centroid = (c.x[0] + c.x[1] + c.x[2] + c.x[3]) / 4.0;
+  c.offset = c.normal.dot(centroid) + 0.4 * u(rng);
+  for (int k = 0; k < 4; ++k) c.phi[k] = c.normal.dot(c.x[k]) - c.offset;
+  return c;
+}
+
+TEST(CutTet, LinearPressureVanishingOnTheSurfaceIsExact) {
+  std::mt19937 rng(3);
+  int cut = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const RandomCase c = random_case(rng);
+    const CutTet ct = cut_tet(c.x, c.phi, {4 * trial, 4 * trial + 3, 4 * trial + 1, 4 * trial + 2});
+    // p = -alpha phi: zero on the plane, positive in the liquid.
+    const double alpha = 2.5;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) {
+      if (c.phi[k] >= 0) {
+        EXPECT_EQ(ct.wet_moment[k].norm(), 0.0);
+        continue;
+      }
+      sum += ct.wet_moment[k] * (-alpha * c.phi[k]);
+    }
+    const Eigen::Vector3d expected = ct.liquid_volume * (-alpha * c.normal);
+    EXPECT_LE((sum - expected).norm(), 1e-12 * (1.0 + expected.norm())) << "trial " << trial;
+    int liquid = 0;
+    for (double p : c.phi) liquid += p < 0;
+    cut += liquid > 0 && liquid < 4;
+  }
+  EXPECT_GT(cut, 1000);  // the planes really cut most tets (1, 2 and 3 liquid nodes)
+}
+
+TEST(CutTet, LiquidVolumeMatchesSampling) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 40; ++trial) {
+    const RandomCase c = random_case(rng);
+    const double f = liquid_fraction(c.phi);
+    // Sample the tet uniformly on a barycentric lattice (n^3/6 points) and count the liquid ones.
+    const int n = 120;
+    long inside = 0, total = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j)
+        for (int k = 0; i + j + k < n; ++k) {
+          const double l1 = (i + 0.25) / n, l2 = (j + 0.25) / n, l3 = (k + 0.25) / n, l0 = 1 - l1 - l2 - l3;
+          const double phi = l0 * c.phi[0] + l1 * c.phi[1] + l2 * c.phi[2] + l3 * c.phi[3];
+          inside += phi < 0;
+          ++total;
+        }
+    EXPECT_NEAR(f, static_cast<double>(inside) / total, 0.02) << "trial " << trial;
+    // Complement: the air part of phi is the liquid part of -phi.
+    EXPECT_NEAR(f + liquid_fraction({-c.phi[0], -c.phi[1], -c.phi[2], -c.phi[3]}), 1.0, 1e-13);
+  }
+}
+
+TEST(CutTet, FullyWetTetGivesTheP1HatGradients) {
+  const std::array<Eigen::Vector3d, 4> x = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0.1, 0),
+                                            Eigen::Vector3d(0.2, 1, 0), Eigen::Vector3d(0.1, 0.3, 0.9)};
+  const CutTet c = cut_tet(x, {-1, -2, -1.5, -0.5}, {0, 1, 2, 3});
+  Eigen::Matrix4d m;
+  for (int k = 0; k < 4; ++k) m.row(k) << 1, x[k].transpose();
+  const Eigen::Matrix4d inv = m.inverse();  // column k: coefficients of hat k
+  const double v = m.determinant() / 6.0;
+  EXPECT_NEAR(c.liquid_volume, v, 1e-15);
+  for (int k = 0; k < 4; ++k)
+    EXPECT_LE((c.wet_moment[k] - v * inv.block<3, 1>(1, k)).norm(), 1e-14) << "node " << k;
+}
+
+}  // namespace
+}  // namespace tetfsi::fluid
