@@ -94,8 +94,14 @@ void check_off_counts(const std::string& path, std::uintmax_t bytes) {
     std::string w;
     while (found < 2 && ws >> w) {
       if (w[0] == '#') break;
-      if (first && w.size() >= 3 && w.compare(w.size() - 3, 3, "OFF") == 0) { first = false; continue; }
-      first = false;
+      if (first) {  // the keyword ([ST][C][N][4][n]OFF); assimp reads digits glued to it as the first count
+        first = false;
+        const auto at = w.find("OFF");
+        if (at != std::string::npos) {
+          w = w.substr(at + 3);
+          if (w.empty()) continue;
+        }
+      }
       char* end = nullptr;
       const double x = std::strtod(w.c_str(), &end);
       if (end == w.c_str()) return;  // not a count: assimp reports the syntax error
