@@ -81,7 +81,12 @@ void check_off_counts(const std::string& path, std::uintmax_t bytes) {
   std::istringstream words(head);
   std::string token;
   words >> token;
-  const bool off = ext == ".off" || (token.size() >= 3 && token.compare(token.size() - 3, 3, "OFF") == 0);
+  // assimp picks its OFF reader by content too, whatever the extension (fuzz_surface: an OFF file
+  // named .gltf): the first token is [STCN4n]*OFF in any case, digits may follow it.
+  std::string key = token;
+  for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const auto letters = key.find_first_not_of("stcn4");
+  const bool off = ext == ".off" || (letters != std::string::npos && key.compare(letters, 3, "off") == 0);
   if (!off) return;
   // Skip the OFF token (if any) and comment lines, then read the counts as written.
   std::string line;
@@ -94,8 +99,16 @@ void check_off_counts(const std::string& path, std::uintmax_t bytes) {
     std::string w;
     while (found < 2 && ws >> w) {
       if (w[0] == '#') break;
-      if (first && w.size() >= 3 && w.compare(w.size() - 3, 3, "OFF") == 0) { first = false; continue; }
-      first = false;
+      if (first) {  // the keyword ([ST][C][N][4][n]OFF); assimp reads digits glued to it as the first count
+        first = false;
+        std::string lw = w;
+        for (char& c : lw) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const auto at = lw.find("off");
+        if (at != std::string::npos) {
+          w = w.substr(at + 3);
+          if (w.empty()) continue;
+        }
+      }
       char* end = nullptr;
       const double x = std::strtod(w.c_str(), &end);
       if (end == w.c_str()) return;  // not a count: assimp reports the syntax error

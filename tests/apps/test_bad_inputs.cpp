@@ -234,6 +234,16 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
          return s;
        },
        "/solids"},
+      {"hex_dynamic_displacement",  // run refused it, validate passed (scripts/bad_inputs.py)
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "hex8"}, {"analysis", "dynamic"}};
+         s["solids"][0]["boundary_conditions"] = {{{"type", "displacement"},
+                                                   {"box", {{"lo", {-1, -1, -1}}, {"hi", {1, 1, -0.1}}}},
+                                                   {"value", {0, 0, 0.01}}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/type"},
       {"fluid_probe_in_solid_scene",
        [] { auto s = solid_scene(); s["probes"] = {{{"name", "ke"}, {"kind", "fluid_kinetic_energy"}}}; return s; },
        "/probes/0/kind"},

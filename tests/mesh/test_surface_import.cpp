@@ -170,6 +170,16 @@ TEST(SurfaceImport, OffCountsBeyondTheFileAreRefusedBeforeAssimp) {
   } catch (const tetfsi::mesh::MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("claims.off: OFF header claims 5e+07 vertices"), std::string::npos) << e.what();
   }
+  // Digits glued to the keyword are the vertex count for assimp (fuzz_surface: 8.9e75 vertices, 11 GB).
+  // ... and assimp reads an OFF file by its content whatever its extension (here .gltf).
+  std::ofstream(dir.path() / "glued.gltf") << "OFF88888888888888888888\n6 8 0\n0 0 0\n";
+  try {
+    tetfsi::mesh::import_surface((dir.path() / "glued.gltf").string());
+    FAIL() << "expected a MeshError";
+  } catch (const tetfsi::mesh::MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("glued.gltf: OFF header claims 8.88889e+19 vertices"), std::string::npos)
+        << e.what();
+  }
   std::ofstream(dir.path() / "tetra.off") << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
   EXPECT_EQ(tetfsi::mesh::import_surface((dir.path() / "tetra.off").string()).num_triangles(), 4);
 }

@@ -194,6 +194,21 @@ Field solids() {
                                                       "(tet solids use `fixed_regions`)"});
     if (o.at("model").at("type") == "hex8" && !o.at("springs").empty())
       issues.push_back({ptr + "/springs", "expected []: springs need model `tet_fem`"});
+    // The dynamic hex runner holds whole nodes only and prescribes no motion (apps/run/hex_runner.cpp).
+    if (o.at("model").at("type") == "hex8" && o["model"].value("analysis", "dynamic") == "dynamic") {
+      const auto& bcs = o.at("boundary_conditions");
+      for (std::size_t j = 0; j < bcs.size(); ++j) {
+        const auto type = bcs[j].at("type").get<std::string>();
+        if (type == "displacement" || type == "moment_rotation")
+          issues.push_back({fmt::format("{}/boundary_conditions/{}/type", ptr, j),
+                            fmt::format("\"{}\" needs /model/analysis \"static\" (the dynamic runner prescribes no "
+                                        "motion)", type)});
+        else if (type == "fixed" && bcs[j].at("components") != "xyz")
+          issues.push_back({fmt::format("{}/boundary_conditions/{}/components", ptr, j),
+                            "fixing single components needs /model/analysis \"static\"; dynamic runs fix whole nodes "
+                            "(\"xyz\")"});
+      }
+    }
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
 }
