@@ -4,10 +4,13 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 
 #include "apps/run/scene_values.hpp"
+#include "apps/run/solid_geometry.hpp"
 #include "fluid/io/fluid_output.hpp"
 #include "fluid/liquid/level_set.hpp"
+#include "mesh/surface_distance.hpp"
 
 namespace tetfsi::run {
 
@@ -88,8 +91,9 @@ std::vector<TimedSource> timed_sources(const scene::Json& js, spdlog::logger& lo
 }
 
 /// Signed distance [m] to the union of the liquid regions of `fill: regions` (negative inside):
-/// the minimum of the shapes' distances (exact for spheres and half-spaces, and for boxes outside
-/// and inside; a union's minimum is exact outside every shape).
+/// the minimum of the shapes' distances (exact for spheres, half-spaces and closed surface files
+/// (mesh::SurfaceDistance), and for boxes outside and inside; a union's minimum is exact outside
+/// every shape).
 std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
                                                                      const Eigen::Vector3d& gravity) {
   std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
@@ -103,6 +107,10 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
       const Eigen::Vector3d c = vec3(r.at("center"));
       const double radius = r.at("radius").get<double>();
       shapes.push_back([c, radius](const Eigen::Vector3d& x) { return (x - c).norm() - radius; });
+    } else if (type == "mesh") {
+      std::vector<std::string> warnings;  // already reported by the preflight
+      auto inside = std::make_shared<mesh::SurfaceDistance>(liquid_region_surface(r, warnings));
+      shapes.push_back([inside](const Eigen::Vector3d& x) { return (*inside)(x); });
     } else {  // below
       const double height = r.at("height").get<double>();
       shapes.push_back([up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; });

@@ -60,6 +60,7 @@ class Checker {
     runner_ = &choose_runner(scene_);
     report_.runner = runner_->name;
     read_solids();
+    read_liquid_regions();
     check_placements();
     check_runner();
     check_probes();
@@ -155,6 +156,31 @@ class Checker {
         add(ptr, e.what());
       } catch (const std::exception& e) {  // e.g. a CGAL failure in the surface checks
         add(ptr, std::string("the surface could not be checked: ") + e.what());
+      }
+    }
+  }
+
+  /// Reads and checks the surface files of `mesh` liquid regions (the run would fail on them later).
+  void read_liquid_regions() {
+    if (!js_.contains("fluid") || !js_["fluid"].contains("regions")) return;
+    const auto& regions = js_["fluid"]["regions"];
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+      if (regions[i].at("type") != "mesh") continue;
+      const std::string ptr = fmt::format("/fluid/regions/{}/file", i);
+      try {
+        std::vector<std::string> warnings;
+        const auto surface = liquid_region_surface(regions[i], warnings);
+        for (auto& w : warnings) report_.warnings.push_back(std::move(w));
+        Eigen::Vector3d lo, hi;
+        mesh::bounding_box(surface, lo, hi);
+        check_magnitude(ptr, max_abs(lo, hi), "a placed vertex");
+        if (js_.contains("domain")) {
+          const Eigen::Vector3d dlo = vec3(js_["domain"]["lo"]), dhi = vec3(js_["domain"]["hi"]);
+          if (!((lo.array() < dhi.array()).all() && (hi.array() > dlo.array()).all()))
+            add(ptr, "the liquid region lies outside the domain box: there is no liquid");
+        }
+      } catch (const std::exception& e) {
+        add(ptr, e.what());
       }
     }
   }

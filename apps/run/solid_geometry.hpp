@@ -24,6 +24,11 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
 /// @throws InputError naming the solid
 mesh::SurfaceMesh cavity_of(const scene::Json& solid);
 
+/// The placed, checked surface of a `mesh` liquid region (/fluid/regions/i with type "mesh"):
+/// the file scaled by unit_scale, rotated by rotation_deg, translated by translation.
+/// @throws InputError naming the file if it is unreadable, open, non-manifold or self-intersecting
+mesh::SurfaceMesh liquid_region_surface(const scene::Json& region, std::vector<std::string>& warnings);
+
 /// Imports and checks one surface file for `tetfsi mesh`.
 /// @throws InputError as surface_of
 mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std::vector<std::string>& warnings);

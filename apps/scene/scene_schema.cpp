@@ -120,6 +120,8 @@ void check_free_surface(const Json& s, std::vector<Issue>& issues) {
           lowest += u * (u >= 0 ? d["lo"][k].get<double>() : d["hi"][k].get<double>());
         }
         any = any || lowest < r["height"].get<double>();
+      } else if (type == "mesh") {
+        any = true;  // its file is read and placed by the preflight (apps/run/preflight.cpp)
       }
     }
     if (!any) issues.push_back({"/fluid/regions", "no region reaches into the domain box: there is no liquid"});
@@ -135,7 +137,7 @@ void check_free_surface(const Json& s, std::vector<Issue>& issues) {
     issues.push_back({"/fluid/surface_edge_length", "expected a value <= mesh.edge_length (refinement at the surface, "
                                                     "not coarsening)"});
   if (s["fluid"]["regions"].empty())
-    issues.push_back({"/fluid/regions", "fill \"regions\" needs at least one region (box, sphere or below)"});
+    issues.push_back({"/fluid/regions", "fill \"regions\" needs at least one region (box, sphere, below or mesh)"});
   for (std::size_t i = 0; i < s["solids"].size(); ++i) {
     const auto& solid = s["solids"][i];
     if (solid["motion"]["type"] == "none" && solid["model"]["type"] != "tet_fem")

@@ -49,9 +49,10 @@ Field remesh_band() {
 /// Initial liquid of `fill: regions`: one shape each; the liquid is their union.
 Field liquid_regions() {
   Field region = Field::object("", "", {
-      Field::enumeration("type", {"box", "sphere", "below"},
+      Field::enumeration("type", {"box", "sphere", "below", "mesh"},
                          "`box`: [lo, hi]; `sphere`: centre and radius; `below`: everything whose height "
-                         "(the coordinate along -simulation.gravity) is below `height`.").req()})
+                         "(the coordinate along -simulation.gravity) is below `height`; `mesh`: the inside of a "
+                         "closed surface file (OBJ, PLY, STL, glTF, FBX, OFF), placed like a solid's.").req()})
       .tagged_by("type")
       .variant("box", {Field::vector("lo", 3, "m", "Lower corner.").req(),
                        Field::vector("hi", 3, "m", "Upper corner.").req()})
@@ -59,6 +60,12 @@ Field liquid_regions() {
                           Field::number("radius", "m", "Radius.").req().greater(0)})
       .variant("below", {Field::number("height", "m", "Height of the still surface (along -gravity, from the "
                                                        "origin).").req()})
+      .variant("mesh", {Field::file("file", "Closed surface file, relative to the scene file's folder.").req(),
+                        Field::number("unit_scale", "m/unit", "Metres per file unit (0.01 for files in cm).")
+                            .greater(0).def(1.0),
+                        Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation (about x, then y, then z), after the "
+                                                                "scale.").def({0, 0, 0}),
+                        Field::vector("translation", 3, "m", "Translation, applied last.").def({0, 0, 0})})
       .check(lo_below_hi());
   return Field::array("regions",
                       "With `fill: regions`: the liquid at t = 0, the union of these shapes (within the domain); "
