@@ -20,7 +20,7 @@ Field density(double def) {
 }
 
 Field viscosity(double def) {
-  return Field::number("viscosity", "Pa s", "Dynamic viscosity; 0 for an inviscid fluid.").at_least(0).def(def);
+  return Field::number("viscosity", "Pa s", "Dynamic viscosity. Not used yet: the tet fluid is inviscid, and validate and run warn on a value > 0.").at_least(0).def(def);
 }
 
 Field advection() {
