@@ -339,6 +339,7 @@ void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::Vec
   report.fluid.solve_seconds = report.solve.setup_seconds + report.solve.solve_seconds;
   report.fluid.iterations = report.solve.iterations;
   report.fluid_kinetic = report.fluid.kinetic_energy;
+  report.fluid_gravity_potential = report.fluid.gravity_potential;
   // Eq. (5): the solid displacement from the new velocity.
   for (Solid& s : solids_) {
     s.integrator->advance(h, u.segment(s.dof_offset, 3 * s.model->num_nodes()));

@@ -78,8 +78,12 @@ struct CoupledStepReport {
   double interface_seconds = 0;     ///< H and the reduced fluid blocks
   int pressure_unknowns = 0, solid_dofs = 0, interface_triangles = 0;
   double fluid_kinetic = 0;         ///< ½ ρ Σ V_t |v_t|² [J]
+  double fluid_gravity_potential = 0;  ///< −ρ g · ∫ x dV over the fluid (liquid part) [J]
   double solid_kinetic = 0, solid_strain = 0, spring_energy = 0, solid_gravity_potential = 0;  ///< [J]
-  double total_energy() const { return fluid_kinetic + solid_kinetic + solid_strain + spring_energy + solid_gravity_potential; }
+  double total_energy() const {
+    return fluid_kinetic + fluid_gravity_potential + solid_kinetic + solid_strain + spring_energy +
+           solid_gravity_potential;
+  }
 };
 
 class CoupledStepper {

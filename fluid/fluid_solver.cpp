@@ -192,9 +192,19 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepR
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
   rep.num_tets = mesh_.num_tets();
   rep.num_nodes = mesh_.num_nodes();
+  report_energies(rep);
+  return rep;
+}
+
+void FluidSolver::report_energies(StepReport& rep) const {
   rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_.velocity)
                                                         : kinetic_energy(mesh_, fields_.velocity));
-  return rep;
+  rep.gravity_potential = 0.0;
+  if (!params_.apply_gravity) return;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // int x dV over the fluid
+  for (int t = 0; t < mesh_.num_tets(); ++t)
+    moment += free_surface_ ? liquid_.first_moment[t] : Eigen::Vector3d(mesh_.volume[t] * mesh_.centroid(t));
+  rep.gravity_potential = -params_.density * params_.gravity.dot(moment);
 }
 
 StepReport FluidSolver::project_only(const BoundaryConditions& bc, double h) {
@@ -230,8 +240,7 @@ StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport r
   rep.iterations = pr.solve.iterations;
   rep.residual = pr.solve.relative_residual;
   rep.max_divergence = pr.max_divergence;
-  rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_.velocity)
-                                                        : kinetic_energy(mesh_, fields_.velocity));
+  report_energies(rep);
   return rep;
 }
 

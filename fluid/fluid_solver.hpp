@@ -53,6 +53,8 @@ struct StepReport {
   double max_divergence = 0.0;    ///< max |weak div| / dual volume after projection [1/s]
   int clamped_traces = 0;
   double kinetic_energy = 0.0;    ///< 1/2 rho sum V_t |u_t|^2 after the step [J] (liquid: its part |Omega_t|)
+  /// -rho g . int x dV over the fluid (liquid: its part) after the step [J]; 0 without gravity.
+  double gravity_potential = 0.0;
   // Free-surface liquids only:
   double surface_seconds = 0.0;   ///< level set advection, redistancing, volume restoration, cut tets
   double liquid_volume = 0.0;     ///< sum_t |Omega_t| after the step [m^3]
@@ -113,6 +115,8 @@ class FluidSolver {
   Eigen::Vector3d pressure_force(int subdomain) const;
 
  private:
+  /// Fills rep's energies: kinetic_energy and gravity_potential.
+  void report_energies(StepReport& rep) const;
   void apply_sources(const BoundaryConditions& bc);
   /// Steps 2-3 of level_set.hpp on the current mesh, then the cut-tet geometry; fills rep's
   /// liquid columns. `phi` is the advected level set.

@@ -149,7 +149,8 @@ class CoupledRunner : public Simulation {
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
                                   "solver_iterations", "solver_residual", "solver_factor_age",
-                                  "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential", "total_energy"};
+                                  "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential",
+                                  "fluid_gravity_potential", "total_energy"};
     if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
     return c;
   }
@@ -203,7 +204,7 @@ class CoupledRunner : public Simulation {
     out.values = {double(r.fluid.num_tets), double(r.mesh_update.remeshed), r.mesh_update.min_dihedral_deg,
                   double(r.pressure_unknowns), double(r.solid_dofs),
                   double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
-                  r.solid_strain, r.solid_gravity_potential, r.total_energy()};
+                  r.solid_strain, r.solid_gravity_potential, r.fluid_gravity_potential, r.total_energy()};
     if (stepper_->fluid().has_free_surface()) {
       out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
       out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});

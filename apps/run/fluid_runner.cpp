@@ -155,7 +155,7 @@ class FluidRunner : public Simulation {
   }
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence",
-                                  "kinetic_energy", "min_dihedral", "clamped_traces", "remeshed"};
+                                  "kinetic_energy", "gravity_potential", "min_dihedral", "clamped_traces", "remeshed"};
     if (solver_->has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
     return c;
   }
@@ -243,7 +243,7 @@ class FluidRunner : public Simulation {
     rep.dt = h;
     rep.phase_seconds = {t_remesh, s.advect_seconds, s.forces_seconds, s.assemble_seconds, s.solve_seconds};
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
-                  s.max_divergence, s.kinetic_energy, min_dihedral_, double(s.clamped_traces),
+                  s.max_divergence, s.kinetic_energy, s.gravity_potential, min_dihedral_, double(s.clamped_traces),
                   double(remeshed_)};
     if (solver_->has_free_surface()) {
       rep.phase_seconds.insert(rep.phase_seconds.begin() + 1, s.surface_seconds);

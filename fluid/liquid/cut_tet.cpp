@@ -33,6 +33,19 @@ double prism_fraction(const std::array<Eigen::Vector3d, 3>& a, const std::array<
          fraction_of(a[2], b[0], b[1], b[2]);
 }
 
+/// Volume fraction and first moment (fraction times centroid) of a part of the reference tet,
+/// built from sub-tets.
+struct ReferencePart {
+  double fraction = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  void add(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
+           double sign = 1.0) {
+    const double f = fraction_of(p0, p1, p2, p3);
+    fraction += sign * f;
+    moment += sign * f * (p0 + p1 + p2 + p3) / 4.0;
+  }
+};
+
 /// Faces of a tet as local vertex triples (face f is opposite vertex f).
 constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
@@ -60,12 +73,44 @@ double liquid_fraction(const std::array<double, 4>& phi) {
                         {reference_vertex(b), reference_crossing(b, c, phi), reference_crossing(b, d, phi)});
 }
 
+Eigen::Vector3d liquid_first_moment(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi) {
+  int liquid[4], air[4], nl = 0, na = 0;
+  for (int k = 0; k < 4; ++k) (phi[k] < 0.0 ? liquid[nl++] : air[na++]) = k;
+  ReferencePart part;
+  const auto v = reference_vertex;
+  if (nl == 4) {
+    part.add(v(0), v(1), v(2), v(3));
+  } else if (nl == 1) {
+    const int a = liquid[0];
+    part.add(v(a), reference_crossing(a, air[0], phi), reference_crossing(a, air[1], phi),
+             reference_crossing(a, air[2], phi));
+  } else if (nl == 3) {  // the tet less its corner of air
+    const int c = air[0];
+    part.add(v(0), v(1), v(2), v(3));
+    part.add(v(c), reference_crossing(liquid[0], c, phi), reference_crossing(liquid[1], c, phi),
+             reference_crossing(liquid[2], c, phi), -1.0);
+  } else if (nl == 2) {  // the prism of liquid_fraction, as its three tets
+    const int a = liquid[0], b = liquid[1], c = air[0], d = air[1];
+    const Eigen::Vector3d a0 = v(a), a1 = reference_crossing(a, c, phi), a2 = reference_crossing(a, d, phi);
+    const Eigen::Vector3d b0 = v(b), b1 = reference_crossing(b, c, phi), b2 = reference_crossing(b, d, phi);
+    part.add(a0, a1, a2, b0);
+    part.add(a1, a2, b0, b1);
+    part.add(a2, b0, b1, b2);
+  }
+  // x(xi) = x0 + J xi maps the reference tet (volume 1/6) onto the tet (volume V): int x dV = V (f x0 + J m).
+  Eigen::Matrix3d J;
+  J << x[1] - x[0], x[2] - x[0], x[3] - x[0];
+  const double volume = J.determinant() / 6.0;
+  return volume * (part.fraction * x[0] + J * part.moment);
+}
+
 CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi,
                const std::array<int, 4>& ids) {
   CutTet c;
   for (auto& a : c.wet_moment) a.setZero();
   const double volume = (x[1] - x[0]).cross(x[2] - x[0]).dot(x[3] - x[0]) / 6.0;
   c.liquid_volume = volume * liquid_fraction(phi);
+  c.first_moment = liquid_first_moment(x, phi);
   for (int f = 0; f < 4; ++f) {
     // Outward area vector of the face (positively oriented tet: kFace is counter-clockwise from outside).
     const int i0 = kFace[f][0], i1 = kFace[f][1], i2 = kFace[f][2];

@@ -31,6 +31,7 @@ inline double crossing_fraction(double phi_a, double phi_b) { return phi_a / (ph
 struct CutTet {
   double liquid_volume = 0.0;                   ///< |Omega_t| [m^3]
   std::array<Eigen::Vector3d, 4> wet_moment{};  ///< a_k [m^2]; zero for air nodes
+  Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  ///< int_{Omega_t} x dV [m^4] (gravity potential)
 };
 
 /// Liquid part of tet (x, phi). `ids` are the nodes' global indices: where a face has two liquid
@@ -38,6 +39,11 @@ struct CutTet {
 /// sharing the face split it the same way. x must be positively oriented.
 CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi,
                const std::array<int, 4>& ids);
+
+/// First moment of the liquid part, int_{Omega_t} x dV [m^4], exact for phi linear on the tet:
+/// the liquid part split into tets (a corner, a tet less a corner, or a prism of three tets), each
+/// contributing its volume times its centroid. x must be positively oriented.
+Eigen::Vector3d liquid_first_moment(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi);
 
 /// Volume fraction |Omega_t| / V_t of the liquid (phi < 0) in a tet with nodal values phi, for
 /// phi linear on the tet (exact).

@@ -90,6 +90,7 @@ LiquidGeometry liquid_geometry(const FluidMesh& mesh, const Eigen::VectorXd& phi
   const int nt = mesh.num_tets();
   g.liquid_volume.assign(nt, 0.0);
   g.wet_moment.resize(nt);
+  g.first_moment.assign(nt, Eigen::Vector3d::Zero());
   g.is_liquid.resize(mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) {
     g.is_liquid[i] = phi[i] < 0.0;
@@ -102,6 +103,7 @@ LiquidGeometry liquid_geometry(const FluidMesh& mesh, const Eigen::VectorXd& phi
     if (liquid == 4) {  // the ordinary P1 terms: |Omega_t| = V_t, a_k = V_t grad(phi_k)
       g.liquid_volume[t] = mesh.volume[t];
       for (int k = 0; k < 4; ++k) g.wet_moment[t][k] = mesh.volume[t] * mesh.grad[t][k];
+      g.first_moment[t] = mesh.volume[t] * mesh.centroid(t);
       return;
     }
     for (auto& a : g.wet_moment[t]) a.setZero();
@@ -110,6 +112,7 @@ LiquidGeometry liquid_geometry(const FluidMesh& mesh, const Eigen::VectorXd& phi
                              {phi[tet[0]], phi[tet[1]], phi[tet[2]], phi[tet[3]]}, tet);
     g.liquid_volume[t] = c.liquid_volume;
     g.wet_moment[t] = c.wet_moment;
+    g.first_moment[t] = c.first_moment;
   });
   return g;
 }

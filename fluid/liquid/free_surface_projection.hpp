@@ -37,6 +37,7 @@ namespace tetfsi::fluid {
 struct LiquidGeometry {
   std::vector<double> liquid_volume;                    ///< |Omega_t| per tet [m^3]
   std::vector<std::array<Eigen::Vector3d, 4>> wet_moment;  ///< a_k per tet and local node [m^2]
+  std::vector<Eigen::Vector3d> first_moment;             ///< int_{Omega_t} x dV per tet [m^4]
   std::vector<char> is_liquid;                          ///< per node: phi < 0
   int num_air_nodes = 0;
   /// Total liquid volume sum_t |Omega_t| [m^3].

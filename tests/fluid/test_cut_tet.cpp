@@ -1,7 +1,7 @@
 // Cut-tet geometry of the free-surface projection (fluid/liquid/cut_tet.hpp): the liquid volume of
 // a tet cut by a plane, and the wet moments a_k, which must reproduce a linear pressure that
 // vanishes on the plane exactly (sum_k a_k p_k = |Omega| grad p) and reduce to V grad(phi_k) on a
-// fully wet tet.
+// fully wet tet; and the first moment int x dV of the liquid part.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -82,6 +82,42 @@ TEST(CutTet, LiquidVolumeMatchesSampling) {
     // Complement: the air part of phi is the liquid part of -phi.
     EXPECT_NEAR(f + liquid_fraction({-c.phi[0], -c.phi[1], -c.phi[2], -c.phi[3]}), 1.0, 1e-13);
   }
+}
+
+TEST(CutTet, FirstMomentMatchesSamplingAndItsComplement) {
+  // int_{Omega} x dV (the liquid's gravity potential): the liquid part's and the air part's (the
+  // liquid part of -phi) add up to V times the centroid to round-off, and the liquid part's centroid
+  // agrees with the mean of lattice points in the liquid.
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 40; ++trial) {
+    const RandomCase c = random_case(rng);
+    const double volume = (c.x[1] - c.x[0]).cross(c.x[2] - c.x[0]).dot(c.x[3] - c.x[0]) / 6.0;
+    const Eigen::Vector3d centroid = (c.x[0] + c.x[1] + c.x[2] + c.x[3]) / 4.0;
+    const Eigen::Vector3d m = liquid_first_moment(c.x, c.phi);
+    const Eigen::Vector3d m_air = liquid_first_moment(c.x, {-c.phi[0], -c.phi[1], -c.phi[2], -c.phi[3]});
+    EXPECT_LE((m + m_air - volume * centroid).norm(), 1e-13 * (1 + volume * centroid.norm())) << "trial " << trial;
+    EXPECT_NEAR(cut_tet(c.x, c.phi, {0, 1, 2, 3}).first_moment.x(), m.x(), 1e-15);
+    const double f = liquid_fraction(c.phi);
+    if (f < 0.05) continue;  // too few lattice points for a mean
+    const int n = 120;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    long inside = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j)
+        for (int k = 0; i + j + k < n; ++k) {
+          const double l1 = (i + 0.25) / n, l2 = (j + 0.25) / n, l3 = (k + 0.25) / n, l0 = 1 - l1 - l2 - l3;
+          const double phi = l0 * c.phi[0] + l1 * c.phi[1] + l2 * c.phi[2] + l3 * c.phi[3];
+          if (phi >= 0) continue;
+          sum += l0 * c.x[0] + l1 * c.x[1] + l2 * c.x[2] + l3 * c.x[3];
+          ++inside;
+        }
+    const double size = (c.x[1] - c.x[0]).norm();
+    EXPECT_LE((m / (f * volume) - sum / inside).norm(), 0.02 * size) << "trial " << trial;
+  }
+  const RandomCase c = random_case(rng);
+  const double volume = (c.x[1] - c.x[0]).cross(c.x[2] - c.x[0]).dot(c.x[3] - c.x[0]) / 6.0;
+  const Eigen::Vector3d wet = liquid_first_moment(c.x, {-1, -1, -1, -1});
+  EXPECT_LE((wet - volume * (c.x[0] + c.x[1] + c.x[2] + c.x[3]) / 4.0).norm(), 1e-14);
 }
 
 TEST(CutTet, FullyWetTetGivesTheP1HatGradients) {
