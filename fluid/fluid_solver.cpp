@@ -141,7 +141,8 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   std::optional<PointLocator> old_locator;
   if (free_surface_) {
     old_locator.emplace(mesh_);
-    phi = advect_nodal(mesh_, fields_.velocity, level_set_, new_mesh, h, nullptr, &weight, &*old_locator);
+    phi = (liquid_options_.bfecc ? advect_nodal_bfecc : advect_nodal)(mesh_, fields_.velocity, level_set_, new_mesh,
+                                                                      h, nullptr, &weight, &*old_locator);
   }
   rep.surface_seconds = now() - t0;
   t0 = now();

@@ -39,6 +39,9 @@ struct LiquidOptions {
   /// Weight of a tet in the advection's node averages: max(|Omega_t|, air_weight V_t).
   double air_weight = 1e-3;
   bool restore_volume = true;   ///< shift phi each step so that the liquid keeps its volume
+  /// Advect phi with BFECC (advect_nodal_bfecc: thin sheets and drops last far longer) instead of
+  /// first-order semi-Lagrangian interpolation (advect_nodal).
+  bool bfecc = false;
 };
 
 /// Per-step statistics (one stats.csv row).

@@ -139,6 +139,7 @@ void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, sp
   if (f.at("type") != "liquid" || f.value("fill", "domain") != "regions") return;
   fluid::LiquidOptions liquid;
   liquid.band = 4.0 * solver.mesh().mean_edge_length();
+  liquid.bfecc = f.at("level_set_advection") == "bfecc";
   solver.set_liquid(fluid::sample_level_set(solver.mesh(), liquid_region_distance(f.at("regions"), solver.params().gravity)),
                     liquid);
   log.info("free surface: {:.6g} m^3 of liquid in {} region(s) (level set band {:.4g} m)",

@@ -87,4 +87,17 @@ Eigen::VectorXd advect_nodal(const FluidMesh& old_mesh, const TetVectors& old_ve
                              AdvectionReport* report = nullptr, const std::vector<double>* node_weight = nullptr,
                              const PointLocator* old_locator = nullptr);
 
+/// advect_nodal with back-and-forth error compensation (BFECC; Dupont & Liu 2003, with the
+/// limiter of Selle et al. 2008): phi_hat = A(phi) as advect_nodal; phi_check = the old nodes traced
+/// forward through the same velocity, reading phi_hat on the new mesh; the result is
+///   A(phi + (phi - phi_check) / 2),
+/// second order in space and time where smooth, and replaced by phi_hat at nodes where it leaves
+/// the range of phi at its foot tet's nodes. Costs a second trace and a PointLocator of new_mesh.
+/// It keeps thin sheets and drops that first-order interpolation flattens (the liquid's level
+/// set; measured in fluid/README.md). Arguments and determinism as advect_nodal.
+Eigen::VectorXd advect_nodal_bfecc(const FluidMesh& old_mesh, const TetVectors& old_velocity,
+                                   const Eigen::VectorXd& old_values, const FluidMesh& new_mesh, double h,
+                                   AdvectionReport* report = nullptr, const std::vector<double>* node_weight = nullptr,
+                                   const PointLocator* old_locator = nullptr);
+
 }  // namespace tetfsi::fluid

@@ -147,12 +147,13 @@ TEST(LiquidRun, DamBreakKeepsItsVolumeAndWritesClosedSurfaces) {
   const double v0 = probes.at(0, "liquid_volume");
   EXPECT_NEAR(v0, 0.4 * 0.6 * 0.4, 0.01 * 0.4 * 0.6 * 0.4);  // the column, as the P1 level set sees it
   // Mechanical energy (fluid kinetic + gravity potential, and the post's): the collapse only
-  // dissipates. The kinetic energy leads the potential by one step (gravity acts before the
-  // surface moves), so the bound is taken from the first step: 1% above it at most, and below it
-  // at the end.
+  // dissipates. The kinetic energy leads the potential by one step (gravity and the projection act
+  // before the surface moves), so the total overshoots while the column accelerates: measured
+  // +0.98% above the first step's total (step 4), then it falls, -4.2% at the end. Bound: 1.5%
+  // above the first step, below it at the end.
   const double e1 = stats.at(0, "total_energy");
   for (std::size_t r = 0; r < stats.rows.size(); ++r)
-    EXPECT_LE(stats.at(r, "total_energy"), e1 + 0.01 * std::abs(e1)) << "step " << r + 1;
+    EXPECT_LE(stats.at(r, "total_energy"), e1 + 0.015 * std::abs(e1)) << "step " << r + 1;
   EXPECT_LT(stats.at(stats.rows.size() - 1, "total_energy"), e1);
   EXPECT_GT(stats.at(stats.rows.size() - 1, "fluid_kinetic"), 0.1 * std::abs(e1));  // the energy did move
   for (std::size_t r = 0; r < stats.rows.size(); ++r) {

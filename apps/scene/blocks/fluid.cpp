@@ -111,7 +111,13 @@ Field fluid() {
                                       "of the liquid surface, graded to `mesh.edge_length` over "
                                       "max(`mesh.grading_distance`, three of it); the fluid is remeshed when the "
                                       "surface leaves the refined zone. 0: a mesh that ignores the surface.")
-                            .at_least(0).def(0)});
+                            .at_least(0).def(0),
+                        Field::enumeration("level_set_advection", {"bfecc", "semi_lagrangian"},
+                                           "With `fill: regions`: how the liquid's level set is carried each step. "
+                                           "`bfecc`: back-and-forth error compensation (Dupont & Liu 2003), which "
+                                           "keeps thin sheets and drops far longer; `semi_lagrangian`: first-order "
+                                           "interpolation (half the cost of the level-set advection).")
+                            .def("semi_lagrangian")});
 }
 
 }  // namespace tetfsi::scene::blocks
