@@ -231,6 +231,21 @@ class Checker {
       for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
       return s;
     };
+    // The hex8 runner builds an axis-aligned structured block and one analysis for all blocks
+    // (hex_runner.cpp): refused here so that validate gives run's verdict before any setup.
+    std::set<std::string> hex_analyses;
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      const auto& s = solids[i];
+      if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "hex8") continue;
+      hex_analyses.insert(s["model"].at("analysis").get<std::string>());
+      if (vec3(s.at("placement").at("rotation_deg")).norm() != 0)
+        add(fmt::format("/solids/{}/placement/rotation_deg", i),
+            fmt::format("solid '{}': a hex8 block must be axis-aligned (rotation [0, 0, 0]); use model \"tet_fem\" "
+                        "for a rotated solid", s.at("name").get<std::string>()));
+    }
+    if (hex_analyses.size() > 1)
+      add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
+                                 "or dynamic)", list(hex)));
     const std::string name = runner_->name;
     if (!kinematic.empty() && (!deformable.empty() || !hex.empty()) && name != "mpm")
       add("/solids", fmt::format("kinematic solids ({}) together with deforming solids ({}) are not supported yet: no "

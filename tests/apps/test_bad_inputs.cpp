@@ -244,6 +244,55 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
          return s;
        },
        "/solids/0/boundary_conditions/0/type"},
+      // validate passed these and run refused them (issue 16): now both refuse them before meshing.
+      {"hex_rotated",
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "hex8"}};
+         s["solids"][0]["placement"]["rotation_deg"] = {30, 0, 0};
+         return s;
+       },
+       "/solids/0/placement/rotation_deg: solid 'box': a hex8 block must be axis-aligned"},
+      {"hex_static_and_dynamic",
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "hex8"}};
+         auto b = s["solids"][0];
+         b["name"] = "box2";
+         b["placement"]["translation"] = {1, 0, 0};
+         b["model"]["analysis"] = "static";
+         s["solids"].push_back(b);
+         return s;
+       },
+       "/solids: hex8 solids ('box', 'box2')"},
+      {"sphere_larger_than_box",
+       [] { auto s = coupled_scene(); s["solids"][0]["geometry"]["radius"] = 0.6; return s; },
+       "/solids/0/placement: solid 'ball'"},
+      {"sphere_outside_box",
+       [] { auto s = coupled_scene(); s["solids"][0]["placement"]["translation"] = {0.5, 0, 0}; return s; },
+       "/solids/0/placement: solid 'ball'"},
+      {"sphere_inside_sphere",
+       [] {
+         auto s = coupled_scene();
+         s["solids"][0]["geometry"]["radius"] = 0.3;
+         auto k = s["solids"][0];
+         k["name"] = "inner";
+         k["geometry"]["radius"] = 0.1;
+         s["solids"].push_back(k);
+         return s;
+       },
+       "/solids/1/placement: solids 'ball' and 'inner' overlap"},
+      {"sphere_in_shell_cavity",
+       [] {
+         auto s = coupled_scene();
+         s["solids"][0]["geometry"] = {{"type", "sphere_shell"}, {"radius", 0.3}, {"thickness", 0.05}, {"subdivisions", 2}};
+         auto k = s["solids"][0];
+         k["name"] = "inner";
+         k["geometry"] = {{"type", "sphere"}, {"radius", 0.1}, {"subdivisions", 2}};
+         s["solids"].push_back(k);
+         return s;
+       },
+       "/solids/1/placement: solids 'ball' and 'inner' overlap"},
       {"fluid_probe_in_solid_scene",
        [] { auto s = solid_scene(); s["probes"] = {{{"name", "ke"}, {"kind", "fluid_kinetic_energy"}}}; return s; },
        "/probes/0/kind"},
