@@ -1,8 +1,9 @@
 /// @file complex_mesher.cpp
 /// The one CGAL Mesh_3 translation unit: build_complex() and mesh_solid() (complex_mesher.hpp).
+/// The fluid container is the box (its 12 triangles) or any closed surface; both take the same path.
 ///
 /// Domain: CGAL::Polyhedral_complex_mesh_domain_3 with one patch per closed surface. For an
-/// outward-oriented surface CGAL 5.5.1 wants the subdomain pair as (inside, outside): box (1, 0),
+/// outward-oriented surface CGAL 5.5.1 wants the subdomain pair as (inside, outside): box or container (1, 0),
 /// solid i (2 + i, 1) (the header's wording is the other way round, the code is not). Sharp edges of the box and of piecewise-flat solids (facet
 /// normals differing by > kFeatureAngleDeg) are protected as features so corners are kept.
 /// Sequential mesher only (the parallel one lost subdomains in the probe); all random generators
@@ -270,17 +271,38 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
   return build_complex(lo, hi, solids, sizing, {});
 }
 
-TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                      const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
-                      const std::vector<SurfaceMesh>& cavities) {
-  if (!((hi - lo).array() > 0.0).all())
-    throw MeshError("mesh box: hi must exceed lo on every axis");
+namespace {
+
+/// Throws unless solid surface `s` (named `name`) lies strictly inside the container: the box
+/// [lo, hi] when `box` is set (every vertex strictly inside), else the closed `container` surface.
+void check_inside_container(const SurfaceMesh& s, const std::string& name, bool box, const Eigen::Vector3d& lo,
+                            const Eigen::Vector3d& hi, const SurfaceMesh& container) {
+  if (!box) {
+    if (!surface_inside(s, container))
+      throw MeshError(name + ": not strictly inside the fluid container (the surfaces meet or the solid lies outside)");
+    return;
+  }
+  for (int v = 0; v < s.num_vertices(); ++v) {
+    if (!((s.vertices[v] - lo).array() > 0.0).all() || !((hi - s.vertices[v]).array() > 0.0).all()) {
+      std::ostringstream msg;
+      msg << name << ": not strictly inside the box (vertex " << v << " at (" << s.vertices[v].transpose() << "))";
+      throw MeshError(msg.str());
+    }
+  }
+}
+
+/// build_complex for a container surface (the box's 12 triangles when `box` is set).
+TetMesh complex_in_container(const SurfaceMesh& container, const std::string& container_name, bool box,
+                             const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
+                             const std::vector<SurfaceMesh>& cavities) {
   if (!cavities.empty() && cavities.size() != solids.size())
     throw MeshError("mesh: " + std::to_string(cavities.size()) + " cavity surfaces for " +
                     std::to_string(solids.size()) + " solids (give one per solid, empty for none)");
-  std::vector<SurfaceMesh> surfaces{make_box(hi - lo)};
-  for (auto& v : surfaces[0].vertices) v += 0.5 * (lo + hi);
-  std::vector<std::string> names{"fluid box"};
+  std::vector<SurfaceMesh> surfaces{container};
+  if (!box) validate_surface(surfaces[0], container_name);
+  Eigen::Vector3d lo = surfaces[0].vertices[0], hi = lo;
+  for (const auto& v : surfaces[0].vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  std::vector<std::string> names{container_name};
   std::vector<std::pair<int, int>> pairs{{kFluidSubdomain, 0}};
   std::vector<double> feature_angles{kFeatureAngleDeg};
   std::vector<SurfaceMesh> outer;  // the solids' outer surfaces, for the overlap checks
@@ -289,14 +311,7 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
     SurfaceMesh s = solids[i];
     const std::string name = solid_name(i);
     validate_surface(s, name);  // closed, manifold, oriented, no self-intersection; flips inward ones
-    for (int v = 0; v < s.num_vertices(); ++v) {
-      if (!((s.vertices[v] - lo).array() > 0.0).all() || !((hi - s.vertices[v]).array() > 0.0).all()) {
-        std::ostringstream msg;
-        msg << name << ": not strictly inside the box (vertex " << v << " at (" << s.vertices[v].transpose()
-            << "))";
-        throw MeshError(msg.str());
-      }
-    }
+    check_inside_container(s, name, box, lo, hi, surfaces[0]);
     for (std::size_t j = 0; j < i; ++j) {
       if (surfaces_intersect(outer[j], s))
         throw MeshError(name + " and " + solid_name(j) + " overlap (surfaces intersect or one contains the other)");
@@ -329,6 +344,24 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
       throw MeshError(solid_name(i) + ": meshing produced no tets (solid smaller than the edge length?)");
   }
   return mesh;
+}
+
+}  // namespace
+
+TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                      const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
+                      const std::vector<SurfaceMesh>& cavities) {
+  if (!((hi - lo).array() > 0.0).all())
+    throw MeshError("mesh box: hi must exceed lo on every axis");
+  SurfaceMesh box = make_box(hi - lo);
+  for (auto& v : box.vertices) v += 0.5 * (lo + hi);
+  return complex_in_container(box, "fluid box", true, solids, sizing, cavities);
+}
+
+TetMesh build_complex(const SurfaceMesh& container, const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
+                      const std::vector<SurfaceMesh>& cavities) {
+  if (container.vertices.empty()) throw MeshError("fluid container: the surface is empty");
+  return complex_in_container(container, "fluid container", false, solids, sizing, cavities);
 }
 
 TetMesh mesh_filled_shell(const SurfaceMesh& outer, const SurfaceMesh& cavity, const MeshSizing& sizing) {

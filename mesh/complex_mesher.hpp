@@ -62,6 +62,16 @@ TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
                       const std::vector<SurfaceMesh>& cavities);
 
+/// As above, with the fluid container any closed surface instead of a box (a sphere, a cylinder:
+/// make_sphere, make_cylinder in primitives.hpp): `container` (closed, outward-oriented, without
+/// self-intersections) bounds the fluid; every solid must lie strictly inside it. Its sharp edges
+/// (facet normals differing by > 60 deg, e.g. a cylinder's rims) are kept as features. Patch of the
+/// container: (fluid, outside) = (kFluidSubdomain, 0).
+/// @throws MeshError if the container is not a valid closed surface, a solid is not strictly inside
+/// it, or as above
+TetMesh build_complex(const SurfaceMesh& container, const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing,
+                      const std::vector<SurfaceMesh>& cavities);
+
 /// A liquid-filled shell with nothing outside (the filled toy): the region between the closed
 /// outward surfaces `outer` and `cavity` (strictly inside outer) is solid_subdomain(0), the inside
 /// of `cavity` is fluid (kFluidSubdomain). No box: the outer surface is the mesh's boundary, the

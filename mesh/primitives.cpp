@@ -64,6 +64,30 @@ SurfaceMesh make_sphere(double radius, int subdivisions) {
   return s;
 }
 
+SurfaceMesh make_cylinder(double radius, double length, int segments) {
+  if (!(radius > 0.0) || !std::isfinite(radius) || !(length > 0.0) || !std::isfinite(length))
+    throw MeshError("cylinder: radius and length must be > 0");
+  if (segments < 3) throw MeshError("cylinder: segments must be >= 3");
+  const double kPi = std::acos(-1.0);
+  SurfaceMesh s;
+  // Vertex 0: bottom centre, 1: top centre, 2 + 2i: bottom ring, 3 + 2i: top ring (angle 2 pi i / n).
+  s.vertices = {{0, 0, -0.5 * length}, {0, 0, 0.5 * length}};
+  for (int i = 0; i < segments; ++i) {
+    const double a = 2.0 * kPi * i / segments;
+    s.vertices.emplace_back(radius * std::cos(a), radius * std::sin(a), -0.5 * length);
+    s.vertices.emplace_back(radius * std::cos(a), radius * std::sin(a), 0.5 * length);
+  }
+  for (int i = 0; i < segments; ++i) {
+    const int j = (i + 1) % segments;
+    const int b0 = 2 + 2 * i, t0 = 3 + 2 * i, b1 = 2 + 2 * j, t1 = 3 + 2 * j;
+    s.triangles.push_back({0, b1, b0});  // bottom cap, normal -z
+    s.triangles.push_back({1, t0, t1});  // top cap, normal +z
+    s.triangles.push_back({b0, b1, t1});  // side, normal radial
+    s.triangles.push_back({b0, t1, t0});
+  }
+  return s;
+}
+
 SurfaceMesh make_sheet(double width, double depth, double thickness) {
   if (!(width > 0.0) || !(depth > 0.0) || !(thickness > 0.0))
     throw MeshError("sheet: width, depth and thickness must be > 0");

@@ -1,6 +1,6 @@
 #pragma once
 /// @file primitives.hpp
-/// Closed, outward-oriented triangle surfaces made without files: box, sphere, sheet.
+/// Closed, outward-oriented triangle surfaces made without files: box, sphere, cylinder, sheet.
 /// All are centred at the origin; place them with apply_placement() (surface_import.hpp).
 #include <Eigen/Core>
 
@@ -17,6 +17,12 @@ SurfaceMesh make_box(const Eigen::Vector3d& extents);
 /// 10 * 4^subdivisions + 2 vertices. Its enclosed volume is below 4/3 pi r^3 (inscribed polyhedron).
 /// @throws MeshError if radius <= 0 or subdivisions not in [0, 7]
 SurfaceMesh make_sphere(double radius, int subdivisions);
+
+/// Circular cylinder of the given radius and length [m] along z, centred at the origin: a prism over
+/// the regular `segments`-gon inscribed in the circle (side quads split in two, caps fanned from their
+/// centres). 4 * segments triangles, 2 * segments + 2 vertices.
+/// @throws MeshError if radius or length is not > 0 or segments < 3
+SurfaceMesh make_cylinder(double radius, double length, int segments);
 
 /// Sheet: a thin slab centred at the origin, `width` along x, `depth` along y, `thickness` along z
 /// [m]. It is a box; the name documents intent (cloth-like solids of the scenes).

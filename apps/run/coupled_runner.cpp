@@ -21,6 +21,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/fluid_probe.hpp"
 #include "apps/run/watchdog.hpp"
+#include "apps/run/container.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -68,8 +69,7 @@ class CoupledRunner : public Simulation {
     try {
       // fill "cavities": the shell and its liquid alone, no box (schema: exactly one shell).
       complex = cavity_only ? mesh::mesh_filled_shell(surfaces[0], cavities[0], sizing)
-                            : mesh::build_complex(vec3(js["domain"]["lo"]), vec3(js["domain"]["hi"]), surfaces,
-                                                  sizing, cavities);
+                            : mesh_container(js["domain"], surfaces, sizing, cavities);
     } catch (const mesh::MeshError& e) {
       throw InputError(std::string("meshing failed: ") + e.what());
     }

@@ -3,7 +3,8 @@
 /// (fluid/README.md, "What a scene runner needs"). Deformable solids (motion `none`) belong to the
 /// coupled runner and are not accepted here.
 ///
-/// Set-up: one CGAL complex of the box and every solid (mesh::build_complex, sizes from /mesh).
+/// Set-up: one CGAL complex of the container (the domain box or /domain/container) and every solid
+/// (mesh_container in container.hpp, sizes from /mesh).
 /// A solid whose motion is a zero translation or zero rotation is static: the mesh is kept for the
 /// whole run. Otherwise, every step: the solid vertices move to x(t) = motion(rest position, t),
 /// mesh::remesh_step carries the fluid vertices along and, when the moved mesh has degraded,
@@ -18,6 +19,7 @@
 #include <limits>
 #include <map>
 
+#include "apps/run/container.hpp"
 #include "apps/run/fluid_probe.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/scene_values.hpp"
@@ -74,7 +76,6 @@ class FluidRunner : public Simulation {
     ambient_ = params.buoyancy.ambient_temperature > 0 ? params.buoyancy.ambient_temperature : ambient_;
     bc_.patches = boundary_patches(js, ambient_);
     emitters_ = timed_sources(js, log);
-    const Eigen::Vector3d lo = vec3(js.at("domain").at("lo")), hi = vec3(js.at("domain").at("hi"));
     if (!js.at("obstacles").at("planes").empty() || !js.at("obstacles").at("boxes").empty())
       log.warn("/obstacles are for solid contact and are ignored by the fluid runner (use a solid with a "
                "zero motion as a fixed obstacle in the fluid)");
@@ -102,7 +103,7 @@ class FluidRunner : public Simulation {
     }
     Stopwatch clock;
     try {
-      complex_ = mesh::build_complex(lo, hi, surfaces, sizing);
+      complex_ = mesh_container(js.at("domain"), surfaces, sizing);
     } catch (const mesh::MeshError& e) {
       throw InputError(std::string("meshing failed: ") + e.what());
     }
@@ -111,6 +112,13 @@ class FluidRunner : public Simulation {
     min_dihedral_ = q.min_dihedral_deg;
     log.info("fluid runner: {} fluid, {} tets ({} fluid), meshed in {:.2f} s; fluid quality: {}",
              f.at("type").get<std::string>(), complex_.num_tets(), q.num_tets, clock.seconds(), q.summary());
+    if (js["domain"].contains("container") && js["domain"]["container"]["type"] != "box") {
+      double volume = 0;  // of the fluid tets [m^3]
+      for (int k = 0; k < complex_.num_tets(); ++k)
+        if (complex_.subdomain[k] == mesh::kFluidSubdomain) volume += mesh::signed_volume(complex_, k);
+      log.info("fluid container: {} (slip walls), fluid volume {:.6g} m^3",
+               js["domain"]["container"]["type"].get<std::string>(), volume);
+    }
     remesh_.target_edge_length = mesh::mean_edge_length(complex_, mesh::kFluidSubdomain);
     remesh_.band = f.at("remesh_band").get<double>();
     // Move, remesh when needed: while the carried-along mesh stays good (fluid min dihedral above

@@ -4,6 +4,7 @@
 /// domain), reports the mesh quality, and exports frame 0. No time stepping.
 #include <fmt/format.h>
 
+#include "apps/run/container.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
@@ -37,7 +38,7 @@ class MeshOnlyRunner : public Simulation {
     }
     try {
       if (js.contains("domain")) {
-        complex_ = mesh::build_complex(vec3(js["domain"]["lo"]), vec3(js["domain"]["hi"]), surfaces, sizing);
+        complex_ = mesh_container(js["domain"], surfaces, sizing);
       } else {
         for (std::size_t i = 0; i < surfaces.size(); ++i) {
           auto part = mesh::mesh_solid(surfaces[i], sizing, mesh::solid_subdomain(static_cast<int>(i)));

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "apps/run/container.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/simulation.hpp"
@@ -117,6 +118,8 @@ class Checker {
       for (std::size_t i = 0; i < js_["domain"]["inflows"].size(); ++i)
         for (const char* k : {"lo", "hi"})
           check_point(fmt::format("/domain/inflows/{}/{}", i, k), js_["domain"]["inflows"][i][k]);
+      if (js_["domain"].contains("container") && js_["domain"]["container"].contains("center"))
+        check_point("/domain/container/center", js_["domain"]["container"]["center"]);
     }
     for (std::size_t i = 0; i < js_.at("solids").size(); ++i) {
       const auto& s = js_["solids"][i];
@@ -188,8 +191,31 @@ class Checker {
 
   std::string solid_name(std::size_t i) const { return js_["solids"][i]["name"].get<std::string>(); }
 
+  /// A sphere or cylinder container: at least one edge length across, and every solid strictly
+  /// inside it (the exact test mesh::build_complex makes, so `validate` refuses what meshing would).
+  void check_container() {
+    if (!meshes_fluid() || !js_.contains("domain") || !js_["domain"].contains("container")) return;
+    const auto& c = js_["domain"]["container"];
+    if (c.at("type") == "box") return;
+    const double edge = js_.at("mesh").at("edge_length").get<double>();
+    for (const char* k : {"radius", "length"})
+      if (c.contains(k) && c[k].get<double>() < edge)
+        add(fmt::format("/domain/container/{}", k),
+            fmt::format("the container's {} ({:.4g} m) is below mesh.edge_length ({:.4g} m): the mesh could not "
+                        "resolve it; refine the mesh or enlarge the container", k, c[k].get<double>(), edge));
+    const mesh::SurfaceMesh container = container_surface(js_["domain"]);
+    for (std::size_t i = 0; i < placed_.size(); ++i) {
+      if (!placed_[i].ok) continue;
+      if (!mesh::surface_inside(placed_[i].surface, container))
+        add(fmt::format("/solids/{}/placement", i),
+            fmt::format("solid '{}' is not strictly inside the {} container /domain/container (the surfaces meet or "
+                        "the solid lies outside)", solid_name(i), c.at("type").get<std::string>()));
+    }
+  }
+
   void check_placements() {
     const bool fluid = meshes_fluid() && js_.contains("domain");
+    check_container();
     if (fluid) {
       const Eigen::Vector3d lo = vec3(js_["domain"]["lo"]), hi = vec3(js_["domain"]["hi"]);
       for (std::size_t i = 0; i < placed_.size(); ++i) {

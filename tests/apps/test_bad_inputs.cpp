@@ -97,6 +97,46 @@ void expect_all_refused(const std::vector<Case>& cases, const std::string& end_t
 
 }  // namespace
 
+/// Liquid in a sphere container inside the domain box, around a small ball (fluid runner).
+json container_scene() {
+  return json::parse(R"({
+    "simulation": {"end_time": 0.01, "dt": 0.005, "frame_rate": 100},
+    "domain": {"lo": [-0.4, -0.4, -0.4], "hi": [0.4, 0.4, 0.4],
+               "container": {"type": "sphere", "center": [0, 0, 0], "radius": 0.35}},
+    "mesh": {"edge_length": 0.1},
+    "fluid": {"type": "liquid"},
+    "solids": [{"name": "ball", "geometry": {"type": "sphere", "radius": 0.1, "subdivisions": 1},
+                "motion": {"type": "translation", "velocity": [0, 0, 0]},
+                "material": {"density": 500, "youngs_modulus": 1e6, "poissons_ratio": 0.3}}]
+  })");
+}
+
+TEST(BadInputs, ContainersThatCannotHoldTheFluidAreRefused) {
+  expect_all_refused({
+      {"container_radius_0", [] { auto s = container_scene(); s["domain"]["container"]["radius"] = 0; return s; },
+       "/domain/container/radius"},
+      {"container_shape", [] { auto s = container_scene(); s["domain"]["container"]["type"] = "cone"; return s; },
+       "/domain/container/type"},
+      {"container_outside_box", [] { auto s = container_scene(); s["domain"]["container"]["center"] = {0.2, 0, 0}; return s; },
+       "/domain/container"},
+      {"container_open_face", [] { auto s = container_scene(); s["domain"]["open_faces"] = {"z+"}; return s; },
+       "/domain/open_faces"},
+      {"solid_outside_container",
+       [] { auto s = container_scene(); s["solids"][0]["placement"]["translation"] = {0.28, 0.28, 0}; return s; },
+       "/solids/0/placement"},
+      {"container_below_edge", [] { auto s = container_scene(); s["domain"]["container"]["radius"] = 0.05; s["solids"] = json::array(); return s; },
+       "/domain/container/radius"},
+      {"cylinder_no_length", [] {
+         auto s = container_scene();
+         s["domain"]["container"] = {{"type", "cylinder"}, {"center", {0, 0, 0}}, {"radius", 0.3}};
+         return s; }, "/domain/container/length"},
+      {"cylinder_axis_w", [] {
+         auto s = container_scene();
+         s["domain"]["container"] = {{"type", "cylinder"}, {"center", {0, 0, 0}}, {"radius", 0.3}, {"length", 0.6}, {"axis", "w"}};
+         return s; }, "/domain/container/axis"},
+  });
+}
+
 TEST(BadInputs, CoordinatesAndSizesOutOfRangeAreRefusedBeforeMeshing) {
   expect_all_refused({
       {"domain_lo_1e300", [] { auto s = coupled_scene(); s["domain"]["lo"][0] = -1e300; return s; }, "/domain/lo"},

@@ -1,6 +1,68 @@
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+
 #include "apps/scene/blocks/blocks.hpp"
 
 namespace tetfsi::scene::blocks {
+namespace {
+
+/// The fluid container when it is not the domain box: a sphere or a cylinder, checked to lie inside
+/// [lo, hi] of the domain (the bounding box the inflows, emitters and probes refer to).
+Field container() {
+  return Field::object("container",
+                       "The shape of the fluid's vessel; absent or `box`: the domain box itself. A `sphere` or "
+                       "`cylinder` must lie inside the domain box; its surface is a slip wall (no flux), apart "
+                       "from `inflows` patches (by region, as for the box); `open_faces` name box faces and "
+                       "need the box. Meshed as a polyhedron: an icosphere or a prism over a regular polygon "
+                       "inscribed in the exact shape.", {
+      Field::enumeration("type", {"box", "sphere", "cylinder"},
+                         "`box`: the domain box; `sphere`, `cylinder`: the primitive below.").req(),
+  }).tagged_by("type")
+    .variant("box", {})
+    .variant("sphere", {
+        Field::vector("center", 3, "m", "Centre.").req(),
+        Field::number("radius", "m", "Radius.").req().greater(0),
+        Field::integer("subdivisions", "Icosphere subdivisions of the surface (20 * 4^n triangles).")
+            .at_least(1).at_most(6).def(3)})
+    .variant("cylinder", {
+        Field::vector("center", 3, "m", "Centre (midpoint of the axis).").req(),
+        Field::number("radius", "m", "Radius.").req().greater(0),
+        Field::number("length", "m", "Length along the axis, cap to cap.").req().greater(0),
+        Field::enumeration("axis", {"x", "y", "z"}, "Axis direction.").def("z"),
+        Field::integer("segments", "Sides of the polygon the circle is meshed as.").at_least(8).at_most(512).def(48)});
+}
+
+/// The container (if a sphere or cylinder) inside the domain box, and no open faces with it.
+void check_container(const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+  if (!o.contains("container") || !o["container"].is_object()) return;
+  const auto& c = o["container"];
+  const auto type = c.value("type", "box");
+  if (type == "box" || !c.contains("center") || !c.contains("radius")) return;
+  if (!o["open_faces"].empty())
+    issues.push_back({pointer_append(ptr, "open_faces"),
+                      fmt::format("open faces name faces of the domain box; a {} container has none (its surface "
+                                  "is a wall; use `inflows` patches)", type)});
+  if (!o.contains("lo") || !o.contains("hi")) return;
+  const double r = c["radius"].get<double>();
+  std::array<double, 3> half{r, r, r};
+  if (type == "cylinder" && c.contains("length"))
+    half[c.value("axis", "z")[0] - 'x'] = 0.5 * c["length"].get<double>();
+  for (int k = 0; k < 3; ++k) {
+    const double x = c["center"][k].get<double>();
+    if (x - half[k] < o["lo"][k].get<double>() || x + half[k] > o["hi"][k].get<double>()) {
+      issues.push_back({pointer_append(ptr, "container"),
+                        fmt::format("the {} container reaches outside the domain box along {} ([{:.4g}, {:.4g}] m "
+                                    "vs the box's [{:.4g}, {:.4g}] m); enlarge /domain or shrink the container",
+                                    type, char('x' + k), x - half[k], x + half[k], o["lo"][k].get<double>(),
+                                    o["hi"][k].get<double>())});
+      return;
+    }
+  }
+}
+
+}  // namespace
 
 Field domain() {
   Field inflow = Field::object("", "", {
@@ -12,8 +74,9 @@ Field domain() {
   inflow.checks.push_back(lo_below_hi());
   return Field::object("domain",
                        "The fluid box [m]. Required when `fluid.type` is not `none`; every solid must lie "
-                       "strictly inside it. Box faces are walls (no flux) unless listed in `open_faces` "
-                       "or covered by an `inflows` patch.", {
+                       "strictly inside it (and inside `container`). Box faces are walls (no flux) unless "
+                       "listed in `open_faces` or covered by an `inflows` patch. With a `container` sphere or "
+                       "cylinder the fluid fills that shape, and the box only bounds it.", {
       Field::vector("lo", 3, "m", "Lower corner.").req(),
       Field::vector("hi", 3, "m", "Upper corner (> lo in every coordinate).").req(),
       Field::array("open_faces", "Box faces with pressure 0 (flow leaves or enters freely).",
@@ -24,7 +87,8 @@ Field domain() {
                    "prescribed velocity, smoke and temperature (first match wins, before open faces).",
                    std::move(inflow))
           .def(Json::array()),
-  }).check(lo_below_hi());
+      container(),
+  }).check(lo_below_hi()).check(check_container);
 }
 
 Field mesh() {

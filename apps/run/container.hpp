@@ -1,0 +1,24 @@
+#pragma once
+/// @file container.hpp
+/// The fluid's container from /domain: the domain box, or the sphere or cylinder of
+/// /domain/container (docs/scene_format.md). Shared by the runners that mesh a fluid and by the
+/// preflight checks, so `validate` and `run` see the same container.
+#include <vector>
+
+#include "apps/scene/scene.hpp"
+#include "mesh/complex_mesher.hpp"
+
+namespace tetfsi::run {
+
+/// The closed, outward surface of /domain/container placed in the scene: an icosphere
+/// (mesh::make_sphere) or a prism over a regular polygon (mesh::make_cylinder, its axis turned to
+/// x, y or z by a cyclic permutation of the coordinates). Empty when the container is the box.
+mesh::SurfaceMesh container_surface(const scene::Json& domain);
+
+/// mesh::build_complex of the scene's container (the box [/domain/lo, /domain/hi] or the
+/// container surface) with the solids and their cavities (empty or one per solid).
+/// @throws mesh::MeshError as build_complex
+mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::SurfaceMesh>& solids,
+                             const mesh::MeshSizing& sizing, const std::vector<mesh::SurfaceMesh>& cavities = {});
+
+}  // namespace tetfsi::run
