@@ -105,6 +105,7 @@ class Driver {
     const double eps = 1e-12 * std::max(end, frame_dt);
     const long max_steps = scene_["simulation"].at("max_steps").get<long>();
     Progress progress(end, !opt_.quiet);
+    progress.start(0.0, wall.seconds());  // the ETA leaves out set-up and frame 0
     double t = 0;
     long step = 0;
     int frame = 0;

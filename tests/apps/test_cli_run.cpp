@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "apps/run/progress.hpp"
 #include "csv.hpp"
 #include "ply_reader.hpp"
 #include "tests/test_support.hpp"
@@ -136,4 +137,22 @@ TEST(CliRun, ExportOptionsSelectFramesAndFormats) {
   const auto obj = lines(read_text(out / "surfaces" / "sheet_00004.obj"));
   EXPECT_EQ(std::count_if(obj.begin(), obj.end(), [](const std::string& l) { return l.rfind("v ", 0) == 0; }), 8);
   EXPECT_EQ(std::count_if(obj.begin(), obj.end(), [](const std::string& l) { return l.rfind("f ", 0) == 0; }), 12);
+}
+
+TEST(Progress, EtaLeavesOutSetUpAndFollowsTheRecentStepCost) {
+  // 30 s of set-up, then 1 s of wall time per 0.01 s simulated up to t = 0.5 of 1 s, then 2 s
+  // per step: after the change the estimate follows the new cost (a tenth of the run).
+  tetfsi::run::EtaEstimate eta(1.0);
+  EXPECT_LT(eta.seconds_left(), 0);
+  double wall = 30.0;
+  eta.add(0.0, wall);
+  EXPECT_LT(eta.seconds_left(), 0);  // one sample: no rate yet
+  eta.add(0.01, wall += 20.0);        // the first step's one-off costs are left out
+  EXPECT_LT(eta.seconds_left(), 0);
+  for (int k = 2; k <= 50; ++k) eta.add(0.01 * k, wall += 1.0);
+  EXPECT_NEAR(eta.seconds_left(), 50.0, 1e-9);  // 0.5 s left at 100 s per simulated second
+  for (int k = 51; k <= 70; ++k) eta.add(0.01 * k, wall += 2.0);
+  // 0.3 s left at (nearly) 200 s per simulated second: within 15% after two tenths of the run.
+  EXPECT_NEAR(eta.seconds_left(), 60.0, 0.15 * 60.0);
+  EXPECT_GT(eta.seconds_left(), 50.0);
 }
