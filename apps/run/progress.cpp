@@ -19,10 +19,9 @@ void EtaEstimate::add(double t, double wall) {
   }
   last_t_ = t;
   last_wall_ = wall;
-  t_ = t;
 }
 
-double EtaEstimate::seconds_left() const { return rate_ < 0 ? -1.0 : rate_ * std::max(0.0, end_ - t_); }
+double EtaEstimate::seconds_left() const { return rate_ < 0 ? -1.0 : rate_ * std::max(0.0, end_ - last_t_); }
 
 Progress::Progress(double end_time, bool enabled)
     : end_(end_time), enabled_(enabled), tty_(::isatty(::fileno(stdout)) != 0), eta_(end_time) {}

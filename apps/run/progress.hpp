@@ -22,7 +22,7 @@ class EtaEstimate {
 
  private:
   double end_;
-  double last_t_ = -1, last_wall_ = 0, t_ = 0;
+  double last_t_ = -1, last_wall_ = 0;  ///< the latest sample
   long samples_ = 0;
   double rate_ = -1;  ///< wall seconds per simulated second
 };
