@@ -1,19 +1,26 @@
 #pragma once
 /// @file coupled_stepper.hpp
 /// The coupled time step of Chentanez et al. 2006 (sec. 3) for a fluid and deformable tet solids
-/// that share one TetMesh (fluid = subdomain 1, solid i = subdomain 2 + i). step(h) runs, in order:
+/// that share one TetMesh (fluid = subdomain 1, solid i = subdomain 2 + i). step(h) runs, in order
+/// (the mesh conforms to the solids at Xⁿ + dⁿ when it starts):
 ///
-///  1. Mesh: the solid vertices of the shared mesh move to Xⁿ + dⁿ, the fluid vertices follow, and
-///     the fluid is remeshed around the solids as CoupledSettings::mesh_update says
-///     (mesh_update.hpp); the solid tets keep their connectivity, so solid state carries over.
-///  2. Fluid predictor: advect and add body forces, v* (fluid::FluidSolver::predict).
-///  3. assemble_solid_rows: each solid's integrator forms A and b of eq. (4) at dⁿ.
-///  4. assemble_interface: H over the triangles fluid and solid share, J = Hᵀ (sec. 3.4,
+///  1. Fluid predictor: advect and add body forces, v* (fluid::FluidSolver::predict).
+///  2. assemble_solid_rows: each solid's integrator forms A and b of eq. (4) at dⁿ.
+///  3. assemble_interface: H over the triangles fluid and solid share, J = Hᵀ (sec. 3.4,
 ///     interface_maps.hpp).
-///  5. assemble_fluid_rows: (h/ρ) L and r of eq. (6) on the pressure unknowns.
-///  6. solve: eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp), by default with the
+///  4. assemble_fluid_rows: (h/ρ) L and r of eq. (6) on the pressure unknowns.
+///  5. solve: eq. (7) for u^{n+1} and p^{n+1} together (coupled_solver.hpp), by default with the
 ///     paper's end-of-step constraint (CoupledSettings::mean_constraint).
-///  7. update: fluid velocity by eq. (8), solid displacement by eq. (5).
+///  6. update: fluid velocity by eq. (8), solid displacement by eq. (5).
+///  7. Mesh (for the next step): the solid vertices of the shared mesh move to X + d^{n+1}, the
+///     fluid vertices follow, and the fluid is remeshed around the solids as
+///     CoupledSettings::mesh_update says (mesh_update.hpp); the solid tets keep their
+///     connectivity, so solid state carries over. If the motion inverts or flattens a tet, the
+///     step is undone and halved (CoupledSettings::max_step_halvings).
+///
+/// Step 5 includes the solids' contact with their obstacles (the container's walls, planes,
+/// boxes): the active set of NewmarkIntegrator::step with its penalty rows in A, so the fluid and
+/// the contact forces are found together (solve_with_contact).
 ///
 /// A liquid with a free surface (fluid::FluidSolver::set_liquid) takes part as itself: its pressure
 /// unknowns are the liquid nodes (p = 0 in the air), its rows the cut-tet system of
@@ -65,6 +72,10 @@ struct CoupledSettings {
   bool mean_constraint = false;
   /// How the fluid mesh follows the solids (move only, remesh when needed, remesh every step).
   MeshUpdateOptions mesh_update;
+  /// A step whose solid motion would invert or flatten fluid tets (even with the fluid vertices
+  /// following) is undone and taken as two steps of h/2, each of which may be halved again, at
+  /// most this many times (so down to h / 2^max_step_halvings). 0: such a step throws at once.
+  int max_step_halvings = 0;
 };
 
 /// One stats.csv row of a coupled step.
@@ -78,8 +89,10 @@ struct CoupledStepReport {
   double interface_seconds = 0;     ///< H and the reduced fluid blocks
   int pressure_unknowns = 0, solid_dofs = 0, interface_triangles = 0;
   double fluid_kinetic = 0;         ///< ½ ρ Σ V_t |v_t|² [J]
-  double fluid_gravity_potential = 0;  ///< −ρ g · ∫ x dV over the fluid (liquid part) [J]
+  double fluid_gravity_potential = 0;  ///< −ρ g · ∫ x dV over the fluid (liquid part) at t^{n+1} [J]
   double solid_kinetic = 0, solid_strain = 0, spring_energy = 0, solid_gravity_potential = 0;  ///< [J]
+  int substeps = 1;                 ///< steps actually taken (more when the step was halved)
+  double min_substep = 0;           ///< the shortest of them [s]
   double total_energy() const {
     return fluid_kinetic + fluid_gravity_potential + solid_kinetic + solid_strain + spring_energy +
            solid_gravity_potential;
@@ -117,7 +130,10 @@ class CoupledStepper {
   /// @throws CoupledSolveError, fluid::SolverError, solid::SolidError or std::runtime_error on
   ///         divergence (never returns a non-finite state)
   CoupledStepReport step() { return step(settings_.time_step); }
-  /// One coupled step of length h [s] (e.g. shortened to land on a frame time).
+  /// One coupled step of length h [s] (e.g. shortened to land on a frame time), halved as
+  /// CoupledSettings::max_step_halvings allows when its solid motion would spoil the fluid mesh.
+  /// The mesh follows the solids at the end of the step, so that a failed motion is caught while
+  /// the step can still be undone.
   CoupledStepReport step(double h);
 
  private:
@@ -130,6 +146,20 @@ class CoupledStepper {
   struct SolidRows;  // A, b of eq. (4) over all solids
   struct Interface;  // the pressure unknowns and H of sec. 3.4
   struct FluidRows;  // (h/ρ) L and r of eq. (6)
+  /// Everything a step changes except the mesh, which changes only once the step has succeeded.
+  struct Snapshot {
+    fluid::FluidSolver fluid;
+    std::vector<solid::NewmarkIntegrator::State> solids;
+    std::vector<double> previous_vertex_pressure;
+    double time = 0;
+    int step = 0;
+  };
+  Snapshot snapshot() const;
+  void restore(Snapshot snapshot);
+  /// step(h) with `halvings` halvings left.
+  CoupledStepReport step_or_halve(double h, int halvings);
+  /// One step of length h without retry: the numbered list of the file comment, then the mesh update.
+  CoupledStepReport step_once(double h);
   SolidRows assemble_solid_rows(double h, CoupledStepReport& report);
   Interface assemble_interface(double h, const SolidRows& solid, CoupledStepReport& report) const;
   FluidRows assemble_fluid_rows(double h, const Interface& interface) const;
@@ -137,6 +167,20 @@ class CoupledStepper {
   /// @throws std::runtime_error if the solution is not finite
   CoupledSolveReport solve(const CoupledSystem& sys, const std::vector<int>& unknown, Eigen::VectorXd& u,
                            Eigen::VectorXd& p);
+  /// solve() with the solids' contact with their obstacles (solid/integrator/newmark.hpp): the
+  /// active set of the solid-only step, its penalty rows κ n nᵀ added to A in the simultaneous
+  /// system, so the fluid responds to the contact within the step; the system is solved again
+  /// while the active set changes (at most kMaxContactRounds more solves). Modifies sys.A, sys.b.
+  CoupledSolveReport solve_with_contact(double h, CoupledSystem& sys, const std::vector<int>& unknown,
+                                        Eigen::VectorXd& u, Eigen::VectorXd& p);
+  bool has_obstacles() const;
+  /// −ρ g · ∫ x dV over the fluid at t^{n+1}, after the step's mesh update: for a fluid that fills
+  /// its region, from the mesh that conforms to the solids at t^{n+1} (the fluid solver's own
+  /// figure in report.fluid is on the mesh of tⁿ, one step behind the solids, which showed as
+  /// energy from nowhere when a sinking ball stopped on the floor); for a liquid with a free
+  /// surface, report.fluid's.
+  double fluid_gravity_potential(const CoupledStepReport& report) const;
+  static constexpr int kMaxContactRounds = 8;
   /// Eqs. (8) and (5): the fluid takes the pressure p, the solids the velocity u.
   void update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p, const std::vector<int>& unknown,
               CoupledStepReport& report);

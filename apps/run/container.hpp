@@ -7,6 +7,7 @@
 
 #include "apps/scene/scene.hpp"
 #include "mesh/complex_mesher.hpp"
+#include "solid/contact/static_obstacles.hpp"
 
 namespace tetfsi::run {
 
@@ -20,5 +21,11 @@ mesh::SurfaceMesh container_surface(const scene::Json& domain);
 /// @throws mesh::MeshError as build_complex
 mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::SurfaceMesh>& solids,
                              const mesh::MeshSizing& sizing, const std::vector<mesh::SurfaceMesh>& cavities = {});
+
+/// The container's walls as contact planes for the solids (/coupling/wall_contact), each set back
+/// into the fluid by `gap` [m]: the box's six faces, or one plane per face of the (convex) sphere or
+/// cylinder surface, coplanar faces merged. The inside of the container less the gap is where
+/// every plane's φ(x) = (x − point)·n is positive.
+std::vector<solid::PlaneObstacle> container_wall_planes(const scene::Json& domain, double gap);
 
 }  // namespace tetfsi::run

@@ -11,7 +11,9 @@
 /// (mesh::mesh_filled_shell): the fluid is a closed region bounded only by the shell. Each step the
 /// fluid vertices follow the solids and the fluid is remeshed around them when needed
 /// (coupling/mesh_update.hpp); a motion too large for one step (a tet inverts even with the fluid
-/// following) stops the run with a clear error, exit code 1.
+/// following) is retried in halves (simulation.max_step_halvings), and stops the run with a clear
+/// error, exit code 1, when even the shortest step fails. The container's walls are contact planes
+/// for the solids (coupling.wall_contact), set back by a fluid film (coupling.wall_gap).
 #include <fmt/format.h>
 
 #include <cmath>
@@ -101,6 +103,7 @@ class CoupledRunner : public Simulation {
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
     cs.mean_constraint = c.at("constraint") == "step_mean";
+    cs.max_step_halvings = sim.at("max_step_halvings").get<int>();
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
     // 0: CoupledStepper's default band, four near-solid cells (never the whole fluid).
@@ -116,6 +119,13 @@ class CoupledRunner : public Simulation {
       throw InputError(std::string("/fluid/regions: ") + e.what());
     }
 
+    // The container's walls (a filled shell has none: its fluid is inside the solid).
+    std::vector<solid::PlaneObstacle> walls;
+    if (c.at("wall_contact").get<bool>() && !cavity_only && js.contains("domain")) {
+      const double gap = c.at("wall_gap").get<double>() > 0 ? c.at("wall_gap").get<double>() : 0.5 * edge_near_;
+      walls = container_wall_planes(js.at("domain"), gap);
+      log.info("wall contact: {} planes, fluid film {:.3g} m", walls.size(), gap);
+    }
     const auto& solids = js.at("solids");
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       auto& integrator = stepper_->solid(i);
@@ -129,6 +139,7 @@ class CoupledRunner : public Simulation {
         for (const auto& b : o.at("boxes")) integrator.obstacles().add_box({vec3(b.at("lo")), vec3(b.at("hi"))});
         integrator.obstacles().set_friction(o.at("friction").get<double>());
       }
+      for (const auto& w : walls) integrator.obstacles().add_plane(w);
     }
     const double ambient = js.at("fluid").value("ambient_temperature", 293.15);
     if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
@@ -150,7 +161,7 @@ class CoupledRunner : public Simulation {
     std::vector<std::string> c = {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
                                   "solver_iterations", "solver_residual", "solver_factor_age",
                                   "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential",
-                                  "fluid_gravity_potential", "total_energy"};
+                                  "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps"};
     if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
     return c;
   }
@@ -204,7 +215,8 @@ class CoupledRunner : public Simulation {
     out.values = {double(r.fluid.num_tets), double(r.mesh_update.remeshed), r.mesh_update.min_dihedral_deg,
                   double(r.pressure_unknowns), double(r.solid_dofs),
                   double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
-                  r.solid_strain, r.solid_gravity_potential, r.fluid_gravity_potential, r.total_energy()};
+                  r.solid_strain, r.solid_gravity_potential, r.fluid_gravity_potential, r.total_energy(),
+                  double(r.solve.contacts), double(r.solve.contact_rounds), double(r.substeps)};
     if (stepper_->fluid().has_free_surface()) {
       out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
       out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});

@@ -69,6 +69,8 @@ struct CoupledSolveReport {
   double setup_seconds = 0;   ///< factorizations and preconditioner set-up
   double solve_seconds = 0;
   int factor_age = 0;         ///< schur_cg: solves since A was last factorized (0: this solve)
+  int contact_rounds = 0;     ///< solves of the step's contact active set (CoupledStepper; 0: no obstacles)
+  int contacts = 0;           ///< solid nodes held by a contact constraint at the end of the step
 };
 
 struct CoupledSolveError : std::runtime_error {
@@ -82,6 +84,9 @@ class CoupledSolver {
   /// guess (iterative solvers use it when its sizes match).
   /// @throws CoupledSolveError if the tolerance is not reached, std::invalid_argument on bad sizes
   virtual CoupledSolveReport solve(const CoupledSystem& system, Eigen::VectorXd& u, Eigen::VectorXd& p) = 0;
+  /// The next solve must not lean on anything kept from earlier solves (schur_cg's lagged
+  /// factor): the caller changed A by more than a step's drift (contact penalty rows).
+  virtual void request_fresh_solve() {}
 };
 
 std::unique_ptr<CoupledSolver> make_coupled_solver(CoupledSolverKind kind, CoupledSolverOptions options = {});

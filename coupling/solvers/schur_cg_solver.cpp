@@ -14,6 +14,8 @@ SchurCGSolver::SchurCGSolver(CoupledSolverOptions o)
       lag_(std::make_unique<Lag>()) {}
 SchurCGSolver::~SchurCGSolver() = default;
 
+void SchurCGSolver::request_fresh_solve() { lag_->refresh = true; }
+
 bool SchurCGSolver::refactor(const SparseMatrix& A) {
   if (!spare_->factorize(A)) return false;
   std::swap(factor_, spare_);

@@ -56,6 +56,7 @@ class SchurCGSolver final : public CoupledSolver {
   explicit SchurCGSolver(CoupledSolverOptions o);
   ~SchurCGSolver() override;
   CoupledSolveReport solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) override;
+  void request_fresh_solve() override;
 
  private:
   struct Factor;  // CHOLMOD factor of A, its symbolic analysis kept while A's pattern stays

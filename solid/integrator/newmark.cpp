@@ -133,6 +133,8 @@ void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
     u_.segment<3>(3 * c.node) = vel;
   }
   const int solved_contacts = static_cast<int>(active_.size());
+  last_contact_nodes_.clear();
+  for (const auto& c : active_) last_contact_nodes_.push_back(c.node);
   active_.clear();
   stats_.contacts = std::max(solved_contacts, obstacles_.project(model_.reference_positions(), d_, u_, fixed_));
   ++step_;
@@ -163,57 +165,86 @@ void NewmarkIntegrator::solve_with_contact(double h, const std::string& context)
   active_.clear();
   solver_.solve(A_, b_, u_next_, context);
   if (obstacles_.empty()) return;
-  const auto& X = model_.reference_positions();
-  const int n = model_.num_nodes();
-  SparseMatrix A_free;
-  Eigen::VectorXd b_free;
-  std::vector<char> is_active(n, 0);
-  for (int round = 0; round < 8; ++round) {
-    bool changed = false;
-    // Release pulling constraints.
-    for (size_t k = 0; k < active_.size();) {
-      auto& c = active_[k];
-      c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
-      if (c.force < 0) {
-        is_active[c.node] = 0;
-        active_[k] = active_.back();
-        active_.pop_back();
-        changed = true;
-      } else {
-        ++k;
-      }
-    }
-    // Activate nodes that would end inside an obstacle.
-    for (int v = 0; v < n; ++v) {
-      if (is_active[v] || fixed_[3 * v] || fixed_[3 * v + 1] || fixed_[3 * v + 2]) continue;
-      const Eigen::Vector3d x0 = X.segment<3>(3 * v) + d_.segment<3>(3 * v);
-      const Eigen::Vector3d x1 = x0 + 0.5 * h * (u_.segment<3>(3 * v) + u_next_.segment<3>(3 * v));
-      Eigen::Vector3d normal;
-      if (!(obstacles_.signed_distance(x1, normal) < 0)) continue;
-      Eigen::Vector3d n0;
-      const double phi0 = std::max(0.0, obstacles_.signed_distance(x0, n0));
-      const double diag = A_.coeff(3 * v, 3 * v) + A_.coeff(3 * v + 1, 3 * v + 1) + A_.coeff(3 * v + 2, 3 * v + 2);
-      active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), 1e7 * diag / 3.0, 0.0});
-      is_active[v] = 1;
-      changed = true;
-    }
-    if (!changed) break;
-    if (A_free.rows() == 0) {
-      A_free = A_;
-      b_free = b_;
-    }
+  const SparseMatrix A_free = A_;
+  const Eigen::VectorXd b_free = b_;
+  for (int round = 0; round < 8 && update_contacts(h, A_free, u_next_); ++round) {
     A_ = A_free;
     b_ = b_free;
-    for (const auto& c : active_) {
-      const Eigen::Matrix3d P = c.kappa * c.normal * c.normal.transpose();
-      for (int a = 0; a < 3; ++a) {
-        b_[3 * c.node + a] += c.kappa * c.target * c.normal[a];
-        for (int b = 0; b < 3; ++b) A_.coeffRef(3 * c.node + a, 3 * c.node + b) += P(a, b);
-      }
-    }
+    add_contact_rows(A_, b_);
     solver_.solve(A_, b_, u_next_, context);
   }
-  for (auto& c : active_) c.force = c.kappa * (c.target - c.normal.dot(u_next_.segment<3>(3 * c.node)));
+  finish_contacts(u_next_);
+}
+
+void NewmarkIntegrator::activate_contact(int v, double h, const Eigen::Vector3d& normal, const SparseMatrix& A,
+                                         int offset) {
+  const Eigen::Vector3d x0 = model_.reference_positions().segment<3>(3 * v) + d_.segment<3>(3 * v);
+  Eigen::Vector3d n0;
+  const double phi0 = std::max(0.0, obstacles_.signed_distance(x0, n0));
+  const int r = offset + 3 * v;
+  const double diag = A.coeff(r, r) + A.coeff(r + 1, r + 1) + A.coeff(r + 2, r + 2);
+  active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), 1e7 * diag / 3.0, 0.0});
+}
+
+bool NewmarkIntegrator::warm_start_contacts(double h, const SparseMatrix& A, int offset) {
+  active_.clear();
+  if (obstacles_.empty()) return false;
+  const auto& X = model_.reference_positions();
+  for (int v : last_contact_nodes_) {
+    Eigen::Vector3d normal;
+    // Still touching (within a thousandth of the step's travel at 1 mm/s, or closer).
+    if (obstacles_.signed_distance(X.segment<3>(3 * v) + d_.segment<3>(3 * v), normal) > 1e-6 * h) continue;
+    activate_contact(v, h, normal, A, offset);
+  }
+  return !active_.empty();
+}
+
+bool NewmarkIntegrator::update_contacts(double h, const SparseMatrix& A, const Eigen::VectorXd& u_next,
+                                        int offset) {
+  if (obstacles_.empty()) return false;
+  bool changed = false;
+  const int n = model_.num_nodes();
+  std::vector<char> is_active(n, 0);
+  // Release pulling constraints.
+  for (size_t k = 0; k < active_.size();) {
+    auto& c = active_[k];
+    c.force = c.kappa * (c.target - c.normal.dot(u_next.segment<3>(offset + 3 * c.node)));
+    if (c.force < 0) {
+      active_[k] = active_.back();
+      active_.pop_back();
+      changed = true;
+    } else {
+      is_active[c.node] = 1;
+      ++k;
+    }
+  }
+  // Activate nodes that would end inside an obstacle.
+  const auto& X = model_.reference_positions();
+  for (int v = 0; v < n; ++v) {
+    if (is_active[v] || fixed_[3 * v] || fixed_[3 * v + 1] || fixed_[3 * v + 2]) continue;
+    const Eigen::Vector3d x0 = X.segment<3>(3 * v) + d_.segment<3>(3 * v);
+    const Eigen::Vector3d x1 = x0 + 0.5 * h * (u_.segment<3>(3 * v) + u_next.segment<3>(offset + 3 * v));
+    Eigen::Vector3d normal;
+    if (!(obstacles_.signed_distance(x1, normal) < 0)) continue;
+    activate_contact(v, h, normal, A, offset);
+    changed = true;
+  }
+  return changed;
+}
+
+void NewmarkIntegrator::add_contact_rows(SparseMatrix& A, Eigen::VectorXd& b, int offset) const {
+  for (const auto& c : active_) {
+    const Eigen::Matrix3d P = c.kappa * c.normal * c.normal.transpose();
+    const int r = offset + 3 * c.node;
+    for (int a = 0; a < 3; ++a) {
+      b[r + a] += c.kappa * c.target * c.normal[a];
+      for (int k = 0; k < 3; ++k) A.coeffRef(r + a, r + k) += P(a, k);
+    }
+  }
+}
+
+void NewmarkIntegrator::finish_contacts(const Eigen::VectorXd& u_next, int offset) {
+  for (auto& c : active_) c.force = c.kappa * (c.target - c.normal.dot(u_next.segment<3>(offset + 3 * c.node)));
 }
 
 StepStats NewmarkIntegrator::energies() const {

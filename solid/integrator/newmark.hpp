@@ -109,6 +109,30 @@ class NewmarkIntegrator {
   /// and finiteness checks; advances the time and step counter. @throws SolidError on non-finite values.
   void advance(double h, const Eigen::VectorXd& u_next);
 
+  // ---- contact with the obstacles when the caller owns the solve (the coupled step) ----
+  // The same active set as step(): form_system, [warm_start_contacts], then rounds of
+  //   solve (with contact_rows added) -> update_contacts -> while it changed,
+  // then finish_contacts on the last solution and advance.
+  /// Activates the nodes that were in contact at the end of the previous step (the active set a
+  /// body resting on a floor keeps), so a resting contact costs no extra solve. Call after
+  /// form_system. @param A the matrix form_system returned, or a larger system holding it at dof
+  /// `offset`. @return true if any was activated.
+  bool warm_start_contacts(double h, const SparseMatrix& A, int offset = 0);
+  /// Releases the constraints whose force f_c = κ (target − n·u^{n+1}) would pull and activates
+  /// every free node whose end-of-step position xⁿ + (h/2)(uⁿ + u^{n+1}) lies inside an obstacle,
+  /// with the landing constraint n·u^{n+1} = −2 φⁿ/h − n·uⁿ (see step()).
+  /// @param A       the matrix form_system returned (the penalty scale κ = 1e7 × its diagonal
+  ///                block), or a larger system (without contact rows) holding it at dof `offset`
+  /// @param u_next  the solution u^{n+1} of that system (this solid's velocities at `offset`)
+  /// @return true if the active set changed (add contact_rows and solve again)
+  bool update_contacts(double h, const SparseMatrix& A, const Eigen::VectorXd& u_next, int offset = 0);
+  /// Adds the active constraints' penalty rows, κ n nᵀ to the node's diagonal block and κ target n
+  /// to b, at dof offset `offset` of a larger system (A must hold the diagonal blocks already).
+  void add_contact_rows(SparseMatrix& A, Eigen::VectorXd& b, int offset = 0) const;
+  /// The constraint forces of the final solution (Coulomb friction in advance() uses them).
+  void finish_contacts(const Eigen::VectorXd& u_next, int offset = 0);
+  int num_active_contacts() const { return static_cast<int>(active_.size()); }
+
   // ---- whole step ----
   /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
   /// (active set): every free node whose end-of-step position would lie inside an obstacle
@@ -137,6 +161,20 @@ class NewmarkIntegrator {
   /// Energies of the current state (fills the energy fields of a StepStats).
   StepStats energies() const;
 
+  /// The state a step changes (to retry it with a shorter step: save_state, step, restore_state).
+  struct State {
+    Eigen::VectorXd d, u;
+    double time = 0;
+    int step = 0;
+    StepStats stats;
+    std::vector<int> last_contact_nodes;
+  };
+  State save_state() const { return {d_, u_, time_, step_, stats_, last_contact_nodes_}; }
+  void restore_state(const State& s) {
+    d_ = s.d, u_ = s.u, time_ = s.time, step_ = s.step, stats_ = s.stats, last_contact_nodes_ = s.last_contact_nodes;
+    active_.clear();
+  }
+
  private:
   const ElasticModel& model_;
   NewmarkSettings settings_;
@@ -153,6 +191,9 @@ class NewmarkIntegrator {
     double force;    // constraint force along n [N], after the solve
   };
   std::vector<ActiveContact> active_;
+  std::vector<int> last_contact_nodes_;  // nodes in contact at the end of the last step
+  /// Adds node v's landing constraint to active_ (normal and φⁿ from its position at dⁿ).
+  void activate_contact(int v, double h, const Eigen::Vector3d& normal, const SparseMatrix& A, int offset);
   /// Solves A u = b with the contact active set (see step()); fills active_.
   void solve_with_contact(double h, const std::string& context);
   SparseMatrix K_tangent_, A_;

@@ -51,6 +51,17 @@ Field coupling() {
                     "With `remesh_when_needed`: remesh when the moved fluid's minimum dihedral angle is "
                     "below this (or below half the angle before the step, if that is smaller).")
           .greater(0).less(60).def(10),
+      Field::boolean("wall_contact",
+                     "The container's walls are contact obstacles for every solid (the container's faces, "
+                     "set back by `wall_gap`), so a solid that sinks, rises or is thrown comes to rest on "
+                     "the floor, the lid or a side with a film of fluid of that thickness between; the "
+                     "contact is part of the simultaneous solve, with `obstacles.friction`. "
+                     "`false`: solids that reach a wall stop the run.")
+          .def(true),
+      Field::number("wall_gap", "m",
+                    "Thickness of the fluid film kept between a solid and the container's walls "
+                    "(`wall_contact`); 0: half the fluid's edge length next to the solids as meshed.")
+          .at_least(0).def(0),
   });
 }
 

@@ -18,6 +18,13 @@ Field simulation() {
                      "frame_rate asks for more is refused before it starts, and a run whose CFL step makes it "
                      "take more stops (exit 2). Raise it for long runs.")
           .at_least(1).def(1000000),
+      Field::integer("max_step_halvings",
+                     "Coupled fluid-solid scenes: a step whose solid motion would invert or flatten fluid tets "
+                     "(a solid moving fast, or closing in on a wall or another solid) is undone and taken as two "
+                     "half steps, each halved again if needed, at most this many times (down to dt / 2^N); "
+                     "after that the run stops (exit 1). 0: stop at once. stats.csv's `substeps` counts the "
+                     "steps taken.")
+          .at_least(0).at_most(20).def(6),
       Field::object("watchdog", "Stops a run that goes unphysical (exit 1, with the object, the step and the key "
                     "to change); non-finite values always stop it.", {
           Field::boolean("allow_inverted", "Keep running when tets of a deforming tet solid invert (volume <= 0); "
