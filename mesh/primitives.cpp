@@ -88,6 +88,49 @@ SurfaceMesh make_cylinder(double radius, double length, int segments) {
   return s;
 }
 
+SurfaceMesh make_bowl(double radius, double thickness, int segments, int rings) {
+  if (!(radius > 0.0) || !std::isfinite(radius) || !(thickness > 0.0) || !(thickness < radius))
+    throw MeshError("bowl: radius must be > 0 and thickness in (0, radius)");
+  if (segments < 3 || rings < 1) throw MeshError("bowl: segments must be >= 3 and rings >= 1");
+  const double kPi = std::acos(-1.0);
+  SurfaceMesh s;
+  // Vertex 0: outer pole, 1: inner pole; then per ring k = 1..rings and angle j the outer vertex at
+  // 2 + 2 ((k − 1) segments + j) and the inner one after it.
+  s.vertices = {{0, -radius, 0}, {0, -(radius - thickness), 0}};
+  for (int k = 1; k <= rings; ++k) {
+    const double theta = 0.5 * kPi * k / rings;
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2.0 * kPi * j / segments;
+      const Eigen::Vector3d dir(std::sin(theta) * std::cos(phi), -std::cos(theta), std::sin(theta) * std::sin(phi));
+      s.vertices.push_back(radius * dir);
+      s.vertices.push_back((radius - thickness) * dir);
+    }
+  }
+  const auto at = [&](int k, int j, int inner) { return k == 0 ? inner : 2 + 2 * ((k - 1) * segments + j % segments) + inner; };
+  // Each triangle is oriented by where its outward normal must point: away from the centre on the
+  // outer surface, toward it on the inner one, +y on the rim.
+  const auto add = [&](int a, int b, int c, const Eigen::Vector3d& outward) {
+    const Eigen::Vector3d n = (s.vertices[b] - s.vertices[a]).cross(s.vertices[c] - s.vertices[a]);
+    if (n.dot(outward) >= 0) s.triangles.push_back({a, b, c});
+    else s.triangles.push_back({a, c, b});
+  };
+  for (int inner = 0; inner < 2; ++inner)
+    for (int k = 0; k < rings; ++k)
+      for (int j = 0; j < segments; ++j) {
+        const int a = at(k, j, inner), b = at(k, j + 1, inner), c = at(k + 1, j, inner), d = at(k + 1, j + 1, inner);
+        const Eigen::Vector3d centre = (s.vertices[a] + s.vertices[c] + s.vertices[d]) / 3.0;
+        const Eigen::Vector3d outward = inner ? Eigen::Vector3d(-centre) : centre;
+        if (k > 0) add(a, b, d, outward);
+        add(a, d, c, outward);
+      }
+  for (int j = 0; j < segments; ++j) {  // the rim
+    const int a = at(rings, j, 0), b = at(rings, j + 1, 0), c = at(rings, j, 1), d = at(rings, j + 1, 1);
+    add(a, b, d, Eigen::Vector3d::UnitY());
+    add(a, d, c, Eigen::Vector3d::UnitY());
+  }
+  return s;
+}
+
 SurfaceMesh make_sheet(double width, double depth, double thickness) {
   if (!(width > 0.0) || !(depth > 0.0) || !(thickness > 0.0))
     throw MeshError("sheet: width, depth and thickness must be > 0");

@@ -106,7 +106,12 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
     } else if (type == "sphere") {
       const Eigen::Vector3d c = vec3(r.at("center"));
       const double radius = r.at("radius").get<double>();
-      shapes.push_back([c, radius](const Eigen::Vector3d& x) { return (x - c).norm() - radius; });
+      // With a cap: the intersection with the half-space below it, max(d_sphere, x·up − cap) (exact
+      // inside, a lower bound outside).
+      const double cap = r.contains("cap_height") ? r["cap_height"].get<double>() : std::numeric_limits<double>::infinity();
+      shapes.push_back([c, radius, up, cap](const Eigen::Vector3d& x) {
+        return std::max((x - c).norm() - radius, x.dot(up) - cap);
+      });
     } else if (type == "mesh") {
       std::vector<std::string> warnings;  // already reported by the preflight
       auto inside = std::make_shared<mesh::SurfaceDistance>(liquid_region_surface(r, warnings));

@@ -35,6 +35,9 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
       s = mesh::import_surface(g.at("file").get<std::string>(), placement);
     } else {
       if (type == "box") s = mesh::make_box(vec3(g.at("size")));
+      else if (type == "bowl")
+        s = mesh::make_bowl(g.at("radius").get<double>(), g.at("thickness").get<double>(), g.at("segments").get<int>(),
+                            g.at("rings").get<int>());
       else if (type == "sphere" || type == "sphere_shell")
         s = mesh::make_sphere(g.at("radius").get<double>(), g.at("subdivisions").get<int>());
       else  // sheet: size along x and z, thickness along y (a horizontal slab when y is up)

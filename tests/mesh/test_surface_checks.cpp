@@ -2,6 +2,8 @@
 // rejected (or, for inward, flipped) with a message naming the input and the defect.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "mesh/primitives.hpp"
@@ -55,6 +57,25 @@ TEST(SurfaceChecks, ValidShapesPass) {
   EXPECT_EQ(error_of(make_box({1, 2, 3})), "");
   EXPECT_EQ(error_of(make_sphere(1, 3)), "");
   EXPECT_EQ(error_of(import_surface(TETFSI_SHARED_DIR "/data/bunny.obj")), "");
+}
+
+TEST(SurfaceChecks, BowlIsClosedOutwardAndEnclosesTheShellsVolume) {
+  // A hemispherical shell: volume (2π/3)(R³ − r³), approached from below by the inscribed rings
+  // (second order in the ring spacing).
+  const double R = 0.2, t = 0.03, r = R - t, exact = 2.0 * std::acos(-1.0) / 3.0 * (R * R * R - r * r * r);
+  SurfaceMesh coarse = make_bowl(R, t, 24, 6), fine = make_bowl(R, t, 48, 12);
+  EXPECT_EQ(coarse.num_triangles(), 4 * 24 * 6);
+  EXPECT_EQ(error_of(coarse, "bowl"), "");
+  EXPECT_EQ(error_of(fine, "bowl"), "");
+  const double e_coarse = (exact - enclosed_volume(coarse)) / exact, e_fine = (exact - enclosed_volume(fine)) / exact;
+  std::printf("bowl volume: relative error %.3g (24 x 6), %.3g (48 x 12)\n", e_coarse, e_fine);
+  EXPECT_GT(e_coarse, 0);
+  EXPECT_LT(e_coarse, 0.035);  // measured 0.0282; the fine one 0.00712
+  EXPECT_NEAR(e_fine / e_coarse, 0.25, 0.02);  // second order
+  Eigen::Vector3d lo, hi;
+  bounding_box(fine, lo, hi);
+  EXPECT_NEAR(lo.y(), -R, 1e-15);
+  EXPECT_NEAR(hi.y(), 0.0, 1e-15);
 }
 
 TEST(SurfaceChecks, OpenSurfaceIsRejected) {

@@ -57,7 +57,10 @@ Field liquid_regions() {
       .variant("box", {Field::vector("lo", 3, "m", "Lower corner.").req(),
                        Field::vector("hi", 3, "m", "Upper corner.").req()})
       .variant("sphere", {Field::vector("center", 3, "m", "Centre.").req(),
-                          Field::number("radius", "m", "Radius.").req().greater(0)})
+                          Field::number("radius", "m", "Radius.").req().greater(0),
+                          Field::number("cap_height", "m",
+                                        "If given: only the part of the sphere below this height (along "
+                                        "-gravity, from the origin), e.g. a bowl filled to a level.")})
       .variant("below", {Field::number("height", "m", "Height of the still surface (along -gravity, from the "
                                                        "origin).").req()})
       .variant("mesh", {Field::file("file", "Closed surface file, relative to the scene file's folder.").req(),

@@ -7,9 +7,11 @@ namespace {
 
 Field geometry() {
   return Field::object("geometry", "The solid's rest shape, before `placement`.", {
-      Field::enumeration("type", {"mesh", "box", "sphere", "sheet", "sphere_shell"},
+      Field::enumeration("type", {"mesh", "box", "sphere", "sheet", "bowl", "sphere_shell"},
                          "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `box`, "
-                         "`sphere`, `sheet`: primitives centred at the origin; `sphere_shell`: a hollow "
+                         "`sphere`, `sheet`: primitives centred at the origin; `bowl`: a hemispherical "
+                         "shell open toward +y, its spheres' centre at the origin and its rim in the plane "
+                         "y = 0; `sphere_shell`: a hollow "
                          "sphere whose wall is the solid and whose cavity (radius - thickness) is filled "
                          "with the scene's fluid (coupled scenes only; see `fluid.fill`).").req(),
   }).tagged_by("type")
@@ -25,6 +27,11 @@ Field geometry() {
     .variant("sheet", {
         Field::vector("size", 2, "m", "Extent along x and z.").req().greater(0),
         Field::number("thickness", "m", "Extent along y.").req().greater(0)})
+    .variant("bowl", {
+        Field::number("radius", "m", "Outer radius.").req().greater(0),
+        Field::number("thickness", "m", "Wall thickness (< radius).").req().greater(0),
+        Field::integer("segments", "Vertices around each latitude ring.").at_least(3).at_most(1024).def(32),
+        Field::integer("rings", "Latitude rings from the bottom to the rim.").at_least(1).at_most(256).def(8)})
     .variant("sphere_shell", {
         Field::number("radius", "m", "Outer radius.").req().greater(0),
         Field::number("thickness", "m", "Wall thickness (< radius); the cavity radius is radius - thickness.")
@@ -32,7 +39,7 @@ Field geometry() {
         Field::integer("subdivisions", "Icosphere subdivisions of both surfaces (20 * 4^n triangles).")
             .at_least(0).at_most(7).def(3)})
     .check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
-      if (o.at("type") == "sphere_shell" && o.contains("radius") && o.contains("thickness") &&
+      if ((o.at("type") == "sphere_shell" || o.at("type") == "bowl") && o.contains("radius") && o.contains("thickness") &&
           !(o["thickness"].get<double>() < o["radius"].get<double>()))
         issues.push_back({pointer_append(ptr, "thickness"),
                           fmt::format("expected a wall thickness < radius ({} m), got {} m (no cavity left)",
