@@ -117,9 +117,10 @@ class FluidSolver {
   /// fluid's outward normal (pointing into the solid) and p linear on each face (exact quadrature).
   Eigen::Vector3d pressure_force(int subdomain) const;
 
- private:
-  /// Fills rep's energies: kinetic_energy and gravity_potential.
+  /// Fills rep's energies for the current state: kinetic_energy and gravity_potential [J].
   void report_energies(StepReport& rep) const;
+
+ private:
   void apply_sources(const BoundaryConditions& bc);
   /// Steps 2-3 of level_set.hpp on the current mesh, then the cut-tet geometry; fills rep's
   /// liquid columns. `phi` is the advected level set.

@@ -85,17 +85,18 @@ class Driver {
 
     check_finite(*sim, 0, 0.0);
     check_probes_answer(*sim);
+    std::vector<double> probe_values = probe_row(*sim, 0, 0.0);
+    StepReport setup;
+    if (!sim->time_dependent()) {
+      setup = sim->setup_report();
+      check_row_finite(header, stats_row(setup, 0, 0.0, 0.0), 0, 0.0);
+    }
     Stopwatch io;
     write_frame(*sim, out, 0, 0.0);
+    if (!probes.empty()) out.probes_row(probe_values);
     double t_output = io.seconds();
-    record_probes(*sim, out, 0.0);
     if (!sim->time_dependent()) {
-      StepReport r = sim->setup_report();
-      std::vector<double> row = {0, 0, 0};
-      row.insert(row.end(), r.phase_seconds.begin(), r.phase_seconds.end());
-      row.push_back(t_output);
-      row.insert(row.end(), r.values.begin(), r.values.end());
-      out.stats_row(row);
+      out.stats_row(stats_row(setup, 0, 0.0, t_output));
       log_.info("done: frame 0 written in {:.3f} s (total {:.3f} s)", t_output, wall.seconds());
       return;
     }
@@ -136,16 +137,15 @@ class Driver {
         ++step;
         check_finite(*sim, step, t);
         check_physics(*sim, step, t);
-        check_row_finite(sim->columns(), r.values, step, t);
+        // Every number of the step's stats.csv and probes.csv rows is checked before anything of
+        // the step (frame, probes row, stats row) is written.
+        check_row_finite(header, stats_row(r, step, t, 0.0), step, t);
+        probe_values = probe_row(*sim, step, t);
         io.restart();
         if (t >= next_frame - eps) write_frame(*sim, out, ++frame, t);
-        record_probes(*sim, out, t);
+        if (!probes.empty()) out.probes_row(probe_values);
         t_output = io.seconds();
-        std::vector<double> row = {double(step), t, r.dt};
-        row.insert(row.end(), r.phase_seconds.begin(), r.phase_seconds.end());
-        row.push_back(t_output);
-        row.insert(row.end(), r.values.begin(), r.values.end());
-        out.stats_row(row);
+        out.stats_row(stats_row(r, step, t, t_output));
         progress.update(t, step, wall.seconds());
       }
     } catch (...) {
@@ -176,8 +176,17 @@ class Driver {
                                "intact.", step, t, what));
   }
 
-  /// A model statistic that is not finite (e.g. an energy that overflowed while the state is still
-  /// finite) stops the run before its stats.csv row is written.
+  /// The stats.csv row of a step: step, time, dt, the phase timings, t_output, the model's columns.
+  static std::vector<double> stats_row(const StepReport& r, long step, double t, double t_output) {
+    std::vector<double> row = {double(step), t, r.dt};
+    row.insert(row.end(), r.phase_seconds.begin(), r.phase_seconds.end());
+    row.push_back(t_output);
+    row.insert(row.end(), r.values.begin(), r.values.end());
+    return row;
+  }
+
+  /// A stats.csv value that is not finite (e.g. an energy that overflowed while the state is still
+  /// finite, a time step that overflowed) stops the run before anything of the step is written.
   void check_row_finite(const std::vector<std::string>& names, const std::vector<double>& values, long step, double t) {
     for (std::size_t k = 0; k < values.size(); ++k)
       if (!std::isfinite(values[k]))
@@ -197,23 +206,27 @@ class Driver {
                                      i, probes[i]["kind"].get<std::string>()));
   }
 
-  void record_probes(const Simulation& sim, Output& out, double t) {
+  /// The probes.csv row at time t (empty if the scene has no probes). A probe value that is
+  /// infinite, or NaN from any probe but a fluid_point (whose NaN means "outside the fluid" and is
+  /// written as an empty cell), stops the run before anything of the step is written.
+  std::vector<double> probe_row(const Simulation& sim, long step, double t) {
     const auto& probes = scene_["probes"];
-    if (probes.empty()) return;
+    if (probes.empty()) return {};
     std::vector<double> row = {t};
     for (std::size_t i = 0; i < probes.size(); ++i) {
       auto values = sim.probe(probes[i]);
+      const bool may_be_empty = probes[i]["kind"] == "fluid_point";
       for (double v : values)
-        if (std::isinf(v))
-          throw RunError(fmt::format("t = {:.6g} s: probe /probes/{} ('{}') is {}: the simulation diverged; nothing "
-                                     "of this step was written", t, i, probes[i]["name"].get<std::string>(), v));
-      // NaN: no value (a fluid_point outside the fluid); written as an empty cell.
+        if (std::isinf(v) || (std::isnan(v) && !may_be_empty))
+          throw RunError(fmt::format("step {} (t = {:.6g} s): probe /probes/{} ('{}') is {}: the simulation diverged. "
+                                     "Nothing of this step was written; earlier frames are intact.",
+                                     step, t, i, probes[i]["name"].get<std::string>(), v));
       if (std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); }) && warned_.insert(i).second)
         log_.warn("t = {:.6g} s: probe /probes/{} ('{}') has no value (outside the fluid?); its cells are left empty "
                   "while it has none", t, i, probes[i]["name"].get<std::string>());
       row.insert(row.end(), values.begin(), values.end());
     }
-    out.probes_row(row);
+    return row;
   }
 
   const RunOptions& opt_;

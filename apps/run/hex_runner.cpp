@@ -9,6 +9,14 @@
 /// moment of the first moment_rotation face [N m]).
 /// `model.analysis: "dynamic"`: the HexModel inside the tet solid's NewmarkIntegrator
 /// (Chentanez et al. 2006, eq. 18), with gravity, fixed nodes, dead loads and obstacles.
+/// stats.csv (dynamic): kinetic, strain, gravity potential, total (their sum) [J], solver
+/// iterations, inverted elements, contacts, and the potential of the dead loads
+/// (nodal_force, traction, moment_traction) V_f = -f.d [J].
+///
+/// Watchdog (dynamic; watchdog.hpp): an inverted element stops the run naming it; every load is
+/// conservative (gravity, constant dead loads f, fixed nodes, static obstacles), so the energy
+/// E = kinetic + strain + gravity potential - f.d may only fall, and a rise past
+/// max_energy_growth x its scale (at least m |g| L) stops the run.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -19,6 +27,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_params.hpp"
+#include "apps/run/watchdog.hpp"
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
@@ -93,7 +102,15 @@ struct HexBody {
   std::vector<hex::StepLog> logs;
   std::vector<double> moments;                               // reaction moment per step [N m]
   mesh::SurfaceMesh surface;  // boundary quads split in triangles (hex-mesh node indices)
+  int index = 0;               // /solids/index
+  std::string scheme;          // /solids/index/integrator/scheme (dynamic only)
+  EnergyWatch energy;          // dynamic only: energy balance with the dead loads' work
 };
+
+/// Potential of the dead loads, V_f = -f.d [J] (their work is f.d).
+double load_potential(const HexBody& b) {
+  return b.bc.forces.size() > 0 ? -b.bc.forces.dot(b.integrator->displacement()) : 0.0;
+}
 
 class HexRunner : public Simulation {
  public:
@@ -112,6 +129,7 @@ class HexRunner : public Simulation {
       const std::string ptr = fmt::format("/solids/{}", i);
       HexBody b;
       b.name = s.at("name").get<std::string>();
+      b.index = static_cast<int>(i);
       const hex::BlockProblem p = problem_of(s, ptr);
       try {
         b.model = hex::make_model(p);
@@ -143,13 +161,15 @@ class HexRunner : public Simulation {
     if (any_static && any_dynamic)
       throw InputError("/solids: hex8 solids of one scene must all use the same `analysis` (static or dynamic)");
     static_ = any_static;
+    watchdog_ = watchdog_settings(sim);
   }
 
   bool time_dependent() const override { return !static_; }
   std::vector<std::string> phases() const override { return {"assemble", "solve"}; }
   std::vector<std::string> columns() const override {
     if (static_) return {"load_steps", "newton_iterations", "max_iterations_per_step", "step_cuts"};
-    return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts"};
+    return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts",
+            "load_potential"};
   }
   double max_dt() const override { return h_; }
 
@@ -171,16 +191,18 @@ class HexRunner : public Simulation {
   StepReport step(double h) override {
     StepReport r;
     r.dt = h;
-    std::vector<double> v(7, 0.0);
+    std::vector<double> v(8, 0.0);
     double a = 0, s = 0;
     for (auto& b : bodies_) {
       try {
         const auto& st = b.integrator->step(h);  // the driver may shorten a step to land on a frame
         a += st.assembly_seconds;
         s += st.solve_seconds;
+        const double loads = load_potential(b);
+        b.energy.record(st.total() + loads, st.kinetic + st.strain + st.spring);
         const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
-                               double(st.solver_iterations), double(st.inverted), double(st.contacts)};
-        for (int k = 0; k < 7; ++k) v[k] += vals[k];
+                               double(st.solver_iterations), double(st.inverted), double(st.contacts), loads};
+        for (int k = 0; k < 8; ++k) v[k] += vals[k];
       } catch (const solid::SolidError& e) {
         throw RunError(fmt::format("hex solid '{}': {}", b.name, e.what()));
       }
@@ -195,6 +217,25 @@ class HexRunner : public Simulation {
       const Eigen::VectorXd& d = displacement(b);
       for (int i = 0; i < d.size(); ++i)
         if (!std::isfinite(d[i])) return fmt::format("hex solid '{}': displacement of node {}", b.name, i / 3);
+    }
+    return "";
+  }
+
+  std::string unphysical() const override {
+    if (static_) return "";
+    for (const auto& b : bodies_) {
+      auto what = inverted_hexes(*b.model, b.integrator->displacement(), b.name, b.index);
+      if (what.empty())
+        what = b.energy.diagnosis(
+            fmt::format("hex solid '{}'", b.name), "kinetic + strain + gravitational - work of the loads",
+            "every load on it is conservative (gravity, dead loads, fixed nodes, static obstacles)",
+            fmt::format("Lower /simulation/dt{}", b.scheme == "trapezoidal"
+                                                       ? fmt::format(", use /solids/{}/integrator/scheme \"chentanez\" "
+                                                                     "(dissipative)", b.index)
+                                                       : fmt::format(" or soften /solids/{}/material (a stiff body "
+                                                                     "needs a short step)", b.index)),
+            watchdog_);
+      if (!what.empty()) return what;
     }
     return "";
   }
@@ -296,6 +337,13 @@ class HexRunner : public Simulation {
     for (const auto& pl : obs.at("planes")) b.integrator->obstacles().add_plane({vec3(pl.at("point")), vec3(pl.at("normal"))});
     for (const auto& bx : obs.at("boxes")) b.integrator->obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
     b.integrator->obstacles().set_friction(obs.at("friction").get<double>());
+    b.scheme = s.at("integrator").at("scheme").get<std::string>();
+    // The floor is m |g| L only: the dead loads' work shows in the scale as soon as they move the
+    // block (a floor |f| L would hide any error of their work f.d, which stays far below it).
+    const double weight = b.model->lumped_masses().sum() * vec3(js.at("simulation").at("gravity")).norm();
+    const auto e = b.integrator->energies();
+    b.energy = EnergyWatch(e.total() + load_potential(b), e.kinetic + e.strain + e.spring,
+                           energy_floor(b.model->reference_positions(), weight));
   }
 
   void write(Output& out, const HexBody& b, int frame, double time, const Eigen::VectorXd& d,
@@ -319,6 +367,7 @@ class HexRunner : public Simulation {
   std::vector<HexBody> bodies_;
   double h_ = 0, assemble_ = 0, solve_ = 0;
   bool static_ = false;
+  WatchdogSettings watchdog_;
 };
 
 }  // namespace

@@ -116,15 +116,9 @@ class SolidRunner : public Simulation {
       b.index = static_cast<int>(i);
       b.scheme = s.at("integrator").at("scheme").get<std::string>();
       {
-        // Energy scale floor m |g| L, and at least 1e-12 J so that a body at rest far from any load
-        // does not turn round-off into "energy from nowhere".
-        const Eigen::VectorXd& X = b.model->reference_positions();
-        const Eigen::Map<const Eigen::Matrix3Xd> P(X.data(), 3, X.size() / 3);
-        const double size = (P.rowwise().maxCoeff() - P.rowwise().minCoeff()).norm();
-        const double mass = b.model->lumped_masses().sum();
         const auto e = integ.energies();
-        const double g = vec3(js.at("simulation").at("gravity")).norm();
-        b.energy = EnergyWatch(e.total(), mechanical(e), std::max(mass * g * size, 1e-12));
+        const double weight = b.model->lumped_masses().sum() * vec3(js.at("simulation").at("gravity")).norm();
+        b.energy = EnergyWatch(e.total(), mechanical(e), energy_floor(b.model->reference_positions(), weight));
       }
       log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
                s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),

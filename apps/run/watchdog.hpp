@@ -1,13 +1,16 @@
 #pragma once
 /// @file watchdog.hpp
-/// The physics watchdog of the tet-solid runners (/simulation/watchdog): inverted tets of a
-/// deforming solid, and (solid-only scenes) total energy rising above its start. Each check
-/// returns "" or a diagnosis naming the solid and the keys to change; the driver adds the step.
+/// The physics watchdog of the runners (/simulation/watchdog): inverted tets of a deforming tet
+/// solid, inverted hex8 elements, and total energy rising above its start where every load is
+/// conservative (solid-only tet scenes, hex8 dynamics with the work of their dead loads, coupled
+/// scenes in a closed container). Each check returns "" or a diagnosis naming the object and the
+/// keys to change; the driver adds the step.
 #include <string>
 
 #include <Eigen/Core>
 
 #include "apps/scene/scene.hpp"
+#include "solid/hex/hex_model.hpp"
 #include "solid/tet/tet_model.hpp"
 
 namespace tetfsi::run {
@@ -25,27 +28,54 @@ WatchdogSettings watchdog_settings(const scene::Json& simulation);
 std::string inverted_tets(const solid::TetModel& model, const Eigen::VectorXd& d, const std::string& name,
                           int index, const WatchdogSettings& settings);
 
-/// Energy balance of one solid whose loads are all conservative (gravity, springs, static
-/// obstacles with friction, fixed nodes): its total energy E = kinetic + strain + gravitational +
-/// spring can only fall (damping, dissipative integration, friction). Energy from nowhere is a
-/// rise E - E_0 > max_energy_growth * S, with the scale S the largest kinetic + strain + spring
-/// energy so far, at least m |g| L (mass m, rest size L: the work of lifting it by its size).
+/// "" if every hex8 element of `model` evaluates at `d` (det F > 0 at its Gauss points), else the
+/// diagnosis for hex solid `name` (/solids/`index`) naming the first failed element (index, cell
+/// and centre) and how many failed. A hex8 state with an inverted element has no internal force,
+/// so the run cannot go on (allow_inverted does not apply).
+std::string inverted_hexes(const solid::hex::HexModel& model, const Eigen::VectorXd& d, const std::string& name,
+                           int index);
+
+/// Energy balance of a system whose loads are all conservative: its total energy E (kinetic +
+/// elastic + gravitational + springs + the potential -f.d of dead loads f) can only fall
+/// (damping, dissipative integration, friction, numerical dissipation of the fluid). Energy from
+/// nowhere is a rise E - E_0 > max_energy_growth * S, with the scale S the largest mechanical
+/// (kinetic + elastic + spring) energy so far, at least a floor (m |g| L of the solids: the work
+/// of lifting each by its size).
 class EnergyWatch {
  public:
   EnergyWatch() = default;
   /// @param total  E_0 [J]; @param floor  m |g| L [J] (> 0 or a small positive number)
-  EnergyWatch(double total, double mechanical, double floor) : start_(total), scale_(std::max(mechanical, floor)) {}
+  EnergyWatch(double total, double mechanical, double floor) : start_(total), last_(total), scale_(std::max(mechanical, floor)) {}
   /// Records the energies after a step.
   void record(double total, double mechanical) {
     last_ = total;
     scale_ = std::max(scale_, mechanical);
   }
-  /// "" or the diagnosis for solid `name` (/solids/`index`, integrator `scheme`).
+  /// Whether the last recorded energy rose past the limit.
+  bool exceeded(const WatchdogSettings& settings) const { return last_ - start_ > settings.max_energy_growth * scale_; }
+  /// "" or "<subject>: the total energy (<terms>) rose by ... J above its start ..., <why>. <advice>,
+  /// or raise /simulation/watchdog/max_energy_growth (now ...)".
+  std::string diagnosis(const std::string& subject, const std::string& terms, const std::string& why,
+                        const std::string& advice, const WatchdogSettings& settings) const;
+  /// "" or the diagnosis for tet solid `name` (/solids/`index`, integrator `scheme`).
   std::string check(const std::string& name, int index, const std::string& scheme,
                     const WatchdogSettings& settings) const;
 
  private:
   double start_ = 0, last_ = 0, scale_ = 0;
 };
+
+/// Floor of the energy scale of one body [J]: m |g| L, with `weight` = m |g| [N] and L the
+/// diagonal of the bounding box of its rest nodes `X` (x0 y0 z0 x1 ...): the work of lifting it by
+/// its size; at least 1e-12 J so that round-off of a body at rest far from any load is no rise.
+double energy_floor(const Eigen::VectorXd& X, double weight);
+
+/// Why the energy of a coupled fluid-solid scene is not watched: "" if its loads are
+/// conservative, else the first way energy enters (an inflow, an open face, an emitter,
+/// vorticity confinement). Solids of a coupled scene never have a prescribed motion (those
+/// scenes go to the kinematic runner); gravity, walls, fixed regions, springs and static
+/// obstacles are conservative. The work supplied through inflows and open faces is not accounted:
+/// such scenes are not watched.
+std::string coupled_energy_source(const scene::Json& scene);
 
 }  // namespace tetfsi::run

@@ -1,5 +1,7 @@
 #include "solid/hex/hex_model.hpp"
 
+#include <sstream>
+
 #include <Eigen/LU>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -122,11 +124,15 @@ Matrix83d HexModel::element_displacements(int e, const Eigen::VectorXd& d) const
 
 bool HexModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const {
   failed_element_ = -1;
+  failed_non_finite_ = false;
   if (d.size() != reference_.size()) {
     throw std::invalid_argument("HexModel::evaluate: displacement has size " + std::to_string(d.size()) +
                                 ", expected " + std::to_string(reference_.size()));
   }
-  if (!d.allFinite()) return false;
+  if (!d.allFinite()) {
+    failed_non_finite_ = true;
+    return false;
+  }
   force.setZero(d.size());
   if (tangent) *tangent = pattern_;
   double* values = tangent ? tangent->valuePtr() : nullptr;
@@ -168,6 +174,35 @@ bool HexModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
     return false;
   }
   return force.allFinite();
+}
+
+std::string HexModel::last_error() const {
+  if (failed_non_finite_) return "hex8 model: the displacement is not finite";
+  if (failed_element_ < 0) return "";
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int a : mesh_.hexes[failed_element_]) centre += mesh_.vertices[a] / 8.0;
+  std::ostringstream msg;
+  msg << "hex8 element " << failed_element_ << " (rest centre " << centre.transpose()
+      << " m) is inverted: det F <= 0 at a Gauss point";
+  return msg.str();
+}
+
+std::vector<int> HexModel::failed_elements(const Eigen::VectorXd& d) const {
+  const int ne = mesh_.num_hexes();
+  std::vector<char> failed(ne, 0);
+  if (!d.allFinite()) {
+    failed.assign(ne, 1);
+  } else {
+    tbb::parallel_for(0, ne, [&](int e) {
+      double w = 0.0;
+      failed[e] = hex8_evaluate(material_, element_positions(e), element_displacements(e, d), nullptr, nullptr, &w) !=
+                  ElementStatus::Ok;
+    });
+  }
+  std::vector<int> out;
+  for (int e = 0; e < ne; ++e)
+    if (failed[e]) out.push_back(e);
+  return out;
 }
 
 double HexModel::strain_energy(const Eigen::VectorXd& d) const {

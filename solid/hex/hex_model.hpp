@@ -12,6 +12,7 @@
 /// receives its contributions in the same (colour) order whatever the thread count.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <string>
 #include <vector>
 
 #include "mesh/hex_mesh.hpp"
@@ -43,6 +44,11 @@ class HexModel : public ElasticModel {
   int num_colors() const { return static_cast<int>(colors_.size()); }
   /// Element that made the last evaluate() fail, or -1.
   int last_failed_element() const { return failed_element_; }
+  /// Why the last evaluate() failed, naming the element: "" after a success.
+  std::string last_error() const override;
+  /// Elements that are inverted or degenerate at `d` (det F <= 0 or det J <= 0 at a Gauss point),
+  /// in increasing order; every element if `d` has a non-finite entry.
+  std::vector<int> failed_elements(const Eigen::VectorXd& d) const;
 
   /// Element-averaged Cauchy and 2nd Piola-Kirchhoff stresses [Pa], 6 Voigt values per element
   /// [xx yy zz xy yz zx]; NaN for an inverted element.
@@ -62,6 +68,7 @@ class HexModel : public ElasticModel {
   /// (the same for l = 0, 1, 2), 64 entries per element, index a + 8 b.
   std::vector<int> block_offsets_;
   mutable int failed_element_ = -1;
+  mutable bool failed_non_finite_ = false;  ///< the last evaluate() got a non-finite d
 };
 
 }  // namespace tetfsi::solid::hex

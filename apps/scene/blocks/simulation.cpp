@@ -28,12 +28,18 @@ Field simulation() {
       Field::object("watchdog", "Stops a run that goes unphysical (exit 1, with the object, the step and the key "
                     "to change); non-finite values always stop it.", {
           Field::boolean("allow_inverted", "Keep running when tets of a deforming tet solid invert (volume <= 0); "
-                         "by default the first inverted tet stops the run.").def(false),
+                         "by default the first inverted tet stops the run. (An inverted hex8 element always stops "
+                         "it: it has no internal force.)").def(false),
           Field::number("max_energy_growth", "",
-                        "Solid-only tet scenes: largest rise of the total energy (kinetic + elastic + gravitational) "
-                        "above its start, as a fraction of the energy scale (the largest kinetic + elastic energy so "
-                        "far, at least m |g| L for each solid of mass m and size L); the loads are conservative, so a "
-                        "rise is energy from nowhere. Raise it to let such a run continue.")
+                        "Largest rise of the total energy above its start, as a fraction of the energy scale (the "
+                        "largest kinetic + elastic energy so far, at least m |g| L summed over the solids of mass m "
+                        "and size L), where every load is conservative so that a "
+                        "rise is energy from nowhere: solid-only tet scenes (kinetic + elastic + gravitational + "
+                        "springs), dynamic hex8 scenes (the same minus the work f.d of the dead loads) and coupled "
+                        "fluid-solid scenes in a closed container (plus the fluid's kinetic and gravitational "
+                        "energy, and rho V |g| h in the scale floor for a free-surface liquid of volume V on cells "
+                        "of edge h; not watched with inflows, open faces, emitters or vorticity confinement, which "
+                        "supply energy). Raise it to let such a run continue.")
               .greater(0).def(0.5)}),
   });
 }
