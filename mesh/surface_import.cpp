@@ -28,13 +28,15 @@ Eigen::Matrix3d placement_rotation(const Eigen::Vector3d& rotation_deg) {
       .toRotationMatrix();
 }
 
-void apply_placement(SurfaceMesh& surface, const Placement& placement) {
+void apply_placement(SurfaceMesh& surface, const Placement& placement) { apply_placement(surface.vertices, placement); }
+
+void apply_placement(std::vector<Eigen::Vector3d>& points, const Placement& placement) {
   if (!(placement.unit_scale > 0.0) || !std::isfinite(placement.unit_scale))
     throw MeshError("placement: unit_scale must be > 0");
   if (!placement.rotation_deg.allFinite() || !placement.translation.allFinite())
     throw MeshError("placement: rotation and translation must be finite");
   const Eigen::Matrix3d R = placement_rotation(placement.rotation_deg);
-  for (auto& v : surface.vertices) v = R * (placement.unit_scale * v) + placement.translation;
+  for (auto& v : points) v = R * (placement.unit_scale * v) + placement.translation;
 }
 
 namespace {

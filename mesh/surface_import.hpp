@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "mesh/surface_mesh.hpp"
 
@@ -25,6 +26,8 @@ Eigen::Matrix3d placement_rotation(const Eigen::Vector3d& rotation_deg);
 /// Applies the placement to every vertex. Orientation is preserved (R is a rotation and the scale
 /// is positive). @throws MeshError if unit_scale <= 0 or a value is not finite
 void apply_placement(SurfaceMesh& surface, const Placement& placement);
+/// Same on points (e.g. the vertices of a tet mesh, whose orientation it preserves too).
+void apply_placement(std::vector<Eigen::Vector3d>& points, const Placement& placement);
 
 /// Largest surface file read [bytes]; bigger files are refused before they are opened.
 constexpr std::uintmax_t kMaxSurfaceBytes = std::uintmax_t(1) << 30;

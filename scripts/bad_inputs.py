@@ -149,6 +149,15 @@ def main():
         s = json.load(open(os.path.join(ROOT, "data", "scenes", "soft_drop.json")))
         s["solids"][0]["geometry"] = {"type": "mesh", "file": os.path.join(tmp, name)}
         cases.append(("surface " + name, s, tmp))
+    # Cut volume mesh files as a solid's tets.
+    for name, content in (("cut.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n"),
+                          ("cut.vtu", '<VTKFile type="UnstructuredGrid"><UnstructuredGrid><Piece NumberOfPoints="4" '
+                                      'NumberOfCells="1"><Points><DataArray type="Float64" NumberOfComponents="3" '
+                                      'format="ascii">0 0 0 1 0')):
+        open(os.path.join(tmp, name), "w").write(content)
+        s = json.load(open(os.path.join(ROOT, "data", "scenes", "soft_drop.json")))
+        s["solids"][0]["geometry"] = {"type": "volume_mesh", "file": os.path.join(tmp, name)}
+        cases.append(("volume mesh " + name, s, tmp))
     files = []
     for i, (label, scene, folder) in enumerate(cases):
         d = os.path.join(tmp, f"case{i:04d}")

@@ -1,5 +1,6 @@
 #include "apps/cli/commands.hpp"
 
+#include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
 #include "mesh/surface_checks.hpp"
+#include "mesh/io/msh_writer.hpp"
 #include "mesh/io/vtu_writer.hpp"
 
 namespace tetfsi::cli {
@@ -56,7 +58,8 @@ int mesh_command(const std::string& in, const std::string& out, double edge, dou
   } catch (const mesh::MeshError& e) {
     throw run::InputError(fmt::format("{}: meshing failed: {}", in, e.what()));
   }
-  mesh::io::write_vtu(out, mesh::io::make_grid(tets));
+  if (std::filesystem::path(out).extension() == ".msh") mesh::io::write_msh(out, tets, mesh::io::MshVersion::k41);
+  else mesh::io::write_vtu(out, mesh::io::make_grid(tets));
   std::cout << fmt::format("{}: {} vertices, {}\nwrote {}\n", in, tets.num_vertices(),
                            mesh::quality_report(tets).summary(), out);
   return 0;
@@ -102,9 +105,10 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   std::string mesh_in, mesh_out;
   double edge = 0.1, scale = 1.0;
   auto* msh = app.add_subcommand("mesh", "Tetrahedralize a closed surface (OBJ, PLY, STL, glTF, FBX, OFF) "
-                                         "and write a .vtu to look at in ParaView");
+                                         "and write a .vtu to look at in ParaView (or a Gmsh 4.1 .msh); both "
+                                         "can be a solid's volume_mesh geometry");
   msh->add_option("input", mesh_in, "Closed surface file")->required()->check(CLI::ExistingFile);
-  msh->add_option("output", mesh_out, "Output .vtu file")->required();
+  msh->add_option("output", mesh_out, "Output .vtu file (.msh: Gmsh 4.1 ASCII)")->required();
   msh->add_option("--edge-length", edge, "Target edge length [m]")->capture_default_str()->check(CLI::PositiveNumber);
   msh->add_option("--unit-scale", scale, "Metres per file unit (0.01 for cm)")->capture_default_str()->check(CLI::PositiveNumber);
   double mmax_tets = 0;

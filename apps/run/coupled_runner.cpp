@@ -142,7 +142,8 @@ class CoupledRunner : public Simulation {
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       auto& integrator = stepper_->solid(i);
       for (const auto& box : solids[i].at("fixed_regions"))
-        integrator.fix_nodes(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))));
+        integrator.fix_components(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))),
+                                  fixed_components(box));
       add_scene_springs(integrator, solids[i], i, names_[i], log);
       integrator.set_uniform_velocity(vec3(solids[i].at("initial_velocity")));
       if (js.contains("obstacles")) {

@@ -59,6 +59,8 @@ hex::BlockProblem problem_of(const scene::Json& s, const std::string& ptr) {
     hex::RegionCondition rc;
     rc.lo = vec3(box.at("lo"));
     rc.hi = vec3(box.at("hi"));
+    rc.components.clear();
+    for (const auto& c : box.at("components")) rc.components += c.get<std::string>();
     p.conditions.push_back(rc);
   }
   using K = hex::RegionCondition::Kind;

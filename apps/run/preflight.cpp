@@ -27,6 +27,7 @@ struct Placed {
   mesh::SurfaceMesh surface;
   Eigen::Vector3d lo, hi;       ///< bounding box [m]
   double volume = 0, area = 0;  ///< [m^3], [m^2]
+  double tets = -1;             ///< tets of a `volume_mesh` solid (read, not estimated); -1 otherwise
 };
 
 double surface_area(const mesh::SurfaceMesh& s) {
@@ -139,7 +140,8 @@ class Checker {
     placed_.resize(solids.size());
     for (std::size_t i = 0; i < solids.size(); ++i) {
       const auto& s = solids[i];
-      const std::string ptr = fmt::format("/solids/{}/geometry", i);
+      const bool volume_mesh = s.at("geometry").at("type") == "volume_mesh";
+      const std::string ptr = fmt::format(volume_mesh ? "/solids/{}/geometry/file" : "/solids/{}/geometry", i);
       if (s.at("model").at("type") == "hex8") {  // a structured block: no surface to read, but a box to place
         hex_cells_ += double(s["model"]["nx"].get<int>()) * s["model"]["ny"].get<int>() * s["model"]["nz"].get<int>();
       }
@@ -147,7 +149,9 @@ class Checker {
         std::vector<std::string> warnings;
         mesh::SurfaceMesh cavity;
         Placed& p = placed_[i];
-        p.surface = surface_of(s, warnings, &cavity);
+        int tets = -1;
+        p.surface = surface_of(s, warnings, &cavity, &tets);
+        p.tets = tets;
         for (auto& w : warnings) report_.warnings.push_back(std::move(w));
         mesh::bounding_box(p.surface, p.lo, p.hi);
         p.volume = mesh::enclosed_volume(p.surface) - (cavity.triangles.empty() ? 0.0 : mesh::enclosed_volume(cavity));
@@ -269,6 +273,20 @@ class Checker {
             fmt::format("solid '{}': a hex8 block must be axis-aligned (rotation [0, 0, 0]); use model \"tet_fem\" "
                         "for a rotated solid", s.at("name").get<std::string>()));
     }
+    // A volume mesh is the solid's FEM mesh as given. The coupled runner meshes fluid and solids in
+    // one CGAL Mesh_3 complex, which remeshes every solid from its surface and cannot keep given
+    // tets (nor make the fluid conform to their boundary facets); the other runners take no
+    // deforming tet solid. So volume meshes run in the solid runner only.
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      if (solids[i].at("geometry").at("type") == "volume_mesh" && runner_->name != "solid")
+        add(fmt::format("/solids/{}/geometry/type", i),
+            fmt::format("solid '{}': a \"volume_mesh\" solid runs in the solid runner only (fluid type \"none\", "
+                        "every solid deforming, model \"tet_fem\"); this scene goes to the {} runner{}",
+                        solids[i].at("name").get<std::string>(), runner_->name,
+                        meshes_fluid() ? ", whose fluid mesh must conform to the solid's boundary: the complex mesher "
+                                         "(CGAL Mesh_3) remeshes solids from their surfaces and cannot keep given tets; "
+                                         "use geometry type \"mesh\" with the boundary surface instead"
+                                       : ""));
     if (hex_analyses.size() > 1)
       add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
                                  "or dynamic)", list(hex)));
@@ -371,6 +389,10 @@ class Checker {
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       const auto& p = placed_[i];
       if (!p.ok || js_["solids"][i]["model"]["type"] == "hex8" || runner_->name == "kinematic") continue;  // not tet-meshed
+      if (p.tets >= 0) {  // a volume mesh: its own tets
+        count(p.tets, fmt::format("/solids/{}/geometry/file", i), fmt::format("the volume mesh of solid '{}'", solid_name(i)));
+        continue;
+      }
       const double h_solid = fluid ? near : far;  // the solid runner meshes each solid at edge_length
       const double thickness = p.area > 0 ? 3 * p.volume / p.area : h_solid;
       const std::string name = solid_name(i);

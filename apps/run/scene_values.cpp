@@ -9,6 +9,12 @@ namespace tetfsi::run {
 
 Eigen::Vector3d vec3(const scene::Json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
+std::array<bool, 3> fixed_components(const scene::Json& fixed_region) {
+  std::array<bool, 3> held{false, false, false};
+  for (const auto& c : fixed_region.at("components")) held[c.get<std::string>().at(0) - 'x'] = true;
+  return held;
+}
+
 mesh::MeshSizing mesh_sizing(const scene::Json& m) {
   mesh::MeshSizing sizing;
   sizing.edge_length = m.at("edge_length").get<double>();

@@ -4,18 +4,38 @@
 #include <fmt/format.h>
 
 #include "apps/run/errors.hpp"
+#include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/primitives.hpp"
 #include "mesh/surface_checks.hpp"
 #include "mesh/surface_import.hpp"
+#include "mesh/volume_mesh.hpp"
 
 namespace tetfsi::run {
 namespace {
 
+mesh::Placement placement_of(const scene::Json& solid) {
+  mesh::Placement placement;
+  placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));
+  placement.translation = vec3(solid.at("placement").at("translation"));
+  return placement;
+}
 
 }  // namespace
 
-mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings, mesh::SurfaceMesh* cavity) {
+mesh::TetMesh volume_mesh_of(const scene::Json& solid, std::vector<std::string>& warnings) {
+  const auto& g = solid.at("geometry");
+  mesh::Placement placement = placement_of(solid);
+  placement.unit_scale = g.at("unit_scale").get<double>();
+  try {
+    return mesh::import_volume_mesh(g.at("file").get<std::string>(), placement, warnings);
+  } catch (const mesh::MeshError& e) {
+    throw InputError(fmt::format("solid '{}': {}", solid.at("name").get<std::string>(), e.what()));
+  }
+}
+
+mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings, mesh::SurfaceMesh* cavity,
+                             int* volume_tets) {
   const auto& g = solid.at("geometry");
   const auto type = g.at("type").get<std::string>();
   const auto name = solid.at("name").get<std::string>();
@@ -23,13 +43,16 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
     throw InputError(fmt::format("solid '{}': a sphere_shell (a solid with a fluid cavity) is meshed only by the "
                                  "coupled runner (a fluid, every solid a deforming tet solid)", name));
   if (cavity != nullptr) *cavity = cavity_of(solid);
-  mesh::Placement placement;
-  placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));
-  placement.translation = vec3(solid.at("placement").at("translation"));
+  mesh::Placement placement = placement_of(solid);
   try {
     mesh::SurfaceMesh s;
     std::string label = fmt::format("solid '{}'", name);
-    if (type == "mesh") {
+    if (type == "volume_mesh") {
+      label += " (" + g.at("file").get<std::string>() + ", boundary of the tets)";
+      const mesh::TetMesh tets = volume_mesh_of(solid, warnings);
+      if (volume_tets != nullptr) *volume_tets = tets.num_tets();
+      s = boundary_surface(tets);
+    } else if (type == "mesh") {
       placement.unit_scale = g.at("unit_scale").get<double>();
       label += " (" + g.at("file").get<std::string>() + ")";
       s = mesh::import_surface(g.at("file").get<std::string>(), placement);
@@ -81,9 +104,7 @@ mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std
 mesh::SurfaceMesh cavity_of(const scene::Json& solid) {
   const auto& g = solid.at("geometry");
   if (g.at("type") != "sphere_shell") return {};
-  mesh::Placement placement;
-  placement.rotation_deg = vec3(solid.at("placement").at("rotation_deg"));
-  placement.translation = vec3(solid.at("placement").at("translation"));
+  const mesh::Placement placement = placement_of(solid);
   try {
     mesh::SurfaceMesh c = mesh::make_sphere(g.at("radius").get<double>() - g.at("thickness").get<double>(),
                                             g.at("subdivisions").get<int>());

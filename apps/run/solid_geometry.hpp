@@ -1,12 +1,14 @@
 #pragma once
 /// @file solid_geometry.hpp
 /// The placed rest surfaces of the scene's solids, from the mesh module's primitives and assimp
-/// import (mesh/primitives.hpp, mesh/surface_import.hpp), checked with mesh/surface_checks.hpp.
+/// import (mesh/primitives.hpp, mesh/surface_import.hpp), checked with mesh/surface_checks.hpp,
+/// and the placed tet meshes of `volume_mesh` solids (mesh/volume_mesh.hpp).
 #include <string>
 #include <vector>
 
 #include "apps/scene/scene.hpp"
 #include "mesh/surface_mesh.hpp"
+#include "mesh/tet_mesh.hpp"
 
 namespace tetfsi::run {
 
@@ -16,8 +18,16 @@ namespace tetfsi::run {
 ///         non-manifold or self-intersecting
 /// `cavity` (coupled runner only): receives cavity_of(solid); without it a `sphere_shell` is
 /// refused (InputError), so that no runner meshes a shell as a full ball by mistake.
+/// `volume_tets` (optional) receives the tet count of a `volume_mesh` solid (else it is left alone).
 mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>& warnings,
-                             mesh::SurfaceMesh* cavity = nullptr);
+                             mesh::SurfaceMesh* cavity = nullptr, int* volume_tets = nullptr);
+
+/// The placed, checked tet mesh of a `volume_mesh` solid (/solids/i, geometry type
+/// "volume_mesh"): the file's tets (mesh::import_volume_mesh: checked, unused nodes dropped,
+/// orientation made positive) scaled by geometry.unit_scale, rotated by placement.rotation_deg,
+/// translated by placement.translation. surface_of gives its boundary surface.
+/// @throws InputError naming the solid and the file
+mesh::TetMesh volume_mesh_of(const scene::Json& solid, std::vector<std::string>& warnings);
 
 /// The placed cavity surface of a `sphere_shell` solid (a sphere of radius - thickness, outward),
 /// or an empty surface for every other geometry. surface_of gives the shell's outer surface.

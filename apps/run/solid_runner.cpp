@@ -2,8 +2,9 @@
 /// Solid-only scenes with tetrahedral FEM bodies (Chentanez et al. 2006 sec. 3.2, appendix
 /// eqs. 9-18): /fluid/type is "none" and at least one solid deforms (motion "none", model
 /// "tet_fem"; hex8 solids go to the hex runner). Each deforming solid is meshed alone
-/// (mesh::mesh_solid, no fluid), becomes a TetModel advanced by its own NewmarkIntegrator
-/// with the scene's gravity, fixed regions, initial velocity and static obstacles. Solids do not
+/// (mesh::mesh_solid, no fluid) or, with geometry "volume_mesh", takes the tets of its file
+/// (volume_mesh_of), and becomes a TetModel advanced by its own NewmarkIntegrator
+/// with the scene's gravity, fixed regions (per component), initial velocity and static obstacles. Solids do not
 /// collide with each other. Solids with a prescribed motion in the same scene are not moved
 /// (a warning says so).
 ///
@@ -71,14 +72,18 @@ class SolidRunner : public Simulation {
       Body b;
       b.name = s.at("name").get<std::string>();
       std::vector<std::string> warnings;
-      const mesh::SurfaceMesh surface = surface_of(s, warnings);
-      for (const auto& w : warnings) log.warn("{}", w);
       mesh::TetMesh tets;
-      try {
-        tets = mesh::mesh_solid(surface, sizing, mesh::solid_subdomain(static_cast<int>(i)));
-      } catch (const mesh::MeshError& e) {
-        throw InputError(fmt::format("{}: meshing solid '{}' failed: {}", ptr, b.name, e.what()));
+      if (s.at("geometry").at("type") == "volume_mesh") {  // the file's tets as they are
+        tets = volume_mesh_of(s, warnings);
+      } else {
+        const mesh::SurfaceMesh surface = surface_of(s, warnings);
+        try {
+          tets = mesh::mesh_solid(surface, sizing, mesh::solid_subdomain(static_cast<int>(i)));
+        } catch (const mesh::MeshError& e) {
+          throw InputError(fmt::format("{}: meshing solid '{}' failed: {}", ptr, b.name, e.what()));
+        }
       }
+      for (const auto& w : warnings) log.warn("{}", w);
       log.info("mesh: solid '{}': {} vertices, {} tets; {}", b.name, tets.num_vertices(), tets.num_tets(),
                mesh::quality_report(tets).summary());
 
@@ -103,7 +108,7 @@ class SolidRunner : public Simulation {
         const auto nodes = integ.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi")));
         if (nodes.empty())
           throw InputError(fmt::format("{}/fixed_regions/{}: the box contains no node of solid '{}'", ptr, r, b.name));
-        integ.fix_nodes(nodes);
+        integ.fix_components(nodes, fixed_components(box));
         log.info("solid '{}': fixed region {} holds {} nodes", b.name, r, nodes.size());
       }
       add_scene_springs(integ, s, static_cast<int>(i), b.name, log);

@@ -20,6 +20,11 @@ std::string type_name(const Field& f) {
       for (const auto& c : f.choices) s += (s.empty() ? "`" : " \\| `") + c + "`";
       return s;
     }
+    case Kind::EnumSet: {
+      std::string s;
+      for (const auto& c : f.choices) s += (s.empty() ? "array of `" : "`, `") + c;
+      return s + "`";
+    }
     case Kind::Vector: return fmt::format("[{} numbers]", f.length);
     case Kind::Object: return "object";
     case Kind::Array: return "array of objects";

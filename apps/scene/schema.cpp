@@ -35,6 +35,11 @@ Field Field::enumeration(std::string key, std::vector<std::string> choices, std:
   f.choices = std::move(choices);
   return f;
 }
+Field Field::enumeration_set(std::string key, std::vector<std::string> choices, std::string doc) {
+  Field f = make(std::move(key), Kind::EnumSet, "", std::move(doc));
+  f.choices = std::move(choices);
+  return f;
+}
 Field Field::file(std::string key, std::string doc) {
   return make(std::move(key), Kind::File, "", std::move(doc));
 }
@@ -76,6 +81,11 @@ std::string Field::expectation() const {
     case Kind::File: return "a file path (relative to the scene file's folder)";
     case Kind::Enum: {
       std::string s = "one of ";
+      for (std::size_t i = 0; i < choices.size(); ++i) s += (i ? ", \"" : "\"") + choices[i] + "\"";
+      return s;
+    }
+    case Kind::EnumSet: {
+      std::string s = "a non-empty array of distinct values from ";
       for (std::size_t i = 0; i < choices.size(); ++i) s += (i ? ", \"" : "\"") + choices[i] + "\"";
       return s;
     }

@@ -26,6 +26,7 @@ enum class Kind {
   Bool,     ///< true / false
   String,   ///< free text
   Enum,     ///< one of `choices`
+  EnumSet,  ///< a non-empty array of distinct values from `choices` (e.g. ["x", "z"])
   File,     ///< a file path, resolved relative to the scene file's folder; must exist
   Vector,   ///< a fixed-length array of numbers (`length`)
   Object,   ///< an object with the keys `members`
@@ -68,6 +69,8 @@ struct Field {
   static Field boolean(std::string key, std::string doc);
   static Field string(std::string key, std::string doc);
   static Field enumeration(std::string key, std::vector<std::string> choices, std::string doc);
+  /// A non-empty array of distinct values from `choices` (Kind::EnumSet).
+  static Field enumeration_set(std::string key, std::vector<std::string> choices, std::string doc);
   static Field file(std::string key, std::string doc);
   static Field vector(std::string key, int length, std::string unit, std::string doc);
   static Field object(std::string key, std::string doc, std::vector<Field> members);

@@ -69,6 +69,28 @@ class Validator {
         }
         return v;
       }
+      case Kind::EnumSet: {
+        if (!v.is_array() || v.empty()) return bad(ptr, f, v);
+        std::vector<std::string> seen;
+        for (std::size_t i = 0; i < v.size(); ++i) {
+          const std::string iptr = ptr + "/" + std::to_string(i);
+          const bool known = v[i].is_string() &&
+                             std::find(f.choices.begin(), f.choices.end(), v[i].get<std::string>()) != f.choices.end();
+          if (!known) {
+            std::string list;
+            for (const auto& c : f.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+            issues_.push_back({iptr, fmt::format("expected one of {}, got {}", list, describe(v[i]))});
+            return Json();
+          }
+          const auto s = v[i].get<std::string>();
+          if (std::find(seen.begin(), seen.end(), s) != seen.end()) {
+            issues_.push_back({iptr, fmt::format("expected {}, got \"{}\" twice", f.expectation(), s)});
+            return Json();
+          }
+          seen.push_back(s);
+        }
+        return v;
+      }
       case Kind::File: {
         if (!v.is_string() || v.get<std::string>().empty()) return bad(ptr, f, v);
         fs::path p = v.get<std::string>();

@@ -16,8 +16,10 @@ namespace {
 using Attributes = std::map<std::string, std::string>;
 
 struct Parser {
-  const std::string& text;
+  const std::string& text;  ///< the XML (up to <AppendedData> when the file has one)
   std::string name;
+  const unsigned char* appended = nullptr;  ///< raw appended data (after the '_'), if any
+  std::size_t appended_size = 0;
 
   [[noreturn]] void fail(const std::string& why) const { throw std::runtime_error("read_vtu(" + name + "): " + why); }
 
@@ -113,6 +115,37 @@ struct Array {
   std::vector<double> values;
 };
 
+// Decodes one binary block: a byte-count header (header_bytes wide) followed by the payload.
+void decode_block(const Parser& p, Array& out, const std::string& type, std::size_t size, const unsigned char* bytes,
+                  std::size_t available, std::size_t header_bytes) {
+  if (available < header_bytes) p.fail("DataArray '" + out.name + "' has no size header");
+  std::uint64_t n = 0;
+  if (header_bytes == 8) {
+    std::memcpy(&n, bytes, 8);
+  } else {
+    std::uint32_t n32 = 0;
+    std::memcpy(&n32, bytes, 4);
+    n = n32;
+  }
+  if (n % size != 0 || available - header_bytes < n) {
+    p.fail("DataArray '" + out.name + "' declares " + std::to_string(n) + " bytes but holds " +
+           std::to_string(available - header_bytes));
+  }
+  const unsigned char* d = bytes + header_bytes;
+  const std::size_t count = n / size;
+  out.values.reserve(count);
+  if (type == "Int8") convert<std::int8_t>(d, count, out.values);
+  else if (type == "UInt8") convert<std::uint8_t>(d, count, out.values);
+  else if (type == "Int16") convert<std::int16_t>(d, count, out.values);
+  else if (type == "UInt16") convert<std::uint16_t>(d, count, out.values);
+  else if (type == "Int32") convert<std::int32_t>(d, count, out.values);
+  else if (type == "UInt32") convert<std::uint32_t>(d, count, out.values);
+  else if (type == "Int64") convert<std::int64_t>(d, count, out.values);
+  else if (type == "UInt64") convert<std::uint64_t>(d, count, out.values);
+  else if (type == "Float32") convert<float>(d, count, out.values);
+  else convert<double>(d, count, out.values);
+}
+
 // Parses the DataArray whose tag starts at `pos`.
 Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
   std::size_t body = 0;
@@ -124,44 +157,32 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
   const std::size_t size = type_size(type);
   if (size == 0) p.fail("DataArray '" + out.name + "' has unsupported type '" + type + "'");
   const std::string format = a.count("format") ? a["format"] : "ascii";
-  if (p.text[body - 2] == '/') return out;  // <DataArray ... />: empty
-  const std::size_t close = p.text.find("</DataArray>", body);
-  if (close == std::string::npos) p.fail("DataArray '" + out.name + "' is not closed");
-  if (format == "ascii") {
-    std::istringstream in(p.text.substr(body, close - body));
-    double v;
-    while (in >> v) out.values.push_back(v);
-    if (!in.eof()) p.fail("DataArray '" + out.name + "' has a non-numeric ASCII value");
-  } else if (format == "binary") {
-    const auto bytes = base64_decode(p.text, body, close, p);
-    if (bytes.size() < header_bytes) p.fail("DataArray '" + out.name + "' has no size header");
-    std::uint64_t n = 0;
-    if (header_bytes == 8) {
-      std::memcpy(&n, bytes.data(), 8);
-    } else {
-      std::uint32_t n32 = 0;
-      std::memcpy(&n32, bytes.data(), 4);
-      n = n32;
+  if (format == "appended") {  // raw block at the AppendedData start + offset
+    if (!p.appended) p.fail("DataArray '" + out.name + "' is appended but the file has no raw <AppendedData>");
+    std::size_t offset = 0;
+    try {
+      offset = std::stoull(a.at("offset"));
+    } catch (const std::exception&) {
+      p.fail("DataArray '" + out.name + "' has no valid offset");
     }
-    if (n % size != 0 || bytes.size() < header_bytes + n) {
-      p.fail("DataArray '" + out.name + "' declares " + std::to_string(n) + " bytes but holds " +
-             std::to_string(bytes.size() - header_bytes));
-    }
-    const unsigned char* d = bytes.data() + header_bytes;
-    const std::size_t count = n / size;
-    out.values.reserve(count);
-    if (type == "Int8") convert<std::int8_t>(d, count, out.values);
-    else if (type == "UInt8") convert<std::uint8_t>(d, count, out.values);
-    else if (type == "Int16") convert<std::int16_t>(d, count, out.values);
-    else if (type == "UInt16") convert<std::uint16_t>(d, count, out.values);
-    else if (type == "Int32") convert<std::int32_t>(d, count, out.values);
-    else if (type == "UInt32") convert<std::uint32_t>(d, count, out.values);
-    else if (type == "Int64") convert<std::int64_t>(d, count, out.values);
-    else if (type == "UInt64") convert<std::uint64_t>(d, count, out.values);
-    else if (type == "Float32") convert<float>(d, count, out.values);
-    else convert<double>(d, count, out.values);
+    if (offset > p.appended_size) p.fail("DataArray '" + out.name + "' has an offset beyond the appended data");
+    decode_block(p, out, type, size, p.appended + offset, p.appended_size - offset, header_bytes);
+  } else if (p.text[body - 2] == '/') {
+    return out;  // <DataArray ... />: empty
   } else {
-    p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii and inline binary are supported)");
+    const std::size_t close = p.text.find("</DataArray>", body);
+    if (close == std::string::npos) p.fail("DataArray '" + out.name + "' is not closed");
+    if (format == "ascii") {
+      std::istringstream in(p.text.substr(body, close - body));
+      double v;
+      while (in >> v) out.values.push_back(v);
+      if (!in.eof()) p.fail("DataArray '" + out.name + "' has a non-numeric ASCII value");
+    } else if (format == "binary") {
+      const auto bytes = base64_decode(p.text, body, close, p);
+      decode_block(p, out, type, size, bytes.data(), bytes.size(), header_bytes);
+    } else {
+      p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii, binary and raw appended are supported)");
+    }
   }
   if (out.components < 1 || out.values.size() % out.components != 0) {
     p.fail("DataArray '" + out.name + "' has " + std::to_string(out.values.size()) +
@@ -171,8 +192,23 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
 }
 
 }  // namespace
-UnstructuredGrid parse_vtu(const std::string& text, const std::string& name) {
+UnstructuredGrid parse_vtu(const std::string& full, const std::string& name) {
+  // Raw appended data may hold any byte: the XML is searched only before <AppendedData>.
+  const std::size_t appended_pos = full.find("<AppendedData");
+  const std::string head = appended_pos == std::string::npos ? std::string() : full.substr(0, appended_pos);
+  const std::string& text = appended_pos == std::string::npos ? full : head;
   Parser p{text, name};
+  if (appended_pos != std::string::npos) {
+    std::size_t after_tag = 0;
+    Parser whole{full, name};
+    Attributes tag = whole.attributes(appended_pos, after_tag);
+    if (tag["encoding"] != "raw")
+      p.fail("<AppendedData> with encoding \"" + tag["encoding"] + "\" is not supported (only raw)");
+    const std::size_t underscore = full.find('_', after_tag);
+    if (underscore == std::string::npos) p.fail("<AppendedData> lacks the '_' that starts the data");
+    p.appended = reinterpret_cast<const unsigned char*>(full.data()) + underscore + 1;
+    p.appended_size = full.size() - underscore - 1;
+  }
   const std::size_t file_pos = p.find_tag("VTKFile", 0, text.size());
   if (file_pos == std::string::npos) p.fail("no <VTKFile> element (not a VTK XML file)");
   std::size_t after = 0;
@@ -187,7 +223,6 @@ UnstructuredGrid parse_vtu(const std::string& text, const std::string& name) {
     if (file["header_type"] == "UInt64") header_bytes = 8;
     else if (file["header_type"] != "UInt32") p.fail("unsupported header_type '" + file["header_type"] + "'");
   }
-  if (text.find("<AppendedData") != std::string::npos) p.fail("format=\"appended\" data is not supported");
   const std::size_t piece_pos = p.find_tag("Piece", after, text.size());
   if (piece_pos == std::string::npos) p.fail("no <Piece> element");
   if (p.find_tag("Piece", piece_pos + 1, text.size()) != std::string::npos) p.fail("more than one <Piece> is not supported");

@@ -5,8 +5,10 @@
 /// Supported (docs.vtk.org "VTK XML file formats"): DataArrays with format="ascii" and inline
 /// format="binary" (base64 of a byte-count header followed by the payload, header_type UInt32 or
 /// UInt64, header and payload base64-encoded together as our writer does or separately as VTK
-/// does), types Int8..Int64, UInt8..UInt64, Float32, Float64, little endian. Not supported, with a
-/// clear error: compressed data (compressor=...), format="appended", big-endian files.
+/// does), format="appended" with <AppendedData encoding="raw"> (each block at `offset` bytes past
+/// the '_': the byte-count header, then the payload), types Int8..Int64, UInt8..UInt64, Float32,
+/// Float64, little endian. Not supported, with a clear error: compressed data (compressor=...),
+/// base64-encoded appended data, big-endian files.
 /// Hand-written for the same reason as the writer: the VTK C++ libraries are a 700 MB dependency.
 #include <filesystem>
 #include <string>

@@ -27,9 +27,15 @@ NewmarkIntegrator::NewmarkIntegrator(const ElasticModel& model, const NewmarkSet
 }
 
 void NewmarkIntegrator::fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity) {
+  fix_components(nodes, {true, true, true}, velocity);
+}
+
+void NewmarkIntegrator::fix_components(const std::vector<int>& nodes, const std::array<bool, 3>& components,
+                                       const Eigen::Vector3d& velocity) {
   for (int v : nodes) {
     if (v < 0 || v >= model_.num_nodes()) throw SolidError("fix_nodes: node " + std::to_string(v) + " out of range");
     for (int a = 0; a < 3; ++a) {
+      if (!components[a]) continue;
       fixed_[3 * v + a] = 1;
       prescribed_[3 * v + a] = velocity[a];
       u_[3 * v + a] = velocity[a];

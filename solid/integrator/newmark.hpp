@@ -29,6 +29,7 @@
 /// -J p to the rows and solves together with the fluid), and advance() applies eq. (5) for a
 /// given u^{n+1}, then contact, the Dirichlet values and the stability checks.
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,12 @@ class NewmarkIntegrator {
   // ---- set-up ----
   /// Dirichlet: the nodes' velocity is prescribed (default: fixed in place).
   void fix_nodes(const std::vector<int>& nodes, const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero());
+  /// Dirichlet on some components only: component a of each node (x, y, z for a = 0, 1, 2) is
+  /// prescribed where components[a] is true (velocity[a], default 0), the others stay free. A
+  /// symmetry plane with normal e_a holds component a only. Nodes with any prescribed component
+  /// take no part in obstacle contact (see step()).
+  void fix_components(const std::vector<int>& nodes, const std::array<bool, 3>& components,
+                      const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero());
   /// Nodes whose reference position lies in the box [lo, hi].
   std::vector<int> nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
   void set_displacement(const Eigen::VectorXd& d);

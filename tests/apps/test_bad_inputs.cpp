@@ -13,6 +13,7 @@
 
 #include "csv.hpp"
 #include "tests/test_support.hpp"
+#include "tests/volume_mesh_files.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -411,4 +412,66 @@ TEST(BadInputs, RerunCleansOrphansAndStaleFramesButKeepsOtherFiles) {
   for (const auto& kept : {out / "notes.txt", out / "box" / "mine.txt", out / "box" / "box_00002.vtu", out / "box.pvd"})
     EXPECT_TRUE(fs::exists(kept)) << kept;
   EXPECT_FALSE(fs::exists(out / "box" / "box_00003.vtu"));  // frames 0..2 of this run only
+}
+
+/// A solid whose tets come from `file` (solid runner).
+json volume_mesh_scene(const std::string& file) {
+  auto s = solid_scene();
+  s["solids"][0]["geometry"] = {{"type", "volume_mesh"}, {"file", file}};
+  return s;
+}
+
+TEST(BadInputs, BadVolumeMeshFilesAndComponentsAreRefused) {
+  tetfsi::test::TempDir dir("bad_volume_mesh");
+  using tetfsi::test::write_vtu_ascii;
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {0.3, 0, 0}, {0, 0.3, 0}, {0, 0, 0.3}, {0.3, 0.3, 0.3}};
+  write_vtu_ascii(dir.path() / "triangle.vtu", p, {{0, 1, 2, 3}, {1, 2, 4}}, {10, 5});
+  write_vtu_ascii(dir.path() / "inverted.vtu", p, {{0, 1, 2, 3}, {1, 3, 2, 4}}, {10, 10});
+  write_vtu_ascii(dir.path() / "degenerate.vtu", {{0, 0, 0}, {0.3, 0, 0}, {0, 0.3, 0}, {0.1, 0.1, 0}}, {{0, 1, 2, 3}}, {10});
+  write_vtu_ascii(dir.path() / "empty.vtu", p, {}, {});
+  write_vtu_ascii(dir.path() / "apart.vtu", {{0, 0, 0}, {0.3, 0, 0}, {0, 0.3, 0}, {0, 0, 0.3}, {1, 0, 0}, {1.3, 0, 0},
+                                            {1, 0.3, 0}, {1, 0, 0.3}}, {{0, 1, 2, 3}, {4, 5, 6, 7}}, {10, 10});
+  std::ofstream(dir.path() / "hex.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n1 0 0 0\n2 1 0 0\n3 1 1 0\n"
+                                           "4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n$EndNodes\n$Elements\n1\n"
+                                           "3 5 2 1 1 1 2 3 4 5 6 7 8\n$EndElements\n";
+  std::ofstream(dir.path() / "old.msh") << "$MeshFormat\n4.0 0 8\n$EndMeshFormat\n";
+  write_vtu_ascii(dir.path() / "good.vtu", p, {{0, 1, 2, 3}}, {10});
+  const std::vector<Case> cases = {
+      {"missing_file", [] { return volume_mesh_scene("nowhere.vtu"); }, "/solids/0/geometry/file"},
+      {"wrong_cell", [] { return volume_mesh_scene("triangle.vtu"); }, "/solids/0/geometry/file"},
+      {"inverted_tet", [] { return volume_mesh_scene("inverted.vtu"); }, "/solids/0/geometry/file"},
+      {"degenerate_tet", [] { return volume_mesh_scene("degenerate.vtu"); }, "/solids/0/geometry/file"},
+      {"empty_mesh", [] { return volume_mesh_scene("empty.vtu"); }, "/solids/0/geometry/file"},
+      {"two_pieces", [] { return volume_mesh_scene("apart.vtu"); }, "/solids/0/geometry/file"},
+      {"hex_msh", [] { return volume_mesh_scene("hex.msh"); }, "/solids/0/geometry/file"},
+      {"msh_4_0", [] { return volume_mesh_scene("old.msh"); }, "/solids/0/geometry/file"},
+      {"component_w", [] {
+         auto s = solid_scene();
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-1, -1, -1}}, {"hi", {1, 0, 1}}, {"components", {"w"}}}};
+         return s; }, "/solids/0/fixed_regions/0/components/0"},
+      {"component_twice", [] {
+         auto s = solid_scene();
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-1, -1, -1}}, {"hi", {1, 0, 1}}, {"components", {"x", "x"}}}};
+         return s; }, "/solids/0/fixed_regions/0/components/1"},
+      {"components_empty", [] {
+         auto s = solid_scene();
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-1, -1, -1}}, {"hi", {1, 0, 1}}, {"components", json::array()}}};
+         return s; }, "/solids/0/fixed_regions/0/components"},
+      {"coupled_volume_mesh", [] {
+         auto s = coupled_scene();
+         s["solids"][0]["geometry"] = {{"type", "volume_mesh"}, {"file", "good.vtu"}};
+         return s; }, "/solids/0/geometry/type"},
+  };
+  const std::map<std::string, std::string> causes = {
+      {"missing_file", "file not found"}, {"wrong_cell", "cell 1 has VTK type 5"}, {"inverted_tet", "tet 1 is inverted"},
+      {"degenerate_tet", "tet 0 is degenerate"}, {"empty_mesh", "no tetrahedra"}, {"two_pieces", "2 separate pieces"},
+      {"hex_msh", "element 3 has Gmsh type 5"}, {"msh_4_0", "format version 4.0"}, {"component_w", "\"x\", \"y\", \"z\""},
+      {"component_twice", "twice"}, {"components_empty", "non-empty array"},
+      {"coupled_volume_mesh", "cannot keep given tets"}};
+  for (const auto& c : cases) {
+    const std::string file = write(dir.path(), c.name, c.scene());
+    expect_refused(dir.path(), file, c.name + ".json: " + c.fragment);
+    expect_refused(dir.path(), file, causes.at(c.name));
+    fs::remove(file);
+  }
 }

@@ -7,8 +7,10 @@ namespace {
 
 Field geometry() {
   return Field::object("geometry", "The solid's rest shape, before `placement`.", {
-      Field::enumeration("type", {"mesh", "box", "sphere", "sheet", "bowl", "sphere_shell"},
-                         "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `box`, "
+      Field::enumeration("type", {"mesh", "volume_mesh", "box", "sphere", "sheet", "bowl", "sphere_shell"},
+                         "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `volume_mesh`: a "
+                         "tetrahedral mesh file (VTK .vtu, Gmsh .msh 2.2/4.1 ASCII) used as the solid's FEM "
+                         "mesh as it is (solid-only scenes); `box`, "
                          "`sphere`, `sheet`: primitives centred at the origin; `bowl`: a hemispherical "
                          "shell open toward +y, its spheres' centre at the origin and its rim in the plane "
                          "y = 0; `sphere_shell`: a hollow "
@@ -18,6 +20,12 @@ Field geometry() {
     .variant("mesh", {
         Field::file("file", "Surface file, relative to the scene file's folder.").req(),
         Field::number("unit_scale", "m/unit", "Metres per file unit (0.01 for files in cm).")
+            .greater(0).def(1.0)})
+    .variant("volume_mesh", {
+        Field::file("file", "Tet mesh file (.vtu: VTK_TETRA cells only, ASCII, inline binary or raw appended "
+                            "data; .msh: Gmsh 2.2 or 4.1 ASCII, 4-node tets, lower-dimensional elements ignored), "
+                            "relative to the scene file's folder.").req(),
+        Field::number("unit_scale", "m/unit", "Metres per file unit (0.001 for files in mm).")
             .greater(0).def(1.0)})
     .variant("box", {Field::vector("size", 3, "m", "Edge lengths along x, y, z.").req().greater(0)})
     .variant("sphere", {
@@ -45,6 +53,14 @@ Field geometry() {
                           fmt::format("expected a wall thickness < radius ({} m), got {} m (no cavity left)",
                                       o["radius"].get<double>(), o["thickness"].get<double>())});
     });
+}
+
+Field fixed_region() {
+  Field f = box("", "");
+  f.members.push_back(Field::enumeration_set("components", {"x", "y", "z"},
+                                             "Displacement components held at 0, e.g. [\"y\"] or [\"x\", \"z\"].")
+                          .def(Json::array({"x", "y", "z"})));
+  return f;
 }
 
 Field material() {
@@ -181,8 +197,9 @@ Field solids() {
           Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation (about x, then y, then z).").def({0, 0, 0})}),
       model(),
       material().req(),
-      Field::array("fixed_regions", "Boxes (world coordinates [m]); nodes inside are fixed.",
-                   box("", "")).def(Json::array()),
+      Field::array("fixed_regions", "Boxes (world coordinates [m]); nodes inside are held in place in "
+                   "`components` (all by default; a symmetry plane holds its normal component only).",
+                   fixed_region()).def(Json::array()),
       Field::vector("initial_velocity", 3, "m/s", "Initial velocity of every node.").def({0, 0, 0}),
       Field::array("springs", "Linear springs tying a region of a `tet_fem` solid to fixed anchors "
                    "(coupled and solid runners).", spring()).def(Json::array()),
@@ -215,6 +232,12 @@ Field solids() {
                             "fixing single components needs /model/analysis \"static\"; dynamic runs fix whole nodes "
                             "(\"xyz\")"});
       }
+      const auto& fixed = o.at("fixed_regions");
+      for (std::size_t j = 0; j < fixed.size(); ++j)
+        if (fixed[j].at("components").size() != 3)
+          issues.push_back({fmt::format("{}/fixed_regions/{}/components", ptr, j),
+                            "fixing single components of a hex8 solid needs /model/analysis \"static\"; dynamic "
+                            "hex8 runs fix whole nodes ([\"x\", \"y\", \"z\"])"});
     }
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
