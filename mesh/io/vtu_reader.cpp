@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mesh/io/zlib_blocks.hpp"
+
 namespace tetfsi::mesh::io {
 namespace {
 
@@ -113,8 +115,78 @@ struct Array {
   std::vector<double> values;
 };
 
+// How the file stores binary data: the header word size, the compressor, the raw appended section.
+struct Encoding {
+  std::size_t header_bytes = 4;      ///< header_type UInt32 (4) or UInt64 (8)
+  bool zlib = false;                 ///< compressor="vtkZLibDataCompressor"
+  const unsigned char* appended = nullptr;  ///< first byte after the '_' of <AppendedData encoding="raw">
+  std::size_t appended_size = 0;
+};
+
+// Sequential reads from a byte range, failing with a message when it runs out.
+struct Cursor {
+  const unsigned char* data;
+  std::size_t size;
+  std::size_t pos = 0;
+  const Parser& p;
+  const std::string& array;
+
+  const unsigned char* take(std::uint64_t n) {
+    if (n > size - pos) p.fail("DataArray '" + array + "' is truncated (needs " + std::to_string(n) + " more bytes, " + std::to_string(size - pos) + " left)");
+    const unsigned char* at = data + pos;
+    pos += n;
+    return at;
+  }
+  std::uint64_t word(std::size_t header_bytes) {
+    const unsigned char* at = take(header_bytes);
+    if (header_bytes == 8) {
+      std::uint64_t v;
+      std::memcpy(&v, at, 8);
+      return v;
+    }
+    std::uint32_t v;
+    std::memcpy(&v, at, 4);
+    return v;
+  }
+};
+
+// The uncompressed payload of a binary array: [byte count][bytes], or with zlib the block header
+// and blocks of zlib_blocks.hpp.
+std::vector<unsigned char> payload(Cursor& c, const Encoding& e) {
+  if (!e.zlib) {
+    const std::uint64_t n = c.word(e.header_bytes);
+    const unsigned char* at = c.take(n);
+    return {at, at + n};
+  }
+  const std::uint64_t nb = c.word(e.header_bytes), block = c.word(e.header_bytes), last = c.word(e.header_bytes);
+  if (nb > c.size / e.header_bytes || last > block) c.p.fail("DataArray '" + c.array + "' has a malformed compression header");
+  std::vector<std::uint64_t> sizes(nb), unpacked(nb);
+  std::uint64_t total = 0;
+  for (std::uint64_t b = 0; b < nb; ++b) {
+    sizes[b] = c.word(e.header_bytes);
+    if (sizes[b] > c.size)
+      c.p.fail("DataArray '" + c.array + "' is truncated or its compression header is corrupt (a block of " +
+               std::to_string(sizes[b]) + " bytes in " + std::to_string(c.size) + ")");
+    unpacked[b] = (b + 1 == nb && last) ? last : block;
+    // Deflate expands at most 1032:1 (zlib FAQ): a larger block size is a corrupt header, not data.
+    if (unpacked[b] > 1032 * sizes[b] + 64)
+      c.p.fail("DataArray '" + c.array + "' declares a block of " + std::to_string(unpacked[b]) + " bytes from " +
+               std::to_string(sizes[b]) + " compressed bytes");
+    total += unpacked[b];
+  }
+  std::vector<unsigned char> out(total);
+  std::uint64_t at = 0;
+  for (std::uint64_t b = 0; b < nb; ++b) {
+    const unsigned char* from = c.take(sizes[b]);
+    if (!inflate_zlib_block(from, sizes[b], out.data() + at, unpacked[b]))
+      c.p.fail("DataArray '" + c.array + "': zlib block " + std::to_string(b) + " is corrupt");
+    at += unpacked[b];
+  }
+  return out;
+}
+
 // Parses the DataArray whose tag starts at `pos`.
-Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
+Array read_array(const Parser& p, std::size_t pos, const Encoding& e) {
   std::size_t body = 0;
   Attributes a = p.attributes(pos, body);
   Array out;
@@ -124,31 +196,41 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
   const std::size_t size = type_size(type);
   if (size == 0) p.fail("DataArray '" + out.name + "' has unsupported type '" + type + "'");
   const std::string format = a.count("format") ? a["format"] : "ascii";
-  if (p.text[body - 2] == '/') return out;  // <DataArray ... />: empty
-  const std::size_t close = p.text.find("</DataArray>", body);
-  if (close == std::string::npos) p.fail("DataArray '" + out.name + "' is not closed");
-  if (format == "ascii") {
-    std::istringstream in(p.text.substr(body, close - body));
-    double v;
-    while (in >> v) out.values.push_back(v);
-    if (!in.eof()) p.fail("DataArray '" + out.name + "' has a non-numeric ASCII value");
-  } else if (format == "binary") {
-    const auto bytes = base64_decode(p.text, body, close, p);
-    if (bytes.size() < header_bytes) p.fail("DataArray '" + out.name + "' has no size header");
-    std::uint64_t n = 0;
-    if (header_bytes == 8) {
-      std::memcpy(&n, bytes.data(), 8);
+  std::vector<unsigned char> bytes;
+  if (format == "appended") {
+    if (!e.appended) p.fail("DataArray '" + out.name + "' is appended but the file has no raw <AppendedData>");
+    std::size_t offset = 0;
+    try {
+      offset = std::stoull(a.at("offset"));
+    } catch (const std::exception&) {
+      p.fail("DataArray '" + out.name + "' lacks a valid offset");
+    }
+    if (offset > e.appended_size) p.fail("DataArray '" + out.name + "' has an offset past the appended data");
+    Cursor c{e.appended + offset, e.appended_size - offset, 0, p, out.name};
+    bytes = payload(c, e);
+  } else if (p.text[body - 2] == '/') {
+    return out;  // <DataArray ... />: empty
+  } else {
+    const std::size_t close = p.text.find("</DataArray>", body);
+    if (close == std::string::npos) p.fail("DataArray '" + out.name + "' is not closed");
+    if (format == "ascii") {
+      std::istringstream in(p.text.substr(body, close - body));
+      double v;
+      while (in >> v) out.values.push_back(v);
+      if (!in.eof()) p.fail("DataArray '" + out.name + "' has a non-numeric ASCII value");
+    } else if (format == "binary") {
+      const auto text = base64_decode(p.text, body, close, p);
+      Cursor c{text.data(), text.size(), 0, p, out.name};
+      bytes = payload(c, e);
     } else {
-      std::uint32_t n32 = 0;
-      std::memcpy(&n32, bytes.data(), 4);
-      n = n32;
+      p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii, binary and appended are supported)");
     }
-    if (n % size != 0 || bytes.size() < header_bytes + n) {
-      p.fail("DataArray '" + out.name + "' declares " + std::to_string(n) + " bytes but holds " +
-             std::to_string(bytes.size() - header_bytes));
-    }
-    const unsigned char* d = bytes.data() + header_bytes;
-    const std::size_t count = n / size;
+  }
+  if (format != "ascii") {
+    if (bytes.size() % size != 0)
+      p.fail("DataArray '" + out.name + "' holds " + std::to_string(bytes.size()) + " bytes, not a multiple of " + type);
+    const unsigned char* d = bytes.data();
+    const std::size_t count = bytes.size() / size;
     out.values.reserve(count);
     if (type == "Int8") convert<std::int8_t>(d, count, out.values);
     else if (type == "UInt8") convert<std::uint8_t>(d, count, out.values);
@@ -160,8 +242,6 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
     else if (type == "UInt64") convert<std::uint64_t>(d, count, out.values);
     else if (type == "Float32") convert<float>(d, count, out.values);
     else convert<double>(d, count, out.values);
-  } else {
-    p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii and inline binary are supported)");
   }
   if (out.components < 1 || out.values.size() % out.components != 0) {
     p.fail("DataArray '" + out.name + "' has " + std::to_string(out.values.size()) +
@@ -171,23 +251,38 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
 }
 
 }  // namespace
-UnstructuredGrid parse_vtu(const std::string& text, const std::string& name) {
+UnstructuredGrid parse_vtu(const std::string& whole, const std::string& name) {
+  // The XML part ends where raw appended data (bytes that may look like tags) begins.
+  const std::size_t appended_pos = whole.find("<AppendedData");
+  const std::string text = whole.substr(0, appended_pos);
   Parser p{text, name};
   const std::size_t file_pos = p.find_tag("VTKFile", 0, text.size());
   if (file_pos == std::string::npos) p.fail("no <VTKFile> element (not a VTK XML file)");
   std::size_t after = 0;
   Attributes file = p.attributes(file_pos, after);
   if (file["type"] != "UnstructuredGrid") p.fail("VTKFile type is '" + file["type"] + "', expected UnstructuredGrid");
+  Encoding encoding;
   if (file.count("compressor") && !file["compressor"].empty()) {
-    p.fail("compressed data (" + file["compressor"] + ") is not supported");
+    if (file["compressor"] != "vtkZLibDataCompressor")
+      p.fail("compressor " + file["compressor"] + " is not supported (only vtkZLibDataCompressor)");
+    encoding.zlib = true;
   }
   if (file.count("byte_order") && file["byte_order"] != "LittleEndian") p.fail("only LittleEndian files are supported");
-  std::size_t header_bytes = 4;
   if (file.count("header_type")) {
-    if (file["header_type"] == "UInt64") header_bytes = 8;
+    if (file["header_type"] == "UInt64") encoding.header_bytes = 8;
     else if (file["header_type"] != "UInt32") p.fail("unsupported header_type '" + file["header_type"] + "'");
   }
-  if (text.find("<AppendedData") != std::string::npos) p.fail("format=\"appended\" data is not supported");
+  if (appended_pos != std::string::npos) {
+    const Parser whole_parser{whole, name};
+    std::size_t data = 0;
+    Attributes appended = whole_parser.attributes(appended_pos, data);
+    if (appended["encoding"] != "raw")
+      p.fail("<AppendedData encoding=\"" + appended["encoding"] + "\"> is not supported (only raw)");
+    const std::size_t underscore = whole.find('_', data);
+    if (underscore == std::string::npos) p.fail("<AppendedData> lacks the '_' that starts the data");
+    encoding.appended = reinterpret_cast<const unsigned char*>(whole.data()) + underscore + 1;
+    encoding.appended_size = whole.size() - underscore - 1;
+  }
   const std::size_t piece_pos = p.find_tag("Piece", after, text.size());
   if (piece_pos == std::string::npos) p.fail("no <Piece> element");
   if (p.find_tag("Piece", piece_pos + 1, text.size()) != std::string::npos) p.fail("more than one <Piece> is not supported");
@@ -213,7 +308,7 @@ UnstructuredGrid parse_vtu(const std::string& text, const std::string& name) {
     if (close == std::string::npos) p.fail("<" + tag + "> is not closed");
     for (std::size_t pos = p.find_tag("DataArray", body, close); pos != std::string::npos;
          pos = p.find_tag("DataArray", pos + 1, close)) {
-      arrays.push_back(read_array(p, pos, header_bytes));
+      arrays.push_back(read_array(p, pos, encoding));
     }
     return arrays;
   };
