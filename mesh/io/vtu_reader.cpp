@@ -1,5 +1,6 @@
 #include "mesh/io/vtu_reader.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -41,7 +42,10 @@ struct Parser {
       if (q1 == std::string::npos) fail("unterminated attribute '" + key + "'");
       a[key] = text.substr(q0 + 1, q1 - q0 - 1);
       i = q1 + 1;
-      if (q1 >= end) end = text.find('>', q1);
+      if (q1 >= end) {  // a '>' inside the quotes: the tag ends at the next one
+        end = text.find('>', q1);
+        if (end == std::string::npos) fail("unterminated tag");
+      }
     }
     ++end;
     return a;
@@ -160,27 +164,29 @@ std::vector<unsigned char> payload(Cursor& c, const Encoding& e) {
   }
   const std::uint64_t nb = c.word(e.header_bytes), block = c.word(e.header_bytes), last = c.word(e.header_bytes);
   if (nb > c.size / e.header_bytes || last > block) c.p.fail("DataArray '" + c.array + "' has a malformed compression header");
-  std::vector<std::uint64_t> sizes(nb), unpacked(nb);
-  std::uint64_t total = 0;
-  for (std::uint64_t b = 0; b < nb; ++b) {
-    sizes[b] = c.word(e.header_bytes);
-    if (sizes[b] > c.size)
-      c.p.fail("DataArray '" + c.array + "' is truncated or its compression header is corrupt (a block of " +
-               std::to_string(sizes[b]) + " bytes in " + std::to_string(c.size) + ")");
-    unpacked[b] = (b + 1 == nb && last) ? last : block;
-    // Deflate expands at most 1032:1 (zlib FAQ): a larger block size is a corrupt header, not data.
-    if (unpacked[b] > 1032 * sizes[b] + 64)
-      c.p.fail("DataArray '" + c.array + "' declares a block of " + std::to_string(unpacked[b]) + " bytes from " +
-               std::to_string(sizes[b]) + " compressed bytes");
-    total += unpacked[b];
+  std::vector<std::uint64_t> sizes(nb);
+  std::uint64_t compressed = 0;
+  for (auto& size : sizes) {
+    size = c.word(e.header_bytes);
+    compressed += std::min<std::uint64_t>(size, c.size + 1);  // stops growing once past c.size
+    if (compressed > c.size) break;
   }
-  std::vector<unsigned char> out(total);
-  std::uint64_t at = 0;
+  if (compressed > c.size - c.pos)
+    c.p.fail("DataArray '" + c.array + "' is truncated or its compression header is corrupt (" +
+             std::to_string(compressed) + " compressed bytes declared, " + std::to_string(c.size - c.pos) + " left)");
+  // Grown block by block, so memory follows the data that really inflates.
+  std::vector<unsigned char> out;
   for (std::uint64_t b = 0; b < nb; ++b) {
+    const std::uint64_t n = (b + 1 == nb && last) ? last : block;
+    // Deflate expands at most 1032:1 (zlib FAQ): a larger block size is a corrupt header, not data.
+    if (n > 1032 * sizes[b] + 64)
+      c.p.fail("DataArray '" + c.array + "' declares a block of " + std::to_string(n) + " bytes from " +
+               std::to_string(sizes[b]) + " compressed bytes");
     const unsigned char* from = c.take(sizes[b]);
-    if (!inflate_zlib_block(from, sizes[b], out.data() + at, unpacked[b]))
+    const std::size_t at = out.size();
+    out.resize(at + n);
+    if (!inflate_zlib_block(from, sizes[b], out.data() + at, n))
       c.p.fail("DataArray '" + c.array + "': zlib block " + std::to_string(b) + " is corrupt");
-    at += unpacked[b];
   }
   return out;
 }
@@ -191,7 +197,13 @@ Array read_array(const Parser& p, std::size_t pos, const Encoding& e) {
   Attributes a = p.attributes(pos, body);
   Array out;
   out.name = a.count("Name") ? a["Name"] : "";
-  out.components = a.count("NumberOfComponents") ? std::stoi(a["NumberOfComponents"]) : 1;
+  if (a.count("NumberOfComponents")) {
+    try {
+      out.components = std::stoi(a["NumberOfComponents"]);
+    } catch (const std::exception&) {
+      p.fail("DataArray '" + out.name + "' has NumberOfComponents=\"" + a["NumberOfComponents"] + "\", not an integer");
+    }
+  }
   const std::string type = a["type"];
   const std::size_t size = type_size(type);
   if (size == 0) p.fail("DataArray '" + out.name + "' has unsupported type '" + type + "'");
@@ -351,7 +363,10 @@ UnstructuredGrid parse_vtu(const std::string& whole, const std::string& name) {
     grid.connectivity.push_back(static_cast<std::int64_t>(c));
   }
   for (double o : offsets->values) grid.offsets.push_back(static_cast<std::int64_t>(o));
-  for (double t : types->values) grid.types.push_back(static_cast<std::uint8_t>(t));
+  for (double t : types->values) {
+    if (!(t >= 0 && t <= 255 && t == std::floor(t))) p.fail("cell type " + std::to_string(t) + " is not a VTK cell type (0..255)");
+    grid.types.push_back(static_cast<std::uint8_t>(t));
+  }
   for (auto& a : section("PointData")) {
     if (a.values.size() != static_cast<std::size_t>(num_points) * a.components) p.fail("point field '" + a.name + "' has the wrong size");
     grid.point_data.push_back({a.name, a.components, std::move(a.values)});
