@@ -6,6 +6,7 @@ find_package(CLI11 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(assimp REQUIRED)
+find_package(ZLIB REQUIRED)           # .vtu compression (mesh/io/zlib_blocks.hpp)
 find_package(MPI REQUIRED COMPONENTS C)   # hypre in Debian is built against Open MPI
 
 # CGAL is header-only; only mesh/ links it (each CGAL translation unit: ~60 s, 3.6 GB).

@@ -6,7 +6,7 @@
 # Crashes, hangs (> 10 s per input) and inputs over 2 GB of memory are saved in build-fuzz/findings/.
 #
 #   scripts/fuzz.sh [--time SECONDS | --runs N] [TARGET...]     (default: --time 60, all targets)
-#   targets: fuzz_scene fuzz_ply fuzz_surface
+#   targets: fuzz_scene fuzz_ply fuzz_surface fuzz_vtu
 set -euo pipefail
 cd "$(dirname "$0")/.."
 limit=(-max_total_time=60)
@@ -18,7 +18,7 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_ply fuzz_surface)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_scene fuzz_ply fuzz_surface fuzz_vtu)
 command -v clang++-14 >/dev/null || { echo "needs clang-14 and libclang-rt-14-dev (apt-get install -y clang-14 libclang-rt-14-dev)"; exit 2; }
 build=build-fuzz
 flags="-O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined"
@@ -33,6 +33,7 @@ for t in "${targets[@]}"; do
     fuzz_scene) corpus=scene ;;
     fuzz_ply) corpus=ply ;;
     fuzz_surface) corpus=surface ;;
+    fuzz_vtu) corpus=vtu ;;
     *) echo "unknown target $t"; exit 2 ;;
   esac
   echo "== $t"

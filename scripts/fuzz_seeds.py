@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
 """Writes seed corpora for the libFuzzer targets (fuzz/): generated shapes (tetrahedron, cube,
 octahedron, icosphere) as PLY (ASCII, binary little/big endian), OBJ, STL (ASCII, binary), OFF,
-glTF. Usage: fuzz_seeds.py OUT_DIR  -> OUT_DIR/ply/*, OUT_DIR/surface/* (first byte = format)."""
+glTF; and as .vtu grids of triangles (zlib-compressed raw appended as tetfsi writes by default,
+uncompressed inline base64, ASCII). Usage: fuzz_seeds.py OUT_DIR  -> OUT_DIR/ply/*,
+OUT_DIR/surface/* (first byte = format), OUT_DIR/vtu/*."""
+import base64
 import math
 import os
 import struct
 import sys
+import zlib
 
 
 def shapes():
@@ -87,10 +91,44 @@ def gltf(v, f):
     return json.dumps(doc).encode()
 
 
+def vtu(v, f, encoding):
+    """A VTK XML UnstructuredGrid of the triangles (header_type UInt64), mesh/io/vtu_writer's layout."""
+    arrays = [("Float64", "Points", 3, struct.pack(f"<{3 * len(v)}d", *[c for p in v for c in p])),
+              ("Int64", "connectivity", 1, struct.pack(f"<{3 * len(f)}q", *[i for t in f for i in t])),
+              ("Int64", "offsets", 1, struct.pack(f"<{len(f)}q", *[3 * (k + 1) for k in range(len(f))])),
+              ("UInt8", "types", 1, bytes([5] * len(f)))]
+    compressor = ' compressor="vtkZLibDataCompressor"' if encoding == "zlib" else ""
+    xml, appended = [], b""
+    for vtk_type, name, comps, raw in arrays:
+        head = f'<DataArray type="{vtk_type}" Name="{name}" NumberOfComponents="{comps}"'
+        if encoding == "zlib":
+            blocks = [zlib.compress(raw[k:k + 32768], 1) for k in range(0, len(raw), 32768)]
+            last = len(raw) % 32768
+            header = struct.pack(f"<{3 + len(blocks)}Q", len(blocks), 32768, last, *[len(b) for b in blocks])
+            xml.append(f'{head} format="appended" offset="{len(appended)}"/>')
+            appended += header + b"".join(blocks)
+        elif encoding == "base64":
+            xml.append(f'{head} format="binary">' + base64.b64encode(struct.pack("<Q", len(raw)) + raw).decode()
+                       + "</DataArray>")
+        else:
+            code = {"Float64": "d", "Int64": "q", "UInt8": "B"}[vtk_type]
+            values = struct.unpack(f"<{len(raw) // struct.calcsize(code)}{code}", raw)
+            xml.append(f'{head} format="ascii">' + " ".join(map(str, values)) + "</DataArray>")
+    text = (f'<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
+            f'header_type="UInt64"{compressor}>\n<UnstructuredGrid>\n<Piece NumberOfPoints="{len(v)}" '
+            f'NumberOfCells="{len(f)}">\n<PointData>\n</PointData>\n<CellData>\n</CellData>\n<Points>\n{xml[0]}\n'
+            f'</Points>\n<Cells>\n' + "\n".join(xml[1:]) + "\n</Cells>\n</Piece>\n</UnstructuredGrid>\n")
+    data = text.encode()
+    if encoding == "zlib":
+        data += b'<AppendedData encoding="raw">\n_' + appended + b"\n</AppendedData>\n"
+    return data + b"</VTKFile>\n"
+
+
 def main():
     out = sys.argv[1]
     os.makedirs(os.path.join(out, "ply"), exist_ok=True)
     os.makedirs(os.path.join(out, "surface"), exist_ok=True)
+    os.makedirs(os.path.join(out, "vtu"), exist_ok=True)
     # fuzz_surface: first byte % 6 picks .obj .stl .off .ply .gltf .fbx
     for name, (v, f) in shapes().items():
         plys = {"ascii": ply_ascii(v, f), "le": ply_binary(v, f, False), "be": ply_binary(v, f, True)}
@@ -100,6 +138,8 @@ def main():
                     (2, "off", off(v, f)), (3, "ply", plys["ascii"]), (4, "gltf", gltf(v, f))]
         for code, kind, data in surfaces:
             open(os.path.join(out, "surface", f"{name}_{kind}"), "wb").write(bytes([code]) + data)
+        for encoding in ("zlib", "base64", "ascii"):
+            open(os.path.join(out, "vtu", f"{name}_{encoding}.vtu"), "wb").write(vtu(v, f, encoding))
 
 
 if __name__ == "__main__":

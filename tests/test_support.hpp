@@ -46,11 +46,19 @@ inline std::string run_command(const std::string& command, int* status = nullptr
   return out;
 }
 
-/// Describes a .vtu/.pvd with VTK's own reader (tests/tools/vtu_info.py): "points cells fields".
-inline std::string vtk_describe(const std::filesystem::path& file, int* status = nullptr) {
-  return run_command(std::string(TETFSI_PYTHON) + " " + TETFSI_SOURCE_DIR +
-                         "/tests/tools/vtu_info.py '" + file.string() + "'",
+/// Describes a .vtu/.pvd with VTK's own reader (tests/tools/vtu_info.py): "points cells fields";
+/// with `sums`, each field also gives the sum of its values as VTK decoded them.
+inline std::string vtk_describe(const std::filesystem::path& file, int* status = nullptr, bool sums = false) {
+  return run_command(std::string(TETFSI_PYTHON) + " " + TETFSI_SOURCE_DIR + "/tests/tools/vtu_info.py " +
+                         (sums ? "--sums '" : "'") + file.string() + "'",
                      status);
+}
+
+/// Whether VTK's Python bindings (Debian python3-vtk9) import in the interpreter the tests use.
+inline bool vtk_available() {
+  int status = -1;
+  run_command(std::string(TETFSI_PYTHON) + " -c 'import vtk' > /dev/null 2>&1", &status);
+  return status == 0;
 }
 
 }  // namespace tetfsi::test

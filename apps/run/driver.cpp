@@ -50,15 +50,32 @@ std::vector<std::string> probe_columns(const scene::Json& p) {
   return {name};
 }
 
-/// The state was checked, so writing it is safe.
-void write_frame(Simulation& sim, Output& out, int frame, double t) {
-  if (out.frame_due(frame)) sim.write_frame(out, frame, t);
-}
-
 class Driver {
  public:
   Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log)
       : opt_(opt), scene_(std::move(scene)), log_(log) {}
+
+  /// Writes frame `frame` if it is due and logs the bytes it took (the state was checked, so
+  /// writing it is safe).
+  void write_frame(Simulation& sim, Output& out, int frame, double t) {
+    if (!out.frame_due(frame)) return;
+    const Output::Bytes before = out.bytes_written();
+    Stopwatch clock;
+    sim.write_frame(out, frame, t);
+    const Output::Bytes& after = out.bytes_written();
+    ++frames_written_;
+    log_.info("frame {} (t = {:.6g} s): {} bytes written (.vtu {}, surfaces {}) in {:.3f} s", frame, t,
+              after.total() - before.total(), after.vtu - before.vtu, after.surfaces - before.surfaces,
+              clock.seconds());
+  }
+
+  /// The run.log line on the frames written in all.
+  void log_output_total(const Output& out) {
+    const Output::Bytes& b = out.bytes_written();
+    log_.info("output: {} frame(s), {} bytes of frame files (.vtu {}, surfaces {}), {:.0f} bytes per frame",
+              frames_written_, b.total(), b.vtu, b.surfaces,
+              frames_written_ ? double(b.total()) / frames_written_ : 0.0);
+  }
 
   void run() {
     const auto& entry = choose_runner(scene_);
@@ -97,6 +114,7 @@ class Driver {
     double t_output = io.seconds();
     if (!sim->time_dependent()) {
       out.stats_row(stats_row(setup, 0, 0.0, t_output));
+      log_output_total(out);
       log_.info("done: frame 0 written in {:.3f} s (total {:.3f} s)", t_output, wall.seconds());
       return;
     }
@@ -153,6 +171,7 @@ class Driver {
       throw;
     }
     progress.finish(t, step, wall.seconds());
+    log_output_total(out);
     log_.info("done: {} steps, {} frames, simulated {:.6g} s in {:.3f} s of wall time", step, frame + 1,
               t, wall.seconds());
   }
@@ -233,6 +252,7 @@ class Driver {
   scene::Scene scene_;
   spdlog::logger& log_;
   std::set<std::size_t> warned_;
+  int frames_written_ = 0;
 };
 
 }  // namespace

@@ -76,7 +76,10 @@ OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
   return done;
 }
 
-Output::Output(fs::path dir, scene::Json export_cfg) : dir_(std::move(dir)), cfg_(std::move(export_cfg)) {
+Output::Output(fs::path dir, scene::Json export_cfg)
+    : dir_(std::move(dir)),
+      cfg_(std::move(export_cfg)),
+      compression_(cfg_.at("compression") == "none" ? mesh::io::VtuCompression::None : mesh::io::VtuCompression::Zlib) {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
@@ -92,7 +95,7 @@ void Output::write_grid(const std::string& object, int frame, double time,
   if (!cfg_.at("vtu").get<bool>()) return;
   fs::create_directories(dir_ / object);
   const std::string rel = fmt::format("{}/{}_{:05d}.vtu", object, object, frame);
-  mesh::io::write_vtu(dir_ / rel, grid);
+  bytes_.vtu += mesh::io::write_vtu(dir_ / rel, grid, compression_);
   auto& pvd = pvds_[object];
   if (!pvd) pvd = std::make_unique<mesh::io::PvdCollection>(dir_ / (object + ".pvd"));
   pvd->add(time, rel);  // after the frame file is complete
@@ -106,6 +109,7 @@ void Output::write_surface(const std::string& object, int frame, const mesh::Sur
   const fs::path path = dir_ / "surfaces" / fmt::format("{}_{:05d}.{}", object, frame, kind);
   if (kind == "ply") mesh::io::write_ply(path, surface, velocity);
   else write_obj(path, surface);
+  bytes_.surfaces += fs::file_size(path);
 }
 
 void Output::begin_stats(const std::vector<std::string>& header) { open_csv(stats_, dir_ / "stats.csv", header); }

@@ -7,6 +7,7 @@
 /// (of a killed run) and, in a folder that holds an earlier run, that run's frames, .pvd and CSV
 /// files, so no stale frame is left beside the new .pvd; other files are never deleted.
 #include <Eigen/Core>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -29,8 +30,8 @@ class Output {
   /// Whether frame `frame` is written at all (export.every_n_frames).
   bool frame_due(int frame) const;
 
-  /// Writes <object>/<object>_<frame>.vtu and lists it in <object>.pvd at `time` [s]
-  /// (nothing if export.vtu is false).
+  /// Writes <object>/<object>_<frame>.vtu (compressed as export.compression says) and lists it
+  /// in <object>.pvd at `time` [s] (nothing if export.vtu is false).
   void write_grid(const std::string& object, int frame, double time,
                   const mesh::io::UnstructuredGrid& grid);
   /// Writes surfaces/<object>_<frame>.ply (with per-vertex velocity [m/s] if given) or .obj,
@@ -46,11 +47,20 @@ class Output {
   void begin_probes(const std::vector<std::string>& header);
   void probes_row(const std::vector<double>& row);
 
+  /// Bytes of the frame files written so far: .vtu frames and surface files (for run.log).
+  struct Bytes {
+    std::uintmax_t vtu = 0, surfaces = 0;
+    std::uintmax_t total() const { return vtu + surfaces; }
+  };
+  const Bytes& bytes_written() const { return bytes_; }
+
  private:
   std::filesystem::path dir_;
   scene::Json cfg_;
   std::map<std::string, std::unique_ptr<mesh::io::PvdCollection>> pvds_;
   std::ofstream stats_, probes_;
+  mesh::io::VtuCompression compression_;
+  Bytes bytes_;
 };
 
 /// What clean_output_folder removed.

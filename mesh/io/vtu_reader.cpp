@@ -1,5 +1,6 @@
 #include "mesh/io/vtu_reader.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -10,16 +11,16 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mesh/io/zlib_blocks.hpp"
+
 namespace tetfsi::mesh::io {
 namespace {
 
 using Attributes = std::map<std::string, std::string>;
 
 struct Parser {
-  const std::string& text;  ///< the XML (up to <AppendedData> when the file has one)
+  const std::string& text;
   std::string name;
-  const unsigned char* appended = nullptr;  ///< raw appended data (after the '_'), if any
-  std::size_t appended_size = 0;
 
   [[noreturn]] void fail(const std::string& why) const { throw std::runtime_error("read_vtu(" + name + "): " + why); }
 
@@ -41,7 +42,10 @@ struct Parser {
       if (q1 == std::string::npos) fail("unterminated attribute '" + key + "'");
       a[key] = text.substr(q0 + 1, q1 - q0 - 1);
       i = q1 + 1;
-      if (q1 >= end) end = text.find('>', q1);
+      if (q1 >= end) {  // a '>' inside the quotes: the tag ends at the next one
+        end = text.find('>', q1);
+        if (end == std::string::npos) fail("unterminated tag");
+      }
     }
     ++end;
     return a;
@@ -115,58 +119,107 @@ struct Array {
   std::vector<double> values;
 };
 
-// Decodes one binary block: a byte-count header (header_bytes wide) followed by the payload.
-void decode_block(const Parser& p, Array& out, const std::string& type, std::size_t size, const unsigned char* bytes,
-                  std::size_t available, std::size_t header_bytes) {
-  if (available < header_bytes) p.fail("DataArray '" + out.name + "' has no size header");
-  std::uint64_t n = 0;
-  if (header_bytes == 8) {
-    std::memcpy(&n, bytes, 8);
-  } else {
-    std::uint32_t n32 = 0;
-    std::memcpy(&n32, bytes, 4);
-    n = n32;
+// How the file stores binary data: the header word size, the compressor, the raw appended section.
+struct Encoding {
+  std::size_t header_bytes = 4;      ///< header_type UInt32 (4) or UInt64 (8)
+  bool zlib = false;                 ///< compressor="vtkZLibDataCompressor"
+  const unsigned char* appended = nullptr;  ///< first byte after the '_' of <AppendedData encoding="raw">
+  std::size_t appended_size = 0;
+};
+
+// Sequential reads from a byte range, failing with a message when it runs out.
+struct Cursor {
+  const unsigned char* data;
+  std::size_t size;
+  std::size_t pos = 0;
+  const Parser& p;
+  const std::string& array;
+
+  const unsigned char* take(std::uint64_t n) {
+    if (n > size - pos) p.fail("DataArray '" + array + "' is truncated (needs " + std::to_string(n) + " more bytes, " + std::to_string(size - pos) + " left)");
+    const unsigned char* at = data + pos;
+    pos += n;
+    return at;
   }
-  if (n % size != 0 || available - header_bytes < n) {
-    p.fail("DataArray '" + out.name + "' declares " + std::to_string(n) + " bytes but holds " +
-           std::to_string(available - header_bytes));
+  std::uint64_t word(std::size_t header_bytes) {
+    const unsigned char* at = take(header_bytes);
+    if (header_bytes == 8) {
+      std::uint64_t v;
+      std::memcpy(&v, at, 8);
+      return v;
+    }
+    std::uint32_t v;
+    std::memcpy(&v, at, 4);
+    return v;
   }
-  const unsigned char* d = bytes + header_bytes;
-  const std::size_t count = n / size;
-  out.values.reserve(count);
-  if (type == "Int8") convert<std::int8_t>(d, count, out.values);
-  else if (type == "UInt8") convert<std::uint8_t>(d, count, out.values);
-  else if (type == "Int16") convert<std::int16_t>(d, count, out.values);
-  else if (type == "UInt16") convert<std::uint16_t>(d, count, out.values);
-  else if (type == "Int32") convert<std::int32_t>(d, count, out.values);
-  else if (type == "UInt32") convert<std::uint32_t>(d, count, out.values);
-  else if (type == "Int64") convert<std::int64_t>(d, count, out.values);
-  else if (type == "UInt64") convert<std::uint64_t>(d, count, out.values);
-  else if (type == "Float32") convert<float>(d, count, out.values);
-  else convert<double>(d, count, out.values);
+};
+
+// The uncompressed payload of a binary array: [byte count][bytes], or with zlib the block header
+// and blocks of zlib_blocks.hpp.
+std::vector<unsigned char> payload(Cursor& c, const Encoding& e) {
+  if (!e.zlib) {
+    const std::uint64_t n = c.word(e.header_bytes);
+    const unsigned char* at = c.take(n);
+    return {at, at + n};
+  }
+  const std::uint64_t nb = c.word(e.header_bytes), block = c.word(e.header_bytes), last = c.word(e.header_bytes);
+  if (nb > c.size / e.header_bytes || last > block) c.p.fail("DataArray '" + c.array + "' has a malformed compression header");
+  std::vector<std::uint64_t> sizes(nb);
+  std::uint64_t compressed = 0;
+  for (auto& size : sizes) {
+    size = c.word(e.header_bytes);
+    compressed += std::min<std::uint64_t>(size, c.size + 1);  // stops growing once past c.size
+    if (compressed > c.size) break;
+  }
+  if (compressed > c.size - c.pos)
+    c.p.fail("DataArray '" + c.array + "' is truncated or its compression header is corrupt (" +
+             std::to_string(compressed) + " compressed bytes declared, " + std::to_string(c.size - c.pos) + " left)");
+  // Grown block by block, so memory follows the data that really inflates.
+  std::vector<unsigned char> out;
+  for (std::uint64_t b = 0; b < nb; ++b) {
+    const std::uint64_t n = (b + 1 == nb && last) ? last : block;
+    // Deflate expands at most 1032:1 (zlib FAQ): a larger block size is a corrupt header, not data.
+    if (n > 1032 * sizes[b] + 64)
+      c.p.fail("DataArray '" + c.array + "' declares a block of " + std::to_string(n) + " bytes from " +
+               std::to_string(sizes[b]) + " compressed bytes");
+    const unsigned char* from = c.take(sizes[b]);
+    const std::size_t at = out.size();
+    out.resize(at + n);
+    if (!inflate_zlib_block(from, sizes[b], out.data() + at, n))
+      c.p.fail("DataArray '" + c.array + "': zlib block " + std::to_string(b) + " is corrupt");
+  }
+  return out;
 }
 
 // Parses the DataArray whose tag starts at `pos`.
-Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
+Array read_array(const Parser& p, std::size_t pos, const Encoding& e) {
   std::size_t body = 0;
   Attributes a = p.attributes(pos, body);
   Array out;
   out.name = a.count("Name") ? a["Name"] : "";
-  out.components = a.count("NumberOfComponents") ? std::stoi(a["NumberOfComponents"]) : 1;
+  if (a.count("NumberOfComponents")) {
+    try {
+      out.components = std::stoi(a["NumberOfComponents"]);
+    } catch (const std::exception&) {
+      p.fail("DataArray '" + out.name + "' has NumberOfComponents=\"" + a["NumberOfComponents"] + "\", not an integer");
+    }
+  }
   const std::string type = a["type"];
   const std::size_t size = type_size(type);
   if (size == 0) p.fail("DataArray '" + out.name + "' has unsupported type '" + type + "'");
   const std::string format = a.count("format") ? a["format"] : "ascii";
-  if (format == "appended") {  // raw block at the AppendedData start + offset
-    if (!p.appended) p.fail("DataArray '" + out.name + "' is appended but the file has no raw <AppendedData>");
+  std::vector<unsigned char> bytes;
+  if (format == "appended") {
+    if (!e.appended) p.fail("DataArray '" + out.name + "' is appended but the file has no raw <AppendedData>");
     std::size_t offset = 0;
     try {
       offset = std::stoull(a.at("offset"));
     } catch (const std::exception&) {
-      p.fail("DataArray '" + out.name + "' has no valid offset");
+      p.fail("DataArray '" + out.name + "' lacks a valid offset");
     }
-    if (offset > p.appended_size) p.fail("DataArray '" + out.name + "' has an offset beyond the appended data");
-    decode_block(p, out, type, size, p.appended + offset, p.appended_size - offset, header_bytes);
+    if (offset > e.appended_size) p.fail("DataArray '" + out.name + "' has an offset past the appended data");
+    Cursor c{e.appended + offset, e.appended_size - offset, 0, p, out.name};
+    bytes = payload(c, e);
   } else if (p.text[body - 2] == '/') {
     return out;  // <DataArray ... />: empty
   } else {
@@ -178,11 +231,29 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
       while (in >> v) out.values.push_back(v);
       if (!in.eof()) p.fail("DataArray '" + out.name + "' has a non-numeric ASCII value");
     } else if (format == "binary") {
-      const auto bytes = base64_decode(p.text, body, close, p);
-      decode_block(p, out, type, size, bytes.data(), bytes.size(), header_bytes);
+      const auto text = base64_decode(p.text, body, close, p);
+      Cursor c{text.data(), text.size(), 0, p, out.name};
+      bytes = payload(c, e);
     } else {
-      p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii, binary and raw appended are supported)");
+      p.fail("DataArray '" + out.name + "' uses format=\"" + format + "\" (only ascii, binary and appended are supported)");
     }
+  }
+  if (format != "ascii") {
+    if (bytes.size() % size != 0)
+      p.fail("DataArray '" + out.name + "' holds " + std::to_string(bytes.size()) + " bytes, not a multiple of " + type);
+    const unsigned char* d = bytes.data();
+    const std::size_t count = bytes.size() / size;
+    out.values.reserve(count);
+    if (type == "Int8") convert<std::int8_t>(d, count, out.values);
+    else if (type == "UInt8") convert<std::uint8_t>(d, count, out.values);
+    else if (type == "Int16") convert<std::int16_t>(d, count, out.values);
+    else if (type == "UInt16") convert<std::uint16_t>(d, count, out.values);
+    else if (type == "Int32") convert<std::int32_t>(d, count, out.values);
+    else if (type == "UInt32") convert<std::uint32_t>(d, count, out.values);
+    else if (type == "Int64") convert<std::int64_t>(d, count, out.values);
+    else if (type == "UInt64") convert<std::uint64_t>(d, count, out.values);
+    else if (type == "Float32") convert<float>(d, count, out.values);
+    else convert<double>(d, count, out.values);
   }
   if (out.components < 1 || out.values.size() % out.components != 0) {
     p.fail("DataArray '" + out.name + "' has " + std::to_string(out.values.size()) +
@@ -192,36 +263,37 @@ Array read_array(const Parser& p, std::size_t pos, std::size_t header_bytes) {
 }
 
 }  // namespace
-UnstructuredGrid parse_vtu(const std::string& full, const std::string& name) {
-  // Raw appended data may hold any byte: the XML is searched only before <AppendedData>.
-  const std::size_t appended_pos = full.find("<AppendedData");
-  const std::string head = appended_pos == std::string::npos ? std::string() : full.substr(0, appended_pos);
-  const std::string& text = appended_pos == std::string::npos ? full : head;
+UnstructuredGrid parse_vtu(const std::string& whole, const std::string& name) {
+  // The XML part ends where raw appended data (bytes that may look like tags) begins.
+  const std::size_t appended_pos = whole.find("<AppendedData");
+  const std::string text = whole.substr(0, appended_pos);
   Parser p{text, name};
-  if (appended_pos != std::string::npos) {
-    std::size_t after_tag = 0;
-    Parser whole{full, name};
-    Attributes tag = whole.attributes(appended_pos, after_tag);
-    if (tag["encoding"] != "raw")
-      p.fail("<AppendedData> with encoding \"" + tag["encoding"] + "\" is not supported (only raw)");
-    const std::size_t underscore = full.find('_', after_tag);
-    if (underscore == std::string::npos) p.fail("<AppendedData> lacks the '_' that starts the data");
-    p.appended = reinterpret_cast<const unsigned char*>(full.data()) + underscore + 1;
-    p.appended_size = full.size() - underscore - 1;
-  }
   const std::size_t file_pos = p.find_tag("VTKFile", 0, text.size());
   if (file_pos == std::string::npos) p.fail("no <VTKFile> element (not a VTK XML file)");
   std::size_t after = 0;
   Attributes file = p.attributes(file_pos, after);
   if (file["type"] != "UnstructuredGrid") p.fail("VTKFile type is '" + file["type"] + "', expected UnstructuredGrid");
+  Encoding encoding;
   if (file.count("compressor") && !file["compressor"].empty()) {
-    p.fail("compressed data (" + file["compressor"] + ") is not supported");
+    if (file["compressor"] != "vtkZLibDataCompressor")
+      p.fail("compressor " + file["compressor"] + " is not supported (only vtkZLibDataCompressor)");
+    encoding.zlib = true;
   }
   if (file.count("byte_order") && file["byte_order"] != "LittleEndian") p.fail("only LittleEndian files are supported");
-  std::size_t header_bytes = 4;
   if (file.count("header_type")) {
-    if (file["header_type"] == "UInt64") header_bytes = 8;
+    if (file["header_type"] == "UInt64") encoding.header_bytes = 8;
     else if (file["header_type"] != "UInt32") p.fail("unsupported header_type '" + file["header_type"] + "'");
+  }
+  if (appended_pos != std::string::npos) {
+    const Parser whole_parser{whole, name};
+    std::size_t data = 0;
+    Attributes appended = whole_parser.attributes(appended_pos, data);
+    if (appended["encoding"] != "raw")
+      p.fail("<AppendedData encoding=\"" + appended["encoding"] + "\"> is not supported (only raw)");
+    const std::size_t underscore = whole.find('_', data);
+    if (underscore == std::string::npos) p.fail("<AppendedData> lacks the '_' that starts the data");
+    encoding.appended = reinterpret_cast<const unsigned char*>(whole.data()) + underscore + 1;
+    encoding.appended_size = whole.size() - underscore - 1;
   }
   const std::size_t piece_pos = p.find_tag("Piece", after, text.size());
   if (piece_pos == std::string::npos) p.fail("no <Piece> element");
@@ -248,7 +320,7 @@ UnstructuredGrid parse_vtu(const std::string& full, const std::string& name) {
     if (close == std::string::npos) p.fail("<" + tag + "> is not closed");
     for (std::size_t pos = p.find_tag("DataArray", body, close); pos != std::string::npos;
          pos = p.find_tag("DataArray", pos + 1, close)) {
-      arrays.push_back(read_array(p, pos, header_bytes));
+      arrays.push_back(read_array(p, pos, encoding));
     }
     return arrays;
   };
@@ -291,7 +363,10 @@ UnstructuredGrid parse_vtu(const std::string& full, const std::string& name) {
     grid.connectivity.push_back(static_cast<std::int64_t>(c));
   }
   for (double o : offsets->values) grid.offsets.push_back(static_cast<std::int64_t>(o));
-  for (double t : types->values) grid.types.push_back(static_cast<std::uint8_t>(t));
+  for (double t : types->values) {
+    if (!(t >= 0 && t <= 255 && t == std::floor(t))) p.fail("cell type " + std::to_string(t) + " is not a VTK cell type (0..255)");
+    grid.types.push_back(static_cast<std::uint8_t>(t));
+  }
   for (auto& a : section("PointData")) {
     if (a.values.size() != static_cast<std::size_t>(num_points) * a.components) p.fail("point field '" + a.name + "' has the wrong size");
     grid.point_data.push_back({a.name, a.components, std::move(a.values)});

@@ -2,13 +2,14 @@
 /// @file vtu_reader.hpp
 /// Reader for VTK XML unstructured grids (.vtu), the counterpart of vtu_writer.hpp.
 ///
-/// Supported (docs.vtk.org "VTK XML file formats"): DataArrays with format="ascii" and inline
-/// format="binary" (base64 of a byte-count header followed by the payload, header_type UInt32 or
-/// UInt64, header and payload base64-encoded together as our writer does or separately as VTK
-/// does), format="appended" with <AppendedData encoding="raw"> (each block at `offset` bytes past
-/// the '_': the byte-count header, then the payload), types Int8..Int64, UInt8..UInt64, Float32,
-/// Float64, little endian. Not supported, with a clear error: compressed data (compressor=...),
-/// base64-encoded appended data, big-endian files.
+/// Supported (docs.vtk.org "VTK XML file formats"): DataArrays with format="ascii", inline
+/// format="binary" (base64 of a byte-count header followed by the payload, header and payload
+/// base64-encoded together as our uncompressed writer does or separately as VTK does) and
+/// format="appended" into <AppendedData encoding="raw"> (what our zlib writer and ParaView
+/// write); uncompressed or compressor="vtkZLibDataCompressor" (zlib_blocks.hpp); header_type
+/// UInt32 or UInt64; types Int8..Int64, UInt8..UInt64, Float32, Float64, little endian. Not
+/// supported, with a clear error: other compressors (LZ4, LZMA), base64-encoded appended data,
+/// big-endian files.
 /// Hand-written for the same reason as the writer: the VTK C++ libraries are a 700 MB dependency.
 #include <filesystem>
 #include <string>

@@ -4,8 +4,10 @@
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "mesh/io/atomic_file.hpp"
+#include "mesh/io/zlib_blocks.hpp"
 
 namespace tetfsi::mesh::io {
 namespace {
@@ -35,27 +37,53 @@ std::string base64(const unsigned char* data, std::size_t n) {
   return out;
 }
 
-// VTK inline binary block: base64(UInt64 byte count) + base64(payload), encoded together.
+// Bytes of an array as stored in memory (little endian on the machines tetfsi runs on).
 template <class T>
-std::string encode(const std::vector<T>& values) {
-  const std::uint64_t bytes = values.size() * sizeof(T);
-  std::vector<unsigned char> buffer(sizeof(bytes) + bytes);
-  std::memcpy(buffer.data(), &bytes, sizeof(bytes));
-  if (bytes) std::memcpy(buffer.data() + sizeof(bytes), values.data(), bytes);
-  return base64(buffer.data(), buffer.size());
+const unsigned char* bytes_of(const std::vector<T>& values) {
+  return reinterpret_cast<const unsigned char*>(values.data());
 }
 
 const char* vtk_type_name(double) { return "Float64"; }
 const char* vtk_type_name(std::int64_t) { return "Int64"; }
 const char* vtk_type_name(std::uint8_t) { return "UInt8"; }
 
-template <class T>
-void write_array(std::ostream& out, const std::string& name, int components,
-                 const std::vector<T>& values) {
-  out << "        <DataArray type=\"" << vtk_type_name(T{}) << "\" Name=\"" << name
-      << "\" NumberOfComponents=\"" << components << "\" format=\"binary\">\n          "
-      << encode(values) << "\n        </DataArray>\n";
-}
+// Writes the DataArrays of one file. Uncompressed: inline base64 of a UInt64 byte count followed
+// by the payload, encoded together. zlib: an empty DataArray element pointing (offset) into the
+// raw appended section, which holds the compression header and blocks (zlib_blocks.hpp).
+class ArrayWriter {
+ public:
+  ArrayWriter(std::ostream& out, VtuCompression compression) : out_(out), compression_(compression) {}
+
+  template <class T>
+  void write(const std::string& name, int components, const std::vector<T>& values) {
+    const std::uint64_t n = values.size() * sizeof(T);
+    out_ << "        <DataArray type=\"" << vtk_type_name(T{}) << "\" Name=\"" << name
+         << "\" NumberOfComponents=\"" << components << "\"";
+    if (compression_ == VtuCompression::Zlib) {
+      out_ << " format=\"appended\" offset=\"" << appended_.size() << "\"/>\n";
+      append_zlib_blocks(bytes_of(values), n, appended_,
+                         std::is_floating_point_v<T> ? ZlibStrategy::Rle : ZlibStrategy::Default);
+      return;
+    }
+    std::vector<unsigned char> buffer(sizeof(n) + n);
+    std::memcpy(buffer.data(), &n, sizeof(n));
+    if (n) std::memcpy(buffer.data() + sizeof(n), values.data(), n);
+    out_ << " format=\"binary\">\n          " << base64(buffer.data(), buffer.size()) << "\n        </DataArray>\n";
+  }
+
+  /// The <AppendedData> section (nothing when uncompressed); call once, after the last array.
+  void finish() {
+    if (compression_ != VtuCompression::Zlib) return;
+    out_ << "  <AppendedData encoding=\"raw\">\n   _";
+    out_.write(appended_.data(), static_cast<std::streamsize>(appended_.size()));
+    out_ << "\n  </AppendedData>\n";
+  }
+
+ private:
+  std::ostream& out_;
+  VtuCompression compression_;
+  std::string appended_;
+};
 
 void check_field(const DataArray& a, std::size_t count, const char* where) {
   if (a.components < 1 || a.values.size() != count * static_cast<std::size_t>(a.components)) {
@@ -110,7 +138,7 @@ UnstructuredGrid make_point_cloud(const std::vector<Eigen::Vector3d>& points) {
   return g;
 }
 
-void write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid) {
+std::uintmax_t write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid, VtuCompression compression) {
   if (grid.offsets.size() != grid.types.size()) {
     throw std::invalid_argument("write_vtu: offsets and types differ in length");
   }
@@ -122,28 +150,36 @@ void write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid) 
                                   " of " + std::to_string(grid.num_points()));
     }
   }
+  std::uintmax_t written = 0;
   write_file_atomically(path, [&](std::ostream& out) {
+    const auto start = out.tellp();
     out << "<?xml version=\"1.0\"?>\n"
         << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-           "header_type=\"UInt64\">\n"
+           "header_type=\"UInt64\""
+        << (compression == VtuCompression::Zlib ? " compressor=\"vtkZLibDataCompressor\"" : "") << ">\n"
         << "  <UnstructuredGrid>\n"
         << "    <Piece NumberOfPoints=\"" << grid.num_points() << "\" NumberOfCells=\""
         << grid.num_cells() << "\">\n";
+    ArrayWriter arrays(out, compression);
     out << "      <PointData>\n";
-    for (const auto& a : grid.point_data) write_array(out, a.name, a.components, a.values);
+    for (const auto& a : grid.point_data) arrays.write(a.name, a.components, a.values);
     out << "      </PointData>\n      <CellData>\n";
-    for (const auto& a : grid.cell_data) write_array(out, a.name, a.components, a.values);
+    for (const auto& a : grid.cell_data) arrays.write(a.name, a.components, a.values);
     out << "      </CellData>\n      <Points>\n";
     std::vector<double> xyz;
     xyz.reserve(3 * grid.points.size());
     for (const auto& p : grid.points) xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-    write_array(out, "Points", 3, xyz);
+    arrays.write("Points", 3, xyz);
     out << "      </Points>\n      <Cells>\n";
-    write_array(out, "connectivity", 1, grid.connectivity);
-    write_array(out, "offsets", 1, grid.offsets);
-    write_array(out, "types", 1, grid.types);
-    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    arrays.write("connectivity", 1, grid.connectivity);
+    arrays.write("offsets", 1, grid.offsets);
+    arrays.write("types", 1, grid.types);
+    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
+    arrays.finish();
+    out << "</VTKFile>\n";
+    written = static_cast<std::uintmax_t>(out.tellp() - start);
   });
+  return written;
 }
 
 PvdCollection::PvdCollection(std::filesystem::path pvd_path) : path_(std::move(pvd_path)) {}

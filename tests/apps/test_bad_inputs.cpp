@@ -379,6 +379,18 @@ TEST(BadInputs, WarningsForIneffectiveEmittersAndOverlappingSolids) {
   EXPECT_NE(v.out.find("warning: /solids/1/placement: solids 'box' and 'box2' overlap"), std::string::npos) << v.out;
 }
 
+TEST(BadInputs, UnknownVtuCompressionIsRefused) {
+  auto with = [](json value) {
+    return [value] {
+      json s = solid_scene();
+      s["export"]["compression"] = value;
+      return s;
+    };
+  };
+  expect_all_refused({{"bogus", with("bogus"), "/export/compression"},
+                      {"number", with(1), "/export/compression"}});
+}
+
 TEST(BadInputs, HugeUnknownKeyIsNotEchoedWhole) {
   tetfsi::test::TempDir dir("huge_key");
   auto s = solid_scene();

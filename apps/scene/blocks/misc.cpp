@@ -103,6 +103,11 @@ Field probes() {
 Field output() {
   return Field::object("export", "What is written to the output folder.", {
       Field::boolean("vtu", "Write a .pvd collection with one .vtu per frame per object (ParaView).").def(true),
+      Field::enumeration("compression", {"zlib", "none"},
+                         "How .vtu data arrays are stored: `zlib` compresses them (VTK's vtkZLibDataCompressor "
+                         "blocks, raw appended data; ParaView and VTK read it); `none` writes them uncompressed "
+                         "as inline base64.")
+          .def("zlib"),
       Field::enumeration("surfaces", {"none", "ply", "obj"},
                          "Per-frame solid surfaces for Blender/Houdini (PLY carries per-vertex velocity).")
           .def("ply"),
