@@ -152,15 +152,18 @@ class Validator {
     for (const auto& [key, val] : v.items()) {
       auto m = std::find_if(members.begin(), members.end(), [&k = key](const Field* x) { return x->key == k; });
       if (m != members.end()) continue;
-      std::string owner;  // a variant that has this key
+      std::vector<std::string> owners;  // the variants that have this key
       for (const auto& [name, extra] : f.variants)
         for (const auto& e : extra)
-          if (e.key == key && owner.empty()) owner = name;
+          if (e.key == key) owners.push_back(name);
+      std::string owner;  // "a", "a" or "b", "a", "b" or "c"
+      for (std::size_t i = 0; i < owners.size(); ++i)
+        owner += (i == 0 ? "\"" : i + 1 == owners.size() ? " or \"" : ", \"") + owners[i] + "\"";
       if (!tag_known && !owner.empty()) continue;  // reported through the tag instead
       std::string msg = fmt::format("unknown key \"{}\"", key.size() <= 64 ? key : key.substr(0, 64) + "...");
       if (!owner.empty()) {
-        msg += fmt::format(" for {} \"{}\" (it belongs to {} \"{}\")", f.tag,
-                           v.at(f.tag).get<std::string>(), f.tag, owner);
+        msg += fmt::format(" for {} \"{}\" (it belongs to {} {})", f.tag, v.at(f.tag).get<std::string>(), f.tag,
+                           owner);
       } else if (auto hint = key.size() <= 64 ? closest_match(key, allowed) : ""; !hint.empty()) {
         msg += fmt::format("; did you mean \"{}\"?", hint);
       } else {

@@ -97,7 +97,7 @@ TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
       {"string_number", [](json& s) { s["mesh"]["edge_length"] = "0.1"; }, "/mesh/edge_length",
        "got \"0.1\""},
       {"key_of_other_variant", [](json& s) { s["solids"][0]["geometry"]["thickness"] = 0.1; },
-       "/solids/0/geometry/thickness", "belongs to type \"sheet\""},
+       "/solids/0/geometry/thickness", "belongs to type \"bowl\", \"sheet\" or \"sphere_shell\""},
       {"fluid_without_domain", [](json& s) { s.erase("domain"); }, "/domain", "needs a domain"},
       {"fractional_threads", [](json& s) { s["simulation"]["threads"] = 1.5; }, "/simulation/threads",
        "an integer"},
