@@ -143,7 +143,7 @@ class CoupledRunner : public Simulation {
       auto& integrator = stepper_->solid(i);
       for (const auto& box : solids[i].at("fixed_regions"))
         integrator.fix_components(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))),
-                                  fixed_components(box));
+                                  fixed_components(box), vec3(box.at("velocity")));
       add_scene_springs(integrator, solids[i], i, names_[i], log);
       integrator.set_uniform_velocity(vec3(solids[i].at("initial_velocity")));
       if (js.contains("obstacles")) {

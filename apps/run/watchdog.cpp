@@ -82,6 +82,13 @@ std::string coupled_energy_source(const scene::Json& js) {
   if (js.contains("emitters") && !js["emitters"].empty()) return "/emitters add fluid, smoke or heat (buoyancy)";
   const auto& f = js.at("fluid");
   if (f.value("vorticity_confinement", 0.0) > 0) return "/fluid/vorticity_confinement adds rotation";
+  if (js.contains("solids"))
+    for (std::size_t i = 0; i < js["solids"].size(); ++i)
+      for (std::size_t r = 0; r < js["solids"][i].value("fixed_regions", scene::Json::array()).size(); ++r) {
+        const auto& v = js["solids"][i]["fixed_regions"][r].value("velocity", scene::Json::array({0, 0, 0}));
+        if (v != scene::Json::array({0, 0, 0}))
+          return fmt::format("/solids/{}/fixed_regions/{}/velocity drives the solid", i, r);
+      }
   return "";
 }
 

@@ -72,9 +72,9 @@ double energy_floor(const Eigen::VectorXd& X, double weight);
 
 /// Why the energy of a coupled fluid-solid scene is not watched: "" if its loads are
 /// conservative, else the first way energy enters (an inflow, an open face, an emitter,
-/// vorticity confinement). Solids of a coupled scene never have a prescribed motion (those
-/// scenes go to the kinematic runner); gravity, walls, fixed regions, springs and static
-/// obstacles are conservative. The work supplied through inflows and open faces is not accounted:
+/// vorticity confinement, a fixed region driven at a velocity). Gravity, walls, fixed regions
+/// held in place, springs, static obstacles and wall contact (inelastic) are conservative or
+/// dissipative. The work supplied through inflows and open faces is not accounted:
 /// such scenes are not watched.
 std::string coupled_energy_source(const scene::Json& scene);
 

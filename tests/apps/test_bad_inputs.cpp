@@ -469,6 +469,11 @@ TEST(BadInputs, BadVolumeMeshFilesAndComponentsAreRefused) {
          auto s = solid_scene();
          s["solids"][0]["fixed_regions"] = {{{"lo", {-1, -1, -1}}, {"hi", {1, 0, 1}}, {"components", json::array()}}};
          return s; }, "/solids/0/fixed_regions/0/components"},
+      {"hex8_driven", [] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "hex8"}};
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-1, -1, -1}}, {"hi", {1, 0, 1}}, {"velocity", {0, 0.1, 0}}}};
+         return s; }, "/solids/0/fixed_regions/0/velocity"},
       {"coupled_volume_mesh", [] {
          auto s = coupled_scene();
          s["solids"][0]["geometry"] = {{"type", "volume_mesh"}, {"file", "good.vtu"}};
@@ -479,6 +484,7 @@ TEST(BadInputs, BadVolumeMeshFilesAndComponentsAreRefused) {
       {"degenerate_tet", "tet 0 is degenerate"}, {"empty_mesh", "no tetrahedra"}, {"two_pieces", "2 separate pieces"},
       {"hex_msh", "element 3 has Gmsh type 5"}, {"msh_4_0", "format version 4.0"}, {"component_w", "\"x\", \"y\", \"z\""},
       {"component_twice", "twice"}, {"components_empty", "non-empty array"},
+      {"hex8_driven", "prescribed velocity is for tet_fem solids"},
       {"coupled_volume_mesh", "cannot keep given tets"}};
   for (const auto& c : cases) {
     const std::string file = write(dir.path(), c.name, c.scene());

@@ -60,6 +60,11 @@ Field fixed_region() {
   f.members.push_back(Field::enumeration_set("components", {"x", "y", "z"},
                                              "Displacement components held at 0, e.g. [\"y\"] or [\"x\", \"z\"].")
                           .def(Json::array({"x", "y", "z"})));
+  f.members.push_back(Field::vector("velocity", 3, "m/s",
+                                    "Prescribed velocity of the held components (a driven region: its "
+                                    "displacement grows as velocity x t); [0, 0, 0] holds them in place. "
+                                    "`tet_fem` solids only.")
+                          .def({0, 0, 0}));
   return f;
 }
 
@@ -238,6 +243,14 @@ Field solids() {
           issues.push_back({fmt::format("{}/fixed_regions/{}/components", ptr, j),
                             "fixing single components of a hex8 solid needs /model/analysis \"static\"; dynamic "
                             "hex8 runs fix whole nodes ([\"x\", \"y\", \"z\"])"});
+    }
+    if (o.at("model").at("type") == "hex8") {
+      const auto& fixed = o.at("fixed_regions");
+      for (std::size_t j = 0; j < fixed.size(); ++j)
+        if (fixed[j].contains("velocity") && fixed[j]["velocity"] != Json::array({0, 0, 0}))
+          issues.push_back({fmt::format("{}/fixed_regions/{}/velocity", ptr, j),
+                            "a prescribed velocity is for tet_fem solids; a hex8 solid takes a prescribed motion "
+                            "as a `displacement` boundary condition (static analysis)"});
     }
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());
