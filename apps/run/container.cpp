@@ -38,29 +38,46 @@ mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::
   return mesh::build_complex(container, solids, sizing, cavities);
 }
 
-std::vector<solid::PlaneObstacle> container_wall_planes(const scene::Json& domain, double gap) {
-  std::vector<solid::PlaneObstacle> planes;
-  const mesh::SurfaceMesh container = container_surface(domain);
-  if (container.vertices.empty()) {
+void ContainerWalls::add_to(solid::StaticObstacles& obstacles) const {
+  for (const auto& p : planes) obstacles.add_plane(p);
+  for (const auto& s : spheres) obstacles.add_sphere_interior(s);
+  for (const auto& c : cylinders) obstacles.add_cylinder_interior(c);
+}
+
+ContainerWalls container_walls(const scene::Json& domain, double gap) {
+  ContainerWalls walls;
+  const std::string type = domain.contains("container") ? domain["container"].at("type").get<std::string>() : "box";
+  if (type == "box") {
     const Eigen::Vector3d lo = vec3(domain.at("lo")), hi = vec3(domain.at("hi"));
     for (int axis = 0; axis < 3; ++axis) {
       const Eigen::Vector3d n = Eigen::Vector3d::Unit(axis);
-      planes.push_back({lo + gap * n, n});
-      planes.push_back({hi - gap * n, -n});
+      walls.planes.push_back({lo + gap * n, n});
+      walls.planes.push_back({hi - gap * n, -n});
     }
-    return planes;
+    return walls;
   }
-  double size = 0;
-  for (const auto& v : container.vertices) size = std::max(size, (v - container.vertices[0]).norm());
-  for (const auto& t : container.triangles) {
-    const Eigen::Vector3d& a = container.vertices[t[0]];
-    const Eigen::Vector3d inward = -(container.vertices[t[1]] - a).cross(container.vertices[t[2]] - a).normalized();
-    const bool known = std::any_of(planes.begin(), planes.end(), [&](const solid::PlaneObstacle& p) {
-      return p.normal.dot(inward) > 1 - 1e-12 && std::abs((a - p.point).dot(p.normal) + gap) < 1e-12 * size;
-    });
-    if (!known) planes.push_back({a + gap * inward, inward});
+  const auto& c = domain["container"];
+  const Eigen::Vector3d center = vec3(c.at("center"));
+  if (type == "sphere") {
+    // The icosphere's faces lie inside the sphere: the nearest face plane bounds the fluid.
+    const mesh::SurfaceMesh surface = container_surface(domain);
+    double inradius = c.at("radius").get<double>();
+    for (const auto& t : surface.triangles) {
+      const Eigen::Vector3d& a = surface.vertices[t[0]];
+      const Eigen::Vector3d n = (surface.vertices[t[1]] - a).cross(surface.vertices[t[2]] - a).normalized();
+      inradius = std::min(inradius, std::abs((a - center).dot(n)));
+    }
+    walls.spheres.push_back({center, inradius - gap});
+    return walls;
   }
-  return planes;
+  // cylinder: the prism over a regular polygon inscribed in the circle, its axis one of x, y, z.
+  const double kPi = std::acos(-1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d::Unit(std::string("xyz").find(c.at("axis").get<std::string>()[0]));
+  const double half = 0.5 * c.at("length").get<double>();
+  walls.cylinders.push_back({center, axis, c.at("radius").get<double>() * std::cos(kPi / c.at("segments").get<int>()) - gap});
+  walls.planes.push_back({center - (half - gap) * axis, axis});
+  walls.planes.push_back({center + (half - gap) * axis, -axis});
+  return walls;
 }
 
 }  // namespace tetfsi::run

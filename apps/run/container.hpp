@@ -22,10 +22,20 @@ mesh::SurfaceMesh container_surface(const scene::Json& domain);
 mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::SurfaceMesh>& solids,
                              const mesh::MeshSizing& sizing, const std::vector<mesh::SurfaceMesh>& cavities = {});
 
-/// The container's walls as contact planes for the solids (/coupling/wall_contact), each set back
-/// into the fluid by `gap` [m]: the box's six faces, or one plane per face of the (convex) sphere or
-/// cylinder surface, coplanar faces merged. The inside of the container less the gap is where
-/// every plane's φ(x) = (x − point)·n is positive.
-std::vector<solid::PlaneObstacle> container_wall_planes(const scene::Json& domain, double gap);
+/// The container's walls as contact obstacles for the solids (/coupling/wall_contact), each set
+/// back into the fluid by `gap` [m]: the box's six faces; for a sphere container the inside of the
+/// sphere inscribed in its icosphere (radius: the nearest face plane's distance from the centre);
+/// for a cylinder the inside of the cylinder inscribed in its prism (R cos(π/segments)) and its
+/// two end planes. The inscribed smooth shapes keep every solid node inside the polyhedron the
+/// fluid is meshed in, and give one normal per node (a node against a planes-per-face wall can
+/// hop between faces from one contact round to the next).
+struct ContainerWalls {
+  std::vector<solid::PlaneObstacle> planes;
+  std::vector<solid::SphereInteriorObstacle> spheres;
+  std::vector<solid::CylinderInteriorObstacle> cylinders;
+  void add_to(solid::StaticObstacles& obstacles) const;
+  std::size_t count() const { return planes.size() + spheres.size() + cylinders.size(); }
+};
+ContainerWalls container_walls(const scene::Json& domain, double gap);
 
 }  // namespace tetfsi::run

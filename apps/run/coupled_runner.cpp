@@ -132,11 +132,11 @@ class CoupledRunner : public Simulation {
     }
 
     // The container's walls (a filled shell has none: its fluid is inside the solid).
-    std::vector<solid::PlaneObstacle> walls;
+    ContainerWalls walls;
     if (c.at("wall_contact").get<bool>() && !cavity_only && js.contains("domain")) {
       const double gap = c.at("wall_gap").get<double>() > 0 ? c.at("wall_gap").get<double>() : 0.5 * edge_near_;
-      walls = container_wall_planes(js.at("domain"), gap);
-      log.info("wall contact: {} planes, fluid film {:.3g} m", walls.size(), gap);
+      walls = container_walls(js.at("domain"), gap);
+      log.info("wall contact: {} wall(s), fluid film {:.3g} m", walls.count(), gap);
     }
     const auto& solids = js.at("solids");
     for (int i = 0; i < stepper_->num_solids(); ++i) {
@@ -152,7 +152,7 @@ class CoupledRunner : public Simulation {
         for (const auto& b : o.at("boxes")) integrator.obstacles().add_box({vec3(b.at("lo")), vec3(b.at("hi"))});
         integrator.obstacles().set_friction(o.at("friction").get<double>());
       }
-      for (const auto& w : walls) integrator.obstacles().add_plane(w);
+      walls.add_to(integrator.obstacles());
     }
     const double ambient = js.at("fluid").value("ambient_temperature", 293.15);
     if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);

@@ -1,5 +1,6 @@
 #include "solid/contact/static_obstacles.hpp"
 
+#include <Eigen/Geometry>
 #include <limits>
 
 #include "solid/solid_error.hpp"
@@ -15,6 +16,18 @@ void StaticObstacles::add_plane(const PlaneObstacle& plane) {
 void StaticObstacles::add_box(const BoxObstacle& box) {
   if (!((box.hi - box.lo).minCoeff() > 0)) throw SolidError("box obstacle: need hi > lo on every axis");
   boxes_.push_back(box);
+}
+
+void StaticObstacles::add_sphere_interior(const SphereInteriorObstacle& sphere) {
+  if (!(sphere.radius > 0) || !sphere.center.allFinite()) throw SolidError("sphere obstacle: radius must be > 0");
+  spheres_.push_back(sphere);
+}
+
+void StaticObstacles::add_cylinder_interior(const CylinderInteriorObstacle& cylinder) {
+  const double a = cylinder.axis.norm();
+  if (!(cylinder.radius > 0) || !(a > 0) || !cylinder.center.allFinite())
+    throw SolidError("cylinder obstacle: radius must be > 0 and the axis non-zero");
+  cylinders_.push_back({cylinder.center, cylinder.axis / a, cylinder.radius});
 }
 
 void StaticObstacles::set_friction(double mu) {
@@ -50,6 +63,23 @@ double StaticObstacles::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3
     if (phi < best) {
       best = phi;
       normal = n;
+    }
+  }
+  for (const auto& sp : spheres_) {
+    const Eigen::Vector3d r = x - sp.center;
+    const double phi = sp.radius - r.norm();
+    if (phi < best) {
+      best = phi;
+      normal = r.norm() > 0 ? Eigen::Vector3d(-r.normalized()) : Eigen::Vector3d::UnitZ();
+    }
+  }
+  for (const auto& c : cylinders_) {
+    Eigen::Vector3d r = x - c.center;
+    r -= r.dot(c.axis) * c.axis;  // the radial part
+    const double phi = c.radius - r.norm();
+    if (phi < best) {
+      best = phi;
+      normal = r.norm() > 0 ? Eigen::Vector3d(-r.normalized()) : c.axis.unitOrthogonal();
     }
   }
   return best;

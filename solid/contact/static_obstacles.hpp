@@ -1,7 +1,7 @@
 #pragma once
 /// @file static_obstacles.hpp
-/// Contact of solid nodes with static obstacles: half-spaces (floor planes) and axis-aligned
-/// boxes.
+/// Contact of solid nodes with static obstacles: half-spaces (floor planes), axis-aligned
+/// boxes, and the insides of spheres and cylinders (vessels).
 ///
 /// The primary contact treatment is inside the implicit solve (NewmarkIntegrator::step():
 /// active set of landing constraints, inelastic normal, Coulomb friction from the constraint
@@ -34,14 +34,31 @@ struct BoxObstacle {
   Eigen::Vector3d hi = Eigen::Vector3d::Ones();
 };
 
+/// Solid stays inside the ball |x − center| <= radius (a spherical vessel): φ = radius − |x − center|.
+struct SphereInteriorObstacle {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius = 1;
+};
+
+/// Solid stays within `radius` of the line through `center` along `axis` (the side wall of a
+/// cylindrical vessel; its ends are planes): φ = radius − |(x − center) − ((x − center)·a) a|.
+struct CylinderInteriorObstacle {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< normalized on construction of StaticObstacles
+  double radius = 1;
+};
+
 class StaticObstacles {
  public:
   /// @throws SolidError on a zero normal, a box with hi <= lo, or a negative friction
   void add_plane(const PlaneObstacle& plane);
   void add_box(const BoxObstacle& box);
+  /// @throws SolidError on a radius <= 0 (or a zero axis)
+  void add_sphere_interior(const SphereInteriorObstacle& sphere);
+  void add_cylinder_interior(const CylinderInteriorObstacle& cylinder);
   void set_friction(double mu);
   double friction() const { return friction_; }
-  bool empty() const { return planes_.empty() && boxes_.empty(); }
+  bool empty() const { return planes_.empty() && boxes_.empty() && spheres_.empty() && cylinders_.empty(); }
 
   /// Signed distance to the nearest obstacle surface (negative inside) and its outward normal.
   double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d& normal) const;
@@ -57,6 +74,8 @@ class StaticObstacles {
  private:
   std::vector<PlaneObstacle> planes_;
   std::vector<BoxObstacle> boxes_;
+  std::vector<SphereInteriorObstacle> spheres_;
+  std::vector<CylinderInteriorObstacle> cylinders_;
   double friction_ = 0;
 };
 

@@ -189,7 +189,7 @@ void NewmarkIntegrator::activate_contact(int v, double h, const Eigen::Vector3d&
   const double phi0 = std::max(0.0, obstacles_.signed_distance(x0, n0));
   const int r = offset + 3 * v;
   const double diag = A.coeff(r, r) + A.coeff(r + 1, r + 1) + A.coeff(r + 2, r + 2);
-  active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), 1e7 * diag / 3.0, 0.0});
+  active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), settings_.contact_penalty * diag / 3.0, 0.0});
 }
 
 bool NewmarkIntegrator::warm_start_contacts(double h, const SparseMatrix& A, int offset) {

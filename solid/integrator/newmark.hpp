@@ -56,6 +56,10 @@ struct NewmarkSettings {
   SolverKind solver = SolverKind::kCholmod;
   double cg_tolerance = 1e-10;     ///< relative residual for SolverKind::kConjugateGradient
   bool track_energy = true;        ///< fill the energy fields of StepStats (one extra pass)
+  /// Contact penalty κ of the active set as a multiple of the node's mean diagonal entry of A: the
+  /// constraint holds to about 1/κ relative, and the solve's round-off grows with κ (see
+  /// coupling::CoupledStepper, which takes a smaller one for its iterative solvers).
+  double contact_penalty = 1e7;
 };
 
 /// Linear spring from a node to a fixed anchor: force -k (x - anchor) on the node.
@@ -144,8 +148,8 @@ class NewmarkIntegrator {
   /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
   /// (active set): every free node whose end-of-step position would lie inside an obstacle
   /// gets the constraint n.u^{n+1} = -2 phi^n / h - n.u^n (it lands on the surface at t^{n+1}
-  /// by eq. 5), imposed by a stiff penalty kappa n n^T on its diagonal block (kappa = 1e7 x
-  /// the block's diagonal), and the system is solved again (at most 8 rounds; nodes whose
+  /// by eq. 5), imposed by a stiff penalty kappa n n^T on its diagonal block (kappa =
+  /// NewmarkSettings::contact_penalty x the block's diagonal), and the system is solved again (at most 8 rounds; nodes whose
   /// constraint force would pull are released). The rest of the body thus responds to the
   /// contact within the same step. After eq. (5), constrained nodes lose their normal velocity
   /// (inelastic) and Coulomb friction removes up to mu |f_c| h / m of tangential velocity, f_c
