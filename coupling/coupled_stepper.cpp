@@ -111,6 +111,7 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
 MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
   MeshUpdateResult r = mesh_updater_->update(mesh_, mesh_vertices_at(solid_positions()), min_dihedral_deg_);
   min_dihedral_deg_ = r.report.min_dihedral_deg;
+  fluid_mesh_moved_vertices_ = std::move(r.moved_vertices);
   if (r.report.remeshed) {
     // Solid vertices are never removed by the remesher: renumber the solid-node maps and carry
     // the previous pressure of kept vertices (the interface ones are all kept).
@@ -135,6 +136,14 @@ MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
   }
   mesh_ = std::move(r.mesh);
   return r.report;
+}
+
+std::vector<Eigen::Vector3d> CoupledStepper::fluid_node_positions() const {
+  const fluid::FluidMesh& fm = fluid_.mesh();
+  if (fluid_mesh_moved_vertices_.empty()) return fm.nodes;
+  std::vector<Eigen::Vector3d> x(fm.num_nodes());
+  for (int i = 0; i < fm.num_nodes(); ++i) x[i] = fluid_mesh_moved_vertices_[fm.node_to_mesh_vertex[i]];
+  return x;
 }
 
 Eigen::VectorXd CoupledStepper::solid_positions() const {

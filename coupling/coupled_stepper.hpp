@@ -16,7 +16,9 @@
 ///     fluid vertices follow, and the fluid is remeshed around the solids as
 ///     CoupledSettings::mesh_update says (mesh_update.hpp); the solid tets keep their
 ///     connectivity, so solid state carries over. If the motion inverts or flattens a tet, the
-///     step is undone and halved (CoupledSettings::max_step_halvings).
+///     step is undone and halved (CoupledSettings::max_step_halvings). The fluid solver keeps the
+///     mesh of step 1 (at xⁿ); fluid_node_positions() gives its nodes moved with the solids to
+///     x^{n+1}, the positions output draws the fluid's t^{n+1} fields on.
 ///
 /// Step 5 includes the solids' contact with their obstacles (the container's walls, planes,
 /// boxes): the active set of NewmarkIntegrator::step with its penalty rows in A, so the fluid and
@@ -117,6 +119,15 @@ class CoupledStepper {
   /// Solid node -> shared-mesh vertex map of solid i.
   const mesh::Submesh& solid_mesh(int i) const { return solids_[i].submesh; }
   fluid::FluidSolver& fluid() { return fluid_; }
+  const fluid::FluidSolver& fluid() const { return fluid_; }
+  /// Positions [m] of the fluid solver's nodes (fluid().mesh().nodes order) at time(), t^{n+1}.
+  /// fluid().mesh() is the mesh the last step ran on, whose vertices are at the solids' positions
+  /// of the step's start, xⁿ; the step ends by moving that mesh so that its solid vertices sit at
+  /// x^{n+1} (MeshUpdateResult::moved_vertices, before any remeshing), and these are its fluid
+  /// nodes there. A frame drawn with them has every fluid interface vertex on the solid vertex
+  /// it shares, at the same time; the fields (fluid().fields(), pressure, level set) are the
+  /// t^{n+1} values, unchanged. Before the first step: fluid().mesh().nodes.
+  std::vector<Eigen::Vector3d> fluid_node_positions() const;
   /// Walls, open patches, inflows and sources of the fluid (solid interfaces are handled here).
   fluid::BoundaryConditions& fluid_boundary() { return boundary_; }
   const mesh::TetMesh& mesh() const { return mesh_; }
@@ -210,6 +221,9 @@ class CoupledStepper {
   std::vector<double> previous_vertex_pressure_;  // per mesh vertex, for time splitting
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_
   std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes
+  // The vertices of the mesh fluid_ last stepped on, moved to the solids at t^{n+1}
+  // (MeshUpdateResult::moved_vertices); empty before the first step.
+  std::vector<Eigen::Vector3d> fluid_mesh_moved_vertices_;
   double time_ = 0;
   int step_ = 0;
 };

@@ -66,6 +66,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   MeshUpdateResult result;
   result.mesh = mesh;
   result.mesh.vertices = motion_->positions(solid_positions);
+  result.moved_vertices = result.mesh.vertices;
   result.report.motion_seconds = clock.lap();
   // One pass for the fluid's angles and flat/inverted count; the solid tets only need the latter.
   const mesh::AngleCheck fluid_quality = mesh::min_dihedral_check(result.mesh, mesh::kFluidSubdomain);

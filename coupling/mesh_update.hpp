@@ -63,6 +63,12 @@ struct MeshUpdateReport {
 
 struct MeshUpdateResult {
   mesh::TetMesh mesh;
+  /// The input mesh's vertices after the motion and before any remeshing, indexed like the input
+  /// mesh: every solid vertex v at solid_positions[v], the fluid vertices where the stiffened
+  /// Laplacian put them. Equal to mesh.vertices when the mesh was only moved. The fields a fluid
+  /// solver computed on the input mesh are drawn on these positions (CoupledStepper::
+  /// fluid_node_positions), so that a frame shows fluid and solids at the same time.
+  std::vector<Eigen::Vector3d> moved_vertices;
   /// For each vertex of `mesh`, its index in the input mesh (-1 for a vertex the remesher made).
   /// The identity when the mesh was only moved.
   std::vector<int> old_index;

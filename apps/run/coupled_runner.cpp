@@ -259,7 +259,7 @@ class CoupledRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    write_fluid_frame(out, frame, time, stepper_->fluid());
+    write_fluid_frame(out, frame, time, stepper_->fluid(), stepper_->fluid_node_positions());
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       const auto& integrator = stepper_->solid(i);
       mesh::TetMesh deformed = stepper_->solid_mesh(i).mesh;

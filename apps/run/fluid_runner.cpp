@@ -273,7 +273,9 @@ class FluidRunner : public Simulation {
   }
 
   void write_frame(Output& out, int frame, double time) override {
-    write_fluid_frame(out, frame, time, *solver_);
+    // The solver's mesh is the one moved to the solids at t^{n+1} before the step (remesh_step
+    // above), the positions of this frame's solid surfaces: no lag to correct.
+    write_fluid_frame(out, frame, time, *solver_, solver_->mesh().nodes);
     for (std::size_t i = 0; i < names_.size(); ++i) {
       std::vector<Eigen::Vector3d> vel;
       const auto surface = solid_surface(static_cast<int>(i), vel);

@@ -5,6 +5,8 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -128,12 +130,22 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
   };
 }
 
-void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver) {
+void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver,
+                       const std::vector<Eigen::Vector3d>& node_positions) {
+  if (node_positions.size() != solver.mesh().nodes.size())
+    throw std::invalid_argument("write_fluid_frame: " + std::to_string(node_positions.size()) +
+                                " node positions for " + std::to_string(solver.mesh().num_nodes()) + " fluid nodes");
   auto grid = fluid::make_fluid_grid(solver.mesh(), solver.fields(), solver.pressure());
+  grid.points = node_positions;
   if (solver.has_free_surface()) {
     fluid::add_liquid_fields(grid, solver.mesh(), solver.level_set(), solver.liquid().liquid_volume);
+    // The level set's zero set and wet boundary faces on the moved nodes: the surface's vertices
+    // are nodes or edge crossings at the same edge fractions (its orientation, read from the
+    // solver's mesh, is unchanged by a motion that inverts no tet).
+    fluid::FluidMesh moved = solver.mesh();
+    moved.nodes = node_positions;
     std::vector<Eigen::Vector3d> velocity;
-    const auto surface = fluid::liquid_surface(solver.mesh(), solver.level_set(), solver.fields().velocity, &velocity);
+    const auto surface = fluid::liquid_surface(moved, solver.level_set(), solver.fields().velocity, &velocity);
     out.write_surface("liquid", frame, surface, velocity);
   }
   out.write_grid("fluid", frame, time, grid);

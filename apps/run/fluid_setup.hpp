@@ -46,6 +46,11 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
 
 /// Writes the fluid's frame: the grid "fluid" (with the level set and liquid fractions of a free
 /// surface) and, for a free surface, the closed liquid surface "liquid" with vertex velocities.
-void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver);
+/// Both are drawn with the fluid nodes at `node_positions` (solver.mesh().nodes order), the
+/// positions at `time` (coupled runs: coupling::CoupledStepper::fluid_node_positions, so that the
+/// fluid's interface vertices are the solids' vertices of the same frame); the fields are the
+/// solver's. @throws std::invalid_argument if node_positions has another size than the mesh
+void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver,
+                       const std::vector<Eigen::Vector3d>& node_positions);
 
 }  // namespace tetfsi::run
