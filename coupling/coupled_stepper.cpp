@@ -5,6 +5,7 @@
 #include <string>
 
 #include "coupling/interface_maps.hpp"
+#include "fluid/liquid/cut_tet.hpp"
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/amg_preconditioner.hpp"
 #include "mesh/complex_mesher.hpp"  // MeshError
@@ -235,6 +236,10 @@ CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const Sol
     InterfaceTriangle t;
     for (int k = 0; k < 3; ++k) t.vertices[k] = fm.node_to_mesh_vertex[f.nodes[k]];
     t.area_normal = f.area * f.normal;  // out of the fluid, into the solid
+    if (surface) {  // the pressure on the wet part only, as in the liquid's rows (interface_maps.hpp)
+      const Eigen::VectorXd& phi = fluid_.level_set();
+      t.mass = fluid::wet_face_mass({phi[f.nodes[0]], phi[f.nodes[1]], phi[f.nodes[2]]}, f.nodes);
+    }
     if (mean) {
       const Eigen::Vector3d& a = mid[t.vertices[0]];
       const Eigen::Vector3d an = 0.5 * (mid[t.vertices[1]] - a).cross(mid[t.vertices[2]] - a);

@@ -21,18 +21,19 @@ Eigen::SparseMatrix<double> interface_flux_map(const std::vector<InterfaceTriang
         throw std::invalid_argument("interface triangle " + std::to_string(t) + ": vertex " + std::to_string(v) +
                                     " is not a node of the solid");
     }
-    // (A/12)(1 + δ_ia) n: the exact integral of φ_i φ_a n over the flat triangle.
-    const Eigen::Vector3d an = tri.area_normal / 12.0;
-    for (int i : tri.vertices) {
+    // M_ia A n: the exact integral of ψ_i φ_a n over the (wet part of the) flat triangle.
+    for (int ki = 0; ki < 3; ++ki) {
+      const int i = tri.vertices[ki];
       const int row = dofs.pressure_index[i];
       if (row < 0) continue;
       if (row >= num_pressures)
         throw std::invalid_argument("interface triangle " + std::to_string(t) + ": pressure index " +
                                     std::to_string(row) + " out of range");
-      for (int a : tri.vertices) {
-        const double w = (i == a) ? 2.0 : 1.0;
-        const int col = 3 * dofs.solid_node[a];
-        for (int c = 0; c < 3; ++c) entries.emplace_back(row, col + c, w * an[c]);
+      for (int ka = 0; ka < 3; ++ka) {
+        const double w = tri.mass[ki][ka];
+        if (w == 0.0) continue;
+        const int col = 3 * dofs.solid_node[tri.vertices[ka]];
+        for (int c = 0; c < 3; ++c) entries.emplace_back(row, col + c, w * tri.area_normal[c]);
       }
     }
   }

@@ -10,6 +10,12 @@
 ///   force on solid node a:       f_a     = Σ_T ∫_T φ_a p n_T dA     = Σ_T Σ_i M^T_ai p_i n_T
 ///
 /// with the exact P1 triangle mass matrix M^T_ia = ∫_T φ_i φ_a dA = (A_T / 12)(1 + δ_ia).
+/// For a liquid with a free surface the pressure lives on the wet part only, with the cut hats ψ_i
+/// of fluid/liquid/cut_tet.hpp: M^T_ia = ∫_{T wet} ψ_i φ_a dA (InterfaceTriangle::mass). Then a
+/// solid moving rigidly with the liquid has the flux Σ_a M^T_ia n_T·u = n_T·u ∫_{T wet} ψ_i dA that
+/// the liquid's weak divergence (free_surface_projection.hpp) has for the same velocity; the full
+/// P1 mass on a partly wet triangle counted the dry part's flux too, and a falling container
+/// sucked its liquid out through its wall (tetfsi issue 15).
 /// Both come from the same quadrature, so J = Hᵀ exactly: the work the pressure does on the solid,
 /// pᵀ H u, equals the flux work on the fluid.
 /// Consequences tested in tests/coupling: a hydrostatic pressure ρ g (z₀ − z) gives the buoyancy
@@ -25,6 +31,12 @@ namespace tetfsi::coupling {
 struct InterfaceTriangle {
   std::array<int, 3> vertices;   ///< mesh vertex indices
   Eigen::Vector3d area_normal;   ///< A_T n_T, n_T pointing out of the fluid into the solid [m²]
+  /// M^T_ia / A_T, row i the pressure's test function, column a the solid's hat: the P1 mass
+  /// (1 + δ_ia) / 12 unless the triangle is cut by a liquid's surface, where the pressure hats are
+  /// the liquid's cut hats on the wet part (fluid::wet_face_mass).
+  std::array<std::array<double, 3>, 3> mass{{{2.0 / 12, 1.0 / 12, 1.0 / 12},
+                                             {1.0 / 12, 2.0 / 12, 1.0 / 12},
+                                             {1.0 / 12, 1.0 / 12, 2.0 / 12}}};
 };
 
 /// Where each mesh vertex's unknowns live (both sized #mesh vertices; -1 where none).

@@ -49,7 +49,52 @@ struct ReferencePart {
 /// Faces of a tet as local vertex triples (face f is opposite vertex f).
 constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 
+/// Adds the exact integral of psi phi_a over a sub-triangle S of a face, per unit face area:
+/// `fraction` = A_S / A_F, `bary[j]` the face barycentric coordinates of S's vertex j, `psi[j]`
+/// the hat's value there (see wet_face_mass).
+void add_sub_triangle(double fraction, const std::array<Eigen::Vector3d, 3>& bary, const Eigen::Vector3d& psi,
+                      std::array<double, 3>& row) {
+  const Eigen::Vector3d sum_bary = bary[0] + bary[1] + bary[2];
+  for (int a = 0; a < 3; ++a) {
+    double s = 0.0;
+    for (int j = 0; j < 3; ++j) s += psi[j] * bary[j][a];
+    row[a] += fraction / 12.0 * (s + psi.sum() * sum_bary[a]);
+  }
+}
+
+Eigen::Vector3d unit(int k) { return Eigen::Vector3d::Unit(k); }
+
 }  // namespace
+
+std::array<std::array<double, 3>, 3> wet_face_mass(const std::array<double, 3>& phi, const std::array<int, 3>& ids) {
+  std::array<std::array<double, 3>, 3> m{};
+  int liquid[3], air[3], nl = 0, na = 0;
+  for (int k = 0; k < 3; ++k) (phi[k] < 0.0 ? liquid[nl++] : air[na++]) = k;
+  if (nl == 3) {
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) m[k][a] = (k == a ? 2.0 : 1.0) / 12.0;
+    return m;
+  }
+  const auto crossing = [&](int a, int b) {  // face barycentric coordinates of X_ab
+    const double theta = crossing_fraction(phi[a], phi[b]);
+    return Eigen::Vector3d((1.0 - theta) * unit(a) + theta * unit(b));
+  };
+  if (nl == 1) {  // (k, X_kp, X_kq), area fraction theta_kp theta_kq; psi_k = 1 at k only
+    const int k = liquid[0], p = air[0], q = air[1];
+    const double fraction = crossing_fraction(phi[k], phi[p]) * crossing_fraction(phi[k], phi[q]);
+    add_sub_triangle(fraction, {unit(k), crossing(k, p), crossing(k, q)}, Eigen::Vector3d(1, 0, 0), m[k]);
+  } else if (nl == 2) {  // the quad (i, j, X_jq, X_iq) split along i-X_jq, i the lower id (cut_tet)
+    int i = liquid[0], j = liquid[1];
+    if (ids[j] < ids[i]) std::swap(i, j);
+    const int q = air[0];
+    const double tj = crossing_fraction(phi[j], phi[q]), ti = crossing_fraction(phi[i], phi[q]);
+    const std::array<Eigen::Vector3d, 3> first{unit(i), unit(j), crossing(j, q)};
+    add_sub_triangle(tj, first, Eigen::Vector3d(1, 0, 0), m[i]);
+    add_sub_triangle(tj, first, Eigen::Vector3d(0, 1, 0), m[j]);
+    add_sub_triangle(ti * (1.0 - tj), {unit(i), crossing(j, q), crossing(i, q)}, Eigen::Vector3d(1, 0, 0), m[i]);
+  }
+  return m;
+}
 
 double liquid_fraction(const std::array<double, 4>& phi) {
   int liquid[4], air[4], nl = 0, na = 0;
