@@ -77,10 +77,6 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     ts.rayleigh_beta = materials[i].rayleigh_beta;
     ts.gravity = settings_.solid_gravity;
     ts.scheme = settings_.newmark;
-    // The coupled solvers stop on a relative residual of about 1e-8: a penalty of 1e7 × the
-    // diagonal put their round-off floor there (a ball resting in a sphere container stopped on
-    // 1.1e-8); 1e5 keeps the floor far below and the constraint to 1e-5.
-    ts.contact_penalty = 1e5;
     s.integrator = std::make_unique<solid::NewmarkIntegrator>(*s.model, ts);
     s.dof_offset = offset;
     offset += 3 * s.model->num_nodes();
