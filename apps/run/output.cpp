@@ -13,6 +13,9 @@ namespace tetfsi::run {
 namespace fs = std::filesystem;
 namespace {
 
+/// +90 degrees about x: scene +y (up) becomes +z, (x, y, z) -> (x, -z, y).
+Eigen::Vector3d z_up(const Eigen::Vector3d& x) { return {x.x(), -x.z(), x.y()}; }
+
 void write_obj(const fs::path& path, const mesh::SurfaceMesh& s) {
   mesh::io::write_file_atomically(path, [&](std::ostream& out) {
     out << "# tetfsi surface, metres\n";
@@ -79,7 +82,8 @@ OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
 Output::Output(fs::path dir, scene::Json export_cfg)
     : dir_(std::move(dir)),
       cfg_(std::move(export_cfg)),
-      compression_(cfg_.at("compression") == "none" ? mesh::io::VtuCompression::None : mesh::io::VtuCompression::Zlib) {
+      compression_(cfg_.at("compression") == "none" ? mesh::io::VtuCompression::None : mesh::io::VtuCompression::Zlib),
+      z_up_(cfg_.at("up_axis") == "z") {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
@@ -95,7 +99,21 @@ void Output::write_grid(const std::string& object, int frame, double time,
   if (!cfg_.at("vtu").get<bool>()) return;
   fs::create_directories(dir_ / object);
   const std::string rel = fmt::format("{}/{}_{:05d}.vtu", object, object, frame);
-  bytes_.vtu += mesh::io::write_vtu(dir_ / rel, grid, compression_);
+  if (z_up_) {
+    mesh::io::UnstructuredGrid turned = grid;
+    for (auto& x : turned.points) x = z_up(x);
+    for (auto* fields : {&turned.point_data, &turned.cell_data})
+      for (auto& f : *fields)
+        if (f.components == 3)
+          for (std::size_t i = 0; i + 2 < f.values.size(); i += 3) {
+            const double y = f.values[i + 1];
+            f.values[i + 1] = -f.values[i + 2];
+            f.values[i + 2] = y;
+          }
+    bytes_.vtu += mesh::io::write_vtu(dir_ / rel, turned, compression_);
+  } else {
+    bytes_.vtu += mesh::io::write_vtu(dir_ / rel, grid, compression_);
+  }
   auto& pvd = pvds_[object];
   if (!pvd) pvd = std::make_unique<mesh::io::PvdCollection>(dir_ / (object + ".pvd"));
   pvd->add(time, rel);  // after the frame file is complete
@@ -107,8 +125,18 @@ void Output::write_surface(const std::string& object, int frame, const mesh::Sur
   if (kind == "none") return;
   fs::create_directories(dir_ / "surfaces");
   const fs::path path = dir_ / "surfaces" / fmt::format("{}_{:05d}.{}", object, frame, kind);
-  if (kind == "ply") mesh::io::write_ply(path, surface, velocity);
-  else write_obj(path, surface);
+  if (z_up_) {
+    mesh::SurfaceMesh turned = surface;
+    for (auto& x : turned.vertices) x = z_up(x);
+    std::vector<Eigen::Vector3d> v = velocity;
+    for (auto& x : v) x = z_up(x);
+    if (kind == "ply") mesh::io::write_ply(path, turned, v);
+    else write_obj(path, turned);
+  } else if (kind == "ply") {
+    mesh::io::write_ply(path, surface, velocity);
+  } else {
+    write_obj(path, surface);
+  }
   bytes_.surfaces += fs::file_size(path);
 }
 

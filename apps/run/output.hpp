@@ -30,12 +30,13 @@ class Output {
   /// Whether frame `frame` is written at all (export.every_n_frames).
   bool frame_due(int frame) const;
 
-  /// Writes <object>/<object>_<frame>.vtu (compressed as export.compression says) and lists it
-  /// in <object>.pvd at `time` [s] (nothing if export.vtu is false).
+  /// Writes <object>/<object>_<frame>.vtu (compressed as export.compression says, turned as
+  /// export.up_axis says: points and every 3-component field) and lists it in <object>.pvd at
+  /// `time` [s] (nothing if export.vtu is false).
   void write_grid(const std::string& object, int frame, double time,
                   const mesh::io::UnstructuredGrid& grid);
   /// Writes surfaces/<object>_<frame>.ply (with per-vertex velocity [m/s] if given) or .obj,
-  /// as export.surfaces says.
+  /// as export.surfaces says, turned as export.up_axis says.
   void write_surface(const std::string& object, int frame, const mesh::SurfaceMesh& surface,
                      const std::vector<Eigen::Vector3d>& velocity = {});
 
@@ -60,6 +61,7 @@ class Output {
   std::map<std::string, std::unique_ptr<mesh::io::PvdCollection>> pvds_;
   std::ofstream stats_, probes_;
   mesh::io::VtuCompression compression_;
+  bool z_up_ = false;  ///< export.up_axis "z": turn positions and vectors (x, y, z) -> (x, -z, y)
   Bytes bytes_;
 };
 

@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 
 #include "apps/run/progress.hpp"
 #include "csv.hpp"
+#include "mesh/io/vtu_reader.hpp"
 #include "ply_reader.hpp"
 #include "tests/test_support.hpp"
 
@@ -83,6 +86,44 @@ TEST(CliRun, KinematicRunFramesMatchWhatWasWritten) {
   const std::string runlog = read_text(out / "run.log");
   EXPECT_NE(runlog.find("tetfsi 0."), std::string::npos);
   EXPECT_NE(runlog.find("\"cfl\": 0.5"), std::string::npos) << "the resolved scene (with defaults) is logged";
+}
+
+TEST(CliRun, UpAxisZTurnsEveryExportedPositionAndVector) {
+  // export.up_axis "z": every written position and vector is the scene's turned by +90 degrees
+  // about x, (x, y, z) -> (x, -z, y), exactly; the CSVs are unchanged.
+  TempDir dir("up_axis");
+  std::map<std::string, fs::path> outs;
+  for (const std::string axis : {"y", "z"}) {
+    nlohmann::json scene = nlohmann::json::parse(kSpinning);
+    scene["export"]["up_axis"] = axis;
+    const fs::path file = dir.path() / ("spin_" + axis + ".json");
+    std::ofstream(file) << scene.dump(2);
+    int status = -1;
+    const std::string log = tetfsi_run(file, dir.path() / axis, &status);
+    ASSERT_EQ(status, 0) << log;
+    outs[axis] = dir.path() / axis;
+  }
+  const auto turn = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.x(), -x.z(), x.y()); };
+  const auto y_ply = read_ply(outs["y"] / "surfaces" / "sheet_00003.ply");
+  const auto z_ply = read_ply(outs["z"] / "surfaces" / "sheet_00003.ply");
+  ASSERT_EQ(y_ply.positions.size(), z_ply.positions.size());
+  for (std::size_t i = 0; i < y_ply.positions.size(); ++i) {
+    EXPECT_EQ(z_ply.positions[i], turn(y_ply.positions[i]));  // float32 in the file: the same bits
+    EXPECT_EQ(z_ply.velocities[i], turn(y_ply.velocities[i]));
+  }
+  const auto y_vtu = tetfsi::mesh::io::read_vtu(outs["y"] / "sheet" / "sheet_00003.vtu");
+  const auto z_vtu = tetfsi::mesh::io::read_vtu(outs["z"] / "sheet" / "sheet_00003.vtu");
+  ASSERT_EQ(y_vtu.points.size(), z_vtu.points.size());
+  for (std::size_t i = 0; i < y_vtu.points.size(); ++i) EXPECT_EQ(z_vtu.points[i], turn(y_vtu.points[i]));
+  for (std::size_t a = 0; a < y_vtu.point_data.size(); ++a) {
+    const auto &fy = y_vtu.point_data[a], &fz = z_vtu.point_data[a];
+    ASSERT_EQ(fy.components, 3) << fy.name;
+    for (std::size_t i = 0; i + 2 < fy.values.size(); i += 3)
+      EXPECT_EQ(Eigen::Vector3d(fz.values[i], fz.values[i + 1], fz.values[i + 2]),
+                turn(Eigen::Vector3d(fy.values[i], fy.values[i + 1], fy.values[i + 2])))
+          << fy.name;
+  }
+  EXPECT_EQ(read_text(outs["y"] / "probes.csv"), read_text(outs["z"] / "probes.csv"));
 }
 
 TEST(CliRun, DivergenceStopsBeforeWritingAndKeepsEarlierOutput) {

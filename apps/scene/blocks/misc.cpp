@@ -111,6 +111,12 @@ Field output() {
       Field::enumeration("surfaces", {"none", "ply", "obj"},
                          "Per-frame solid surfaces for Blender/Houdini (PLY carries per-vertex velocity).")
           .def("ply"),
+      Field::enumeration("up_axis", {"y", "z"},
+                         "Up axis of the exported files. The scenes are Y-up (`y`: files in scene coordinates); "
+                         "`z` turns every exported position and vector (.vtu points and 3-component fields, "
+                         "surface positions and velocities) by +90 degrees about x, (x, y, z) -> (x, -z, y), so "
+                         "that scene +y is +z (Blender's up). stats.csv and probes.csv stay in scene coordinates.")
+          .def("y"),
       Field::integer("every_n_frames", "Write every n-th frame only.").at_least(1).def(1),
       Field::number("max_output_gb", "GB",
                     "Largest estimated size of the output folder (frames x frame size + stats rows); a scene "
