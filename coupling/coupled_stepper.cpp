@@ -473,6 +473,7 @@ void CoupledStepper::restore(Snapshot s) {
 CoupledStepReport CoupledStepper::step_once(double h) {
   CoupledStepReport report;
   report.min_substep = h;
+  if (settings_.before_step) settings_.before_step(time_, h);  // kinematic solids' velocities
   report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection and body forces
   SolidRows solid = assemble_solid_rows(h, report);    // eq. (4): A, b
   const Stopwatch clock;

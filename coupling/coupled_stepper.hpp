@@ -36,6 +36,7 @@
 /// velocity as its boundary flux, (h/ρ) L p^{n+1} = r − H u^{n+1}. It is kept to show where it fails
 /// (the added-mass instability of Causin, Gerbeau & Nobile 2005) and the simultaneous system does not.
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -78,6 +79,10 @@ struct CoupledSettings {
   /// following) is undone and taken as two steps of h/2, each of which may be halved again, at
   /// most this many times (so down to h / 2^max_step_halvings). 0: such a step throws at once.
   int max_step_halvings = 0;
+  /// Called at the start of every step taken (each half of a halved step too) with its start time
+  /// and length [s]: a caller prescribes the velocities of kinematic solids over [t, t + h] here
+  /// (NewmarkIntegrator::fix_nodes), so that their nodes land where their motion puts them.
+  std::function<void(double t, double h)> before_step;
 };
 
 /// One stats.csv row of a coupled step.
@@ -119,6 +124,8 @@ class CoupledStepper {
   /// Solid node -> shared-mesh vertex map of solid i.
   const mesh::Submesh& solid_mesh(int i) const { return solids_[i].submesh; }
   fluid::FluidSolver& fluid() { return fluid_; }
+  /// See CoupledSettings::before_step.
+  void set_before_step(std::function<void(double t, double h)> f) { settings_.before_step = std::move(f); }
   const fluid::FluidSolver& fluid() const { return fluid_; }
   /// Positions [m] of the fluid solver's nodes (fluid().mesh().nodes order) at time(), t^{n+1}.
   /// fluid().mesh() is the mesh the last step ran on, whose vertices are at the solids' positions

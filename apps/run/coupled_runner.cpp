@@ -2,7 +2,8 @@
 /// Fluid (smoke or liquid) and deformable tet solids advanced together: one linear system for the
 /// fluid pressure and the solid velocities per step (Chentanez et al. 2006, eq. 7), or the
 /// time-splitting baseline (coupling/coupled_stepper.hpp). Runs scenes whose fluid is not `none`
-/// and whose solids are all deformable tet solids (motion `none`, model `tet_fem`); the optional
+/// and whose solids are all tet solids (model `tet_fem`), at least one deforming (motion `none`)
+/// and the others kinematic (their nodes follow their /motion, prescribed each step); the optional
 /// `coupling` block chooses scheme, solver and mesh update.
 ///
 /// The shared mesh is one CGAL complex of the domain box with every solid inside; each solid's FEM
@@ -30,6 +31,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
@@ -153,6 +155,20 @@ class CoupledRunner : public Simulation {
         integrator.obstacles().set_friction(o.at("friction").get<double>());
       }
       walls.add_to(integrator.obstacles());
+      // A kinematic solid (a /motion other than none) is a tet solid whose every node is
+      // prescribed: before each step its nodes get the velocity (x(t + h) − xⁿ)/h that lands them
+      // where the motion puts them at t + h (eq. 5 with u^{n+1} = uⁿ = that velocity), so the fluid
+      // sees its motion through H's fixed columns and it deforms nothing.
+      if (solids[i].at("motion").at("type") != "none") {
+        std::vector<int> all(stepper_->solid_model(i).num_nodes());
+        std::iota(all.begin(), all.end(), 0);
+        integrator.fix_nodes(all);
+        kinematic_.push_back({i, solids[i].at("motion")});
+      }
+    }
+    if (!kinematic_.empty()) {
+      stepper_->set_before_step([this](double t, double h) { prescribe_kinematic(t, h); });
+      log.info("coupled model: {} kinematic solid(s) move as prescribed, the others deform", kinematic_.size());
     }
     const double ambient = js.at("fluid").value("ambient_temperature", 293.15);
     if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
@@ -383,6 +399,25 @@ class CoupledRunner : public Simulation {
     return -1;
   }
 
+  /// The velocities of the kinematic solids' nodes over [t, t + h]: (x(t + h) − xⁿ)/h, x(t) the
+  /// motion of the node's rest position (moved(), scene_values.hpp).
+  void prescribe_kinematic(double t, double h) {
+    for (const auto& k : kinematic_) {
+      auto& integrator = stepper_->solid(k.solid);
+      const Eigen::VectorXd& X = stepper_->solid_model(k.solid).reference_positions();
+      const Eigen::VectorXd x = integrator.positions();
+      for (int a = 0; a < static_cast<int>(X.size() / 3); ++a) {
+        const Eigen::Vector3d target = moved(k.motion, X.segment<3>(3 * a), t + h);
+        integrator.fix_nodes({a}, (target - x.segment<3>(3 * a)) / h);
+      }
+    }
+  }
+
+  struct Kinematic {
+    int solid;
+    scene::Json motion;
+  };
+  std::vector<Kinematic> kinematic_;
   std::unique_ptr<coupling::CoupledStepper> stepper_;
   WatchdogSettings watchdog_;
   EnergyWatch energy_;          ///< energy balance (only if energy_source_ is empty)
@@ -402,10 +437,14 @@ RunnerEntry coupled_runner() {
   return {"coupled", "fluid and deformable tet solids in one linear system per step (Chentanez et al. 2006, eq. 7)",
           [](const scene::Scene& scene) {
             const auto& s = scene.json;
+            // Fluid, every solid a tet solid, at least one of them deforming (the others kinematic).
             if (s.at("fluid").at("type") == "none" || s.at("solids").empty()) return false;
-            for (const auto& solid : s.at("solids"))
-              if (!is_deformable_tet(solid)) return false;
-            return true;
+            bool deforming = false;
+            for (const auto& solid : s.at("solids")) {
+              if (solid.at("model").at("type") != "tet_fem") return false;
+              deforming = deforming || is_deformable_tet(solid);
+            }
+            return deforming;
           },
           [] { return std::make_unique<CoupledRunner>(); },
           {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy"}};

@@ -291,7 +291,7 @@ class Checker {
       add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
                                  "or dynamic)", list(hex)));
     const std::string name = runner_->name;
-    if (!kinematic.empty() && (!deformable.empty() || !hex.empty()) && name != "mpm")
+    if (!kinematic.empty() && (!deformable.empty() || !hex.empty()) && name != "mpm" && name != "coupled")
       add("/solids", fmt::format("kinematic solids ({}) together with deforming solids ({}) are not supported yet: no "
                                  "runner moves the one and deforms the other in one scene; give every solid a /motion "
                                  "(kinematic) or none of them",

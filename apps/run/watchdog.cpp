@@ -83,12 +83,15 @@ std::string coupled_energy_source(const scene::Json& js) {
   const auto& f = js.at("fluid");
   if (f.value("vorticity_confinement", 0.0) > 0) return "/fluid/vorticity_confinement adds rotation";
   if (js.contains("solids"))
-    for (std::size_t i = 0; i < js["solids"].size(); ++i)
+    for (std::size_t i = 0; i < js["solids"].size(); ++i) {
+      if (js["solids"][i].contains("motion") && js["solids"][i]["motion"].value("type", "none") != "none")
+        return fmt::format("/solids/{}/motion moves the solid as prescribed", i);
       for (std::size_t r = 0; r < js["solids"][i].value("fixed_regions", scene::Json::array()).size(); ++r) {
         const auto& v = js["solids"][i]["fixed_regions"][r].value("velocity", scene::Json::array({0, 0, 0}));
         if (v != scene::Json::array({0, 0, 0}))
           return fmt::format("/solids/{}/fixed_regions/{}/velocity drives the solid", i, r);
       }
+    }
   return "";
 }
 

@@ -249,21 +249,10 @@ TEST(BadInputs, NamesAreSafeForFilesAndCsv) {
   });
 }
 
+// (Kinematic and deformable solids together with a fluid run in the coupled runner:
+// CoupledRun.KinematicPaddleAndDeformableFlapRunCoupled.)
 TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
   expect_all_refused({
-      {"kinematic_and_deformable_in_fluid",
-       [] {
-         auto s = coupled_scene();
-         s["solids"][0]["placement"]["translation"] = {-0.2, 0, 0};
-         s["solids"][0]["geometry"]["radius"] = 0.1;
-         auto k = s["solids"][0];
-         k["name"] = "mover";
-         k["placement"]["translation"] = {0.2, 0, 0};
-         k["motion"] = {{"type", "translation"}, {"velocity", {0, 0.1, 0}}};
-         s["solids"].push_back(k);
-         return s;
-       },
-       "/solids"},
       {"kinematic_and_deformable_alone",
        [] {
          auto s = solid_scene();
