@@ -17,6 +17,10 @@ session opens the .blend and reports what it holds. Checked:
   variance of the alpha-weighted x grows by D^2 / 12; D = sqrt(12 (var_U - var_0)) must be
   U * shutter / fps (U = 4 m/s, shutter 0.5 frame, 10 fps: 0.2 m = 16 pixels of 12.5 mm), to 5%.
 
+- a liquid surface, whose topology changes from frame to frame (data/scenes/dam_break_ci.json,
+  Y-up): one `liquid_NNNNN` object per PLY frame with the PLY's vertex and triangle counts, and
+  the last frame's positions and velocity equal to the PLY's turned to Z-up.
+
 Exit 77 (ctest SKIP_RETURN_CODE) when `blender` is not on PATH.
 Usage: blender_import_check.py --tetfsi BIN --script scripts/blender_import.py [--keep DIR]
 """
@@ -60,6 +64,16 @@ out["velocity"] = [list(d.vector) for d in m.attributes["velocity"].data]
 out["velocity_domain"] = [m.attributes["velocity"].domain, m.attributes["velocity"].data_type]
 out["triangles"] = len(m.polygons)
 print("CHECK " + json.dumps(out))
+"""
+
+# Second session on the liquid run: prints "LIQUID <json>" (counts per frame, last frame's data).
+LIQUID = r"""
+import bpy, json
+objs = sorted(bpy.data.collections["liquid"].objects, key=lambda o: o.name)
+last = objs[-1].data
+print("LIQUID " + json.dumps({"counts": {o.name: [len(o.data.vertices), len(o.data.polygons)] for o in objs},
+      "last": objs[-1].name, "co": [list(v.co) for v in last.vertices],
+      "velocity": [list(d.vector) for d in last.attributes["velocity"].data]}))
 """
 
 # Renders Blender frame 4 from above (orthographic) with the velocity attribute set to (u, 0, 0):
@@ -123,6 +137,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tetfsi", required=True)
     ap.add_argument("--script", required=True)
+    ap.add_argument("--dam-break", required=True, help="data/scenes/dam_break_ci.json")
     ap.add_argument("--keep", help="work in this folder and keep it")
     args = ap.parse_args()
     blender = shutil.which("blender")
@@ -174,6 +189,23 @@ def main():
         expect(worst < 1e-5, f"{axis}: velocity = omega x (x - c) to {worst:.2e} m/s")
     expect(results["y"][0]["co"] == results["z"][0]["co"] and results["y"][0]["velocity"] == results["z"][0]["velocity"],
            "the Y-up run turned by the script equals the Z-up run")
+
+    out, blend = os.path.join(work, "out_dam"), os.path.join(work, "dam.blend")
+    _, t_run = run([args.tetfsi, "run", args.dam_break, "--out", out, "--quiet"])
+    _, t_import = run([blender, "-b", "--factory-startup", "--python-exit-code", "1",
+                       "--python", args.script, "--", out, blend])
+    report, _ = run([blender, "-b", "--factory-startup", blend, "--python-exit-code", "1", "--python-expr", LIQUID])
+    got = json.loads(tagged(report, "LIQUID")[0])
+    plys = sorted(n for n in os.listdir(os.path.join(out, "surfaces")) if n.startswith("liquid_"))
+    counts = {}
+    for n in plys:
+        p, v, nf = read_ply(os.path.join(out, "surfaces", n))
+        counts[n[:-4]] = [len(p), nf]
+    print(f"dam_break_ci: tetfsi run {t_run:.2f} s, import {t_import:.2f} s; liquid frames {counts}")
+    expect(got["counts"] == counts and len(set(c[0] for c in counts.values())) > 1,
+           f"liquid: one object per PLY frame with its (changing) vertex and triangle counts: {got['counts']}")
+    expect(got["last"] == plys[-1][:-4] and got["co"] == [turn(x) for x in p] and got["velocity"] == [turn(x) for x in v],
+           f"liquid: {got['last']} positions and velocity equal the PLY's turned to Z-up")
 
     rendered, t_render = run([blender, "-b", os.path.join(work, "spin_z.blend"), "--python-exit-code", "1",
                               "--python-expr", RENDER % {"ortho": ORTHO, "pixels": PIXELS, "u": U, "dir": work}])
