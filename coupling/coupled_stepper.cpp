@@ -343,50 +343,6 @@ CoupledSolveReport CoupledStepper::solve(const CoupledSystem& sys, const std::ve
   return report;
 }
 
-bool CoupledStepper::has_obstacles() const {
-  for (const Solid& s : solids_)
-    if (!s.integrator->obstacles().empty()) return true;
-  return false;
-}
-
-CoupledSolveReport CoupledStepper::solve_with_contact(double h, CoupledSystem& sys, const std::vector<int>& unknown,
-                                                      Eigen::VectorXd& u, Eigen::VectorXd& p) {
-  if (!has_obstacles()) return solve(sys, unknown, u, p);
-  // The solid rows without contact; each round adds the active constraints' penalty rows to them.
-  const SparseMatrix A_free = sys.A;
-  const Eigen::VectorXd b_free = sys.b;
-  const auto with_contact_rows = [&] {
-    sys.A = A_free;
-    sys.b = b_free;
-    for (const Solid& s : solids_) s.integrator->add_contact_rows(sys.A, sys.b, s.dof_offset);
-  };
-  bool warm = false;
-  for (Solid& s : solids_) warm = s.integrator->warm_start_contacts(h, A_free, s.dof_offset) || warm;
-  if (warm) with_contact_rows();
-  CoupledSolveReport report = solve(sys, unknown, u, p);
-  report.contact_rounds = 1;
-  for (int round = 0; round < kMaxContactRounds; ++round) {
-    bool changed = false;
-    for (Solid& s : solids_) changed = s.integrator->update_contacts(h, A_free, u, s.dof_offset) || changed;
-    if (!changed) break;
-    with_contact_rows();
-    solver_->request_fresh_solve();  // the penalty rows changed A far beyond a step's drift
-    const CoupledSolveReport again = solve(sys, unknown, u, p);
-    report.iterations += again.iterations;
-    report.setup_seconds += again.setup_seconds;
-    report.solve_seconds += again.solve_seconds;
-    report.residual = again.residual;
-    report.factor_age = again.factor_age;
-    ++report.contact_rounds;
-  }
-  report.contacts = 0;
-  for (Solid& s : solids_) {
-    s.integrator->finish_contacts(u, s.dof_offset);
-    report.contacts += s.integrator->num_active_contacts();
-  }
-  return report;
-}
-
 void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p,
                             const std::vector<int>& unknown, CoupledStepReport& report) {
   // Eq. (8): the fluid velocity from the new pressure.
@@ -409,65 +365,6 @@ void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::Vec
     report.spring_energy += e.spring;
     report.solid_gravity_potential += e.gravity_potential;
   }
-}
-
-CoupledStepReport CoupledStepper::step(double h) {
-  if (!(h > 0)) throw std::invalid_argument("coupled step: time step must be positive");
-  try {
-    return step_or_halve(h, settings_.max_step_halvings);
-  } catch (const mesh::MeshError& e) {
-    if (settings_.max_step_halvings == 0) throw;
-    throw mesh::MeshError(std::string(e.what()) + " (also with the step halved " +
-                          std::to_string(settings_.max_step_halvings) + " times, to " +
-                          std::to_string(h / (1 << settings_.max_step_halvings)) +
-                          " s; simulation.max_step_halvings allows more)");
-  }
-}
-
-CoupledStepReport CoupledStepper::step_or_halve(double h, int halvings) {
-  if (halvings == 0) return step_once(h);
-  Snapshot before = snapshot();
-  try {
-    return step_once(h);
-  } catch (const mesh::MeshError&) {
-    // The solid motion of this step would invert or flatten a tet even with the fluid following:
-    // undo the step and take it in two halves, so the mesh can be remeshed in between.
-    restore(std::move(before));
-  }
-  CoupledStepReport first = step_or_halve(0.5 * h, halvings - 1);
-  CoupledStepReport second = step_or_halve(0.5 * h, halvings - 1);
-  // The second half's state with the time of both halves.
-  second.substeps += first.substeps;
-  second.min_substep = std::min(first.min_substep, second.min_substep);
-  second.mesh_update.remeshed = second.mesh_update.remeshed || first.mesh_update.remeshed;
-  second.mesh_update.seconds += first.mesh_update.seconds;
-  second.mesh_update.motion_seconds += first.mesh_update.motion_seconds;
-  second.mesh_update.check_seconds += first.mesh_update.check_seconds;
-  second.fluid.advect_seconds += first.fluid.advect_seconds;
-  second.fluid.forces_seconds += first.fluid.forces_seconds;
-  second.fluid.surface_seconds += first.fluid.surface_seconds;
-  second.fluid.assemble_seconds += first.fluid.assemble_seconds;
-  second.solid_assemble_seconds += first.solid_assemble_seconds;
-  second.interface_seconds += first.interface_seconds;
-  second.solve.setup_seconds += first.solve.setup_seconds;
-  second.solve.solve_seconds += first.solve.solve_seconds;
-  second.solve.iterations += first.solve.iterations;
-  second.solve.contact_rounds += first.solve.contact_rounds;
-  return second;
-}
-
-CoupledStepper::Snapshot CoupledStepper::snapshot() const {
-  Snapshot s{fluid_, {}, previous_vertex_pressure_, time_, step_};
-  for (const Solid& solid : solids_) s.solids.push_back(solid.integrator->save_state());
-  return s;
-}
-
-void CoupledStepper::restore(Snapshot s) {
-  fluid_ = std::move(s.fluid);
-  for (std::size_t i = 0; i < solids_.size(); ++i) solids_[i].integrator->restore_state(s.solids[i]);
-  previous_vertex_pressure_ = std::move(s.previous_vertex_pressure);
-  time_ = s.time;
-  step_ = s.step;
 }
 
 CoupledStepReport CoupledStepper::step_once(double h) {

@@ -408,7 +408,7 @@ class CoupledRunner : public Simulation {
       const Eigen::VectorXd x = integrator.positions();
       for (int a = 0; a < static_cast<int>(X.size() / 3); ++a) {
         const Eigen::Vector3d target = moved(k.motion, X.segment<3>(3 * a), t + h);
-        integrator.fix_nodes({a}, (target - x.segment<3>(3 * a)) / h);
+        integrator.set_prescribed_velocity(a, (target - x.segment<3>(3 * a)) / h);
       }
     }
   }

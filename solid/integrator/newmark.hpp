@@ -101,6 +101,12 @@ class NewmarkIntegrator {
   /// take no part in obstacle contact (see step()).
   void fix_components(const std::vector<int>& nodes, const std::array<bool, 3>& components,
                       const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero());
+  /// New prescribed velocity of node `node`'s fixed components (a driven or kinematic node whose
+  /// velocity changes from step to step); its free components are left alone.
+  void set_prescribed_velocity(int node, const Eigen::Vector3d& velocity) {
+    for (int a = 0; a < 3; ++a)
+      if (fixed_[3 * node + a]) prescribed_[3 * node + a] = u_[3 * node + a] = velocity[a];
+  }
   /// Nodes whose reference position lies in the box [lo, hi].
   std::vector<int> nodes_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
   void set_displacement(const Eigen::VectorXd& d);
