@@ -355,7 +355,6 @@ void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::Vec
   report.fluid.solve_seconds = report.solve.setup_seconds + report.solve.solve_seconds;
   report.fluid.iterations = report.solve.iterations;
   report.fluid_kinetic = report.fluid.kinetic_energy;
-  report.fluid_gravity_potential = report.fluid.gravity_potential;
   // Eq. (5): the solid displacement from the new velocity.
   for (Solid& s : solids_) {
     s.integrator->advance(h, u.segment(s.dof_offset, 3 * s.model->num_nodes()));
@@ -399,16 +398,7 @@ double CoupledStepper::fluid_gravity_potential(const CoupledStepReport& report) 
   // dam_break_ci.json went from +0.98% to +1.7% above its first step's energy).
   if (!params.apply_gravity || fluid_.has_free_surface()) return report.fluid.gravity_potential;
   // The fluid fills its region: the fluid tets of the mesh that now conforms to the solids.
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // ∫ x dV over the fluid at t^{n+1}
-  for (int t = 0; t < mesh_.num_tets(); ++t) {
-    if (!mesh_.subdomain.empty() && mesh_.subdomain[t] != mesh::kFluidSubdomain) continue;
-    const auto& x = mesh_.tets[t];
-    const Eigen::Vector3d& a = mesh_.vertices[x[0]];
-    const Eigen::Vector3d& b = mesh_.vertices[x[1]];
-    const Eigen::Vector3d& c = mesh_.vertices[x[2]];
-    const Eigen::Vector3d& d = mesh_.vertices[x[3]];
-    moment += mesh::signed_volume(a, b, c, d) * 0.25 * (a + b + c + d);
-  }
+  const Eigen::Vector3d moment = fluid_moments(mesh_.vertices).second;  // ∫ x dV at t^{n+1}
   return -params.density * params.gravity.dot(moment);
 }
 
@@ -416,15 +406,19 @@ bool CoupledStepper::free_surface() const {
   return fluid_.has_free_surface() && fluid_.liquid().num_air_nodes > 0;
 }
 
-double CoupledStepper::fluid_volume() const {
-  const std::vector<Eigen::Vector3d> x = mesh_vertices_at(solid_positions());
+std::pair<double, Eigen::Vector3d> CoupledStepper::fluid_moments(const std::vector<Eigen::Vector3d>& x) const {
   double volume = 0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
   for (int t = 0; t < mesh_.num_tets(); ++t) {
     if (!mesh_.subdomain.empty() && mesh_.subdomain[t] != mesh::kFluidSubdomain) continue;
     const auto& v = mesh_.tets[t];
-    volume += mesh::signed_volume(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+    const double vt = mesh::signed_volume(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+    volume += vt;
+    moment += vt * 0.25 * (x[v[0]] + x[v[1]] + x[v[2]] + x[v[3]]);
   }
-  return volume;
+  return {volume, moment};
 }
+
+double CoupledStepper::fluid_volume() const { return fluid_moments(mesh_vertices_at(solid_positions())).first; }
 
 }  // namespace tetfsi::coupling

@@ -38,6 +38,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "coupling/mesh_update.hpp"
@@ -198,6 +199,8 @@ class CoupledStepper {
   /// energy from nowhere when a sinking ball stopped on the floor); for a liquid with a free
   /// surface, report.fluid's.
   double fluid_gravity_potential(const CoupledStepReport& report) const;
+  /// Volume [m³] and first moment ∫ x dV [m⁴] of the fluid tets of mesh_ with vertices at x.
+  std::pair<double, Eigen::Vector3d> fluid_moments(const std::vector<Eigen::Vector3d>& x) const;
   static constexpr int kMaxContactRounds = 8;
   /// Eqs. (8) and (5): the fluid takes the pressure p, the solids the velocity u.
   void update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p, const std::vector<int>& unknown,

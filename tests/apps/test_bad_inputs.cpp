@@ -253,6 +253,13 @@ TEST(BadInputs, NamesAreSafeForFilesAndCsv) {
 // CoupledRun.KinematicPaddleAndDeformableFlapRunCoupled.)
 TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
   expect_all_refused({
+      {"solid_inside_the_wall_film",  // the coupled runner would push it off the walls in its first step
+       [] {
+         auto s = coupled_scene();
+         s["coupling"]["wall_gap"] = 10.0;
+         return s;
+       },
+       "/coupling/wall_gap"},
       {"kinematic_and_deformable_alone",
        [] {
          auto s = solid_scene();
