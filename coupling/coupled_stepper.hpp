@@ -22,7 +22,9 @@
 ///
 /// Step 5 includes the solids' contact with their obstacles (the container's walls, planes,
 /// boxes): the active set of NewmarkIntegrator::step with its penalty rows in A, so the fluid and
-/// the contact forces are found together (solve_with_contact).
+/// the contact forces are found together (solve_with_contact); and, once enable_surface_contact is
+/// called, the contact of the solids with each other and with themselves (solid/contact/surface_contact.hpp),
+/// whose rows couple the solids' blocks of A.
 ///
 /// A liquid with a free surface (fluid::FluidSolver::set_liquid) takes part as itself: its pressure
 /// unknowns are the liquid nodes (p = 0 in the air), its rows the cut-tet system of
@@ -46,6 +48,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "mesh/submesh.hpp"
 #include "mesh/tet_mesh.hpp"
+#include "solid/contact/surface_contact.hpp"
 #include "solid/integrator/newmark.hpp"
 #include "solid/tet/material.hpp"
 #include "solid/tet/tet_model.hpp"
@@ -125,6 +128,10 @@ class CoupledStepper {
   /// Solid node -> shared-mesh vertex map of solid i.
   const mesh::Submesh& solid_mesh(int i) const { return solids_[i].submesh; }
   fluid::FluidSolver& fluid() { return fluid_; }
+  /// Contact between the solids' surfaces (and of solid i with itself if self_contact[i]; empty:
+  /// none), inside eq. (7) with the obstacle contact (solid/contact/surface_contact.hpp).
+  /// @throws std::invalid_argument on bad settings
+  void enable_surface_contact(const solid::SurfaceContactSettings& settings, const std::vector<char>& self_contact = {});
   /// See CoupledSettings::before_step.
   void set_before_step(std::function<void(double t, double h)> f) { settings_.before_step = std::move(f); }
   const fluid::FluidSolver& fluid() const { return fluid_; }
@@ -170,6 +177,7 @@ class CoupledStepper {
     fluid::FluidSolver fluid;
     std::vector<solid::NewmarkIntegrator::State> solids;
     std::vector<double> previous_vertex_pressure;
+    std::vector<int> surface_contact_nodes;
     double time = 0;
     int step = 0;
   };
@@ -193,6 +201,9 @@ class CoupledStepper {
   CoupledSolveReport solve_with_contact(double h, CoupledSystem& sys, const std::vector<int>& unknown,
                                         Eigen::VectorXd& u, Eigen::VectorXd& p);
   bool has_obstacles() const;
+  bool has_surface_contact() const { return surface_contact_ && surface_contact_->enabled(); }
+  /// Per solid dof: its velocity is prescribed (fixed, driven or kinematic nodes).
+  std::vector<char> prescribed_dofs() const;
   /// −ρ g · ∫ x dV over the fluid at t^{n+1}, after the step's mesh update: for a fluid that fills
   /// its region, from the mesh that conforms to the solids at t^{n+1} (the fluid solver's own
   /// figure in report.fluid is on the mesh of tⁿ, one step behind the solids, which showed as
@@ -231,6 +242,7 @@ class CoupledStepper {
   std::vector<double> previous_vertex_pressure_;  // per mesh vertex, for time splitting
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_
   std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes
+  std::unique_ptr<solid::SurfaceContact> surface_contact_;  // solid-solid and self contact, or none
   // The vertices of the mesh fluid_ last stepped on, moved to the solids at t^{n+1}
   // (MeshUpdateResult::moved_vertices); empty before the first step.
   std::vector<Eigen::Vector3d> fluid_mesh_moved_vertices_;

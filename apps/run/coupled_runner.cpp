@@ -14,7 +14,7 @@
 /// (coupling/mesh_update.hpp); a motion too large for one step (a tet inverts even with the fluid
 /// following) is retried in halves (simulation.max_step_halvings), and stops the run with a clear
 /// error, exit code 1, when even the shortest step fails. The container's walls are contact planes
-/// for the solids (coupling.wall_contact), set back by a fluid film (coupling.wall_gap).
+/// for the solids (coupling.wall_contact), set back by a fluid film (coupling.contact_gap).
 ///
 /// Watchdog (watchdog.hpp): inverted solid tets; and, when every load is conservative (a closed
 /// container with walls only: no inflow, open face or emitter, no vorticity confinement;
@@ -29,6 +29,7 @@
 /// and emitters supply is not accounted: those scenes are not watched (run.log says why).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -135,8 +136,8 @@ class CoupledRunner : public Simulation {
 
     // The container's walls (a filled shell has none: its fluid is inside the solid).
     ContainerWalls walls;
+    const double gap = c.at("contact_gap").get<double>() > 0 ? c.at("contact_gap").get<double>() : 0.5 * edge_near_;
     if (c.at("wall_contact").get<bool>() && !cavity_only && js.contains("domain")) {
-      const double gap = c.at("wall_gap").get<double>() > 0 ? c.at("wall_gap").get<double>() : 0.5 * edge_near_;
       walls = container_walls(js.at("domain"), gap);
       log.info("wall contact: {} wall(s), fluid film {:.3g} m", walls.count(), gap);
     }
@@ -166,6 +167,17 @@ class CoupledRunner : public Simulation {
         kinematic_.push_back({i, solids[i].at("motion")});
       }
     }
+    solid::SurfaceContactSettings surface;
+    surface.gap = gap;
+    surface.between_solids = c.at("solid_contact").get<bool>();
+    surface.friction = js.contains("obstacles") ? js["obstacles"].at("friction").get<double>() : 0.0;
+    std::vector<char> self_contact;
+    for (int i = 0; i < stepper_->num_solids(); ++i) self_contact.push_back(solids[i].at("self_contact").get<bool>());
+    stepper_->enable_surface_contact(surface, self_contact);
+    const int selfs = static_cast<int>(std::count(self_contact.begin(), self_contact.end(), 1));
+    if (selfs > 0 || (surface.between_solids && stepper_->num_solids() > 1))
+      log.info("surface contact: {} solid(s) between each other, {} with itself, fluid film {:.3g} m, friction {}",
+               surface.between_solids ? stepper_->num_solids() : 0, selfs, gap, surface.friction);
     if (!kinematic_.empty()) {
       stepper_->set_before_step([this](double t, double h) { prescribe_kinematic(t, h); });
       log.info("coupled model: {} kinematic solid(s) move as prescribed, the others deform", kinematic_.size());

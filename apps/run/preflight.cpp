@@ -232,7 +232,7 @@ class Checker {
                           solid_name(i), p.lo.x(), p.lo.y(), p.lo.z(), p.hi.x(), p.hi.y(), p.hi.z(), lo.x(), lo.y(),
                           lo.z(), hi.x(), hi.y(), hi.z()));
       }
-      check_wall_gap(lo, hi);
+      check_contact_gap(lo, hi);
     }
     for (std::size_t i = 0; i < placed_.size(); ++i)
       for (std::size_t j = 0; j < i; ++j) {
@@ -288,6 +288,12 @@ class Checker {
                                          "(CGAL Mesh_3) remeshes solids from their surfaces and cannot keep given tets; "
                                          "use geometry type \"mesh\" with the boundary surface instead"
                                        : ""));
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      if (solids[i].at("self_contact").get<bool>() &&
+          (solids[i].at("motion").at("type") != "none" || solids[i].at("model").at("type") != "tet_fem"))
+        add(fmt::format("/solids/{}/self_contact", i),
+            fmt::format("solid '{}': self-contact is for deforming \"tet_fem\" solids (motion \"none\")",
+                        solids[i].at("name").get<std::string>()));
     if (hex_analyses.size() > 1)
       add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
                                  "or dynamic)", list(hex)));
@@ -337,14 +343,14 @@ class Checker {
                                              "(set 0 to silence this warning)", mu));
   }
 
-  /// The coupled runner keeps free solids a film of /coupling/wall_gap off the walls of a box
+  /// The coupled runner keeps free solids a film of /coupling/contact_gap off the walls of a box
   /// container (coupled_runner.cpp): a free solid (no fixed region, no motion) that starts inside
   /// that film would be pushed out of it in its first step. Checked when the gap is given (its
   /// default follows the meshed edge length, known only after meshing).
-  void check_wall_gap(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  void check_contact_gap(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     if (runner_->name != "coupled" || !js_.contains("coupling") || js_["domain"].contains("container")) return;
     const auto& c = js_["coupling"];
-    const double gap = c.value("wall_gap", 0.0);
+    const double gap = c.value("contact_gap", 0.0);
     if (!c.value("wall_contact", true) || !(gap > 0)) return;
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       const auto& p = placed_[i];
@@ -353,9 +359,9 @@ class Checker {
           solid["motion"].value("type", "none") != "none")
         continue;
       if (((p.lo - lo).array() >= gap).all() && ((hi - p.hi).array() >= gap).all()) continue;
-      add("/coupling/wall_gap",
+      add("/coupling/contact_gap",
           fmt::format("solid '{}' starts closer than the wall film of {:g} m to the domain's walls (bounding box "
-                      "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): lower /coupling/wall_gap or move "
+                      "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): lower /coupling/contact_gap or move "
                       "/solids/{}/placement",
                       solid_name(i), gap, p.lo.x(), p.lo.y(), p.lo.z(), p.hi.x(), p.hi.y(), p.hi.z(), i));
     }

@@ -4,8 +4,8 @@
 /// "tet_fem"; hex8 solids go to the hex runner). Each deforming solid is meshed alone
 /// (mesh::mesh_solid, no fluid) or, with geometry "volume_mesh", takes the tets of its file
 /// (volume_mesh_of), and becomes a TetModel advanced by its own NewmarkIntegrator
-/// with the scene's gravity, fixed regions (per component), initial velocity and static obstacles. Solids do not
-/// collide with each other. Solids with a prescribed motion in the same scene are not moved
+/// with the scene's gravity, fixed regions (per component), initial velocity, static obstacles and,
+/// with /solids/*/self_contact, contact of its surface with itself. Solids do not collide with each other. Solids with a prescribed motion in the same scene are not moved
 /// (a warning says so).
 ///
 /// stats.csv columns (sums over the solids): kinetic 1/2 u^T M u [J], strain [J], gravity
@@ -124,6 +124,13 @@ class SolidRunner : public Simulation {
       for (const auto& bx : obs.at("boxes")) integ.obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
       integ.obstacles().set_friction(obs.at("friction").get<double>());
       b.surface = boundary_surface(tets, &b.surface_nodes);
+      if (s.at("self_contact").get<bool>()) {
+        // No fluid keeps the surfaces apart here: a film of 5% of a surface edge keeps the edges
+        // between the contact nodes from crossing.
+        const double gap = 0.05 * mean_edge_length(b.surface);
+        integ.enable_self_contact(b.model->tets(), gap, obs.at("friction").get<double>());
+        log.info("solid '{}': self-contact on, film {:.3g} m", b.name, gap);
+      }
       b.index = static_cast<int>(i);
       b.scheme = s.at("integrator").at("scheme").get<std::string>();
       {

@@ -44,4 +44,11 @@ mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_
   return s;
 }
 
+double mean_edge_length(const mesh::SurfaceMesh& surface) {
+  double sum = 0;
+  for (const auto& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) sum += (surface.vertices[t[(k + 1) % 3]] - surface.vertices[t[k]]).norm();
+  return surface.triangles.empty() ? 0.0 : sum / (3.0 * static_cast<double>(surface.triangles.size()));
+}
+
 }  // namespace tetfsi::run

@@ -15,4 +15,7 @@ mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain);
 /// compactly; `to_tet_vertex` (optional) receives, per surface vertex, its vertex in `m`.
 mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_tet_vertex = nullptr);
 
+/// Mean length of the triangles' edges [m] (each edge counted once per triangle); 0 if none.
+double mean_edge_length(const mesh::SurfaceMesh& surface);
+
 }  // namespace tetfsi::run

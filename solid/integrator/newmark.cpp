@@ -142,7 +142,8 @@ void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
   last_contact_nodes_.clear();
   for (const auto& c : active_) last_contact_nodes_.push_back(c.node);
   active_.clear();
-  stats_.contacts = std::max(solved_contacts, obstacles_.project(model_.reference_positions(), d_, u_, fixed_));
+  stats_.contacts = std::max(solved_contacts, obstacles_.project(model_.reference_positions(), d_, u_, fixed_)) +
+                    (self_contact_ ? self_contact_->num_active() : 0);
   ++step_;
   time_ += h;
 }
@@ -169,17 +170,40 @@ const StepStats& NewmarkIntegrator::step(double h) {
 
 void NewmarkIntegrator::solve_with_contact(double h, const std::string& context) {
   active_.clear();
-  solver_.solve(A_, b_, u_next_, context);
-  if (obstacles_.empty()) return;
+  const bool self = self_contact_ && self_contact_->enabled();
+  if (self) self_contact_->begin_step(h, positions(), u_, fixed_);
+  if (obstacles_.empty() && !self) {
+    solver_.solve(A_, b_, u_next_, context);
+    return;
+  }
   const SparseMatrix A_free = A_;
   const Eigen::VectorXd b_free = b_;
-  for (int round = 0; round < 8 && update_contacts(h, A_free, u_next_); ++round) {
+  const auto with_contact_rows = [&] {
     A_ = A_free;
     b_ = b_free;
     add_contact_rows(A_, b_);
+    if (self) self_contact_->add_rows(A_, b_);
+  };
+  if (self && self_contact_->warm_start(A_free)) with_contact_rows();
+  solver_.solve(A_, b_, u_next_, context);
+  for (int round = 0; round < 8; ++round) {
+    bool changed = update_contacts(h, A_free, u_next_);
+    if (self) changed = self_contact_->update(A_free, u_next_) || changed;
+    if (!changed) break;
+    with_contact_rows();
     solver_.solve(A_, b_, u_next_, context);
   }
   finish_contacts(u_next_);
+  if (self) self_contact_->finish(u_next_);  // forces, then friction on u^{n+1}
+}
+
+void NewmarkIntegrator::enable_self_contact(const std::vector<std::array<int, 4>>& tets, double gap, double friction) {
+  SurfaceContactSettings settings;
+  settings.gap = gap;
+  settings.friction = friction;
+  settings.penalty = settings_.contact_penalty;
+  self_contact_ = std::make_unique<SurfaceContact>(settings);
+  self_contact_->add_solid(tets, model_.reference_positions(), model_.lumped_masses(), 0, true);
 }
 
 void NewmarkIntegrator::activate_contact(int v, double h, const Eigen::Vector3d& normal, const SparseMatrix& A,

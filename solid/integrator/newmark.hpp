@@ -30,10 +30,12 @@
 /// given u^{n+1}, then contact, the Dirichlet values and the stability checks.
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "solid/contact/static_obstacles.hpp"
+#include "solid/contact/surface_contact.hpp"
 #include "solid/elastic_model.hpp"
 #include "solid/integrator/spd_solver.hpp"
 
@@ -116,6 +118,10 @@ class NewmarkIntegrator {
   void set_external_forces(const Eigen::VectorXd& f);
   void add_spring(const LinearSpring& spring);
   StaticObstacles& obstacles() { return obstacles_; }
+  /// Self-contact of the solid's surface inside step()'s implicit solve (solid/contact/surface_contact.hpp),
+  /// keeping a film `gap` [m]; `tets` are the model's elements (node ids), friction Coulomb's μ.
+  /// (The coupled step has its own, over all solids: coupling/coupled_stepper.hpp.)
+  void enable_self_contact(const std::vector<std::array<int, 4>>& tets, double gap, double friction);
 
   // ---- pieces for the coupling ----
   /// A and b of eq. (4)/(18) at the current state for a step of length h [s] (see the scheme note above). Dirichlet DOFs are eliminated
@@ -200,6 +206,7 @@ class NewmarkIntegrator {
   std::vector<char> fixed_;
   std::vector<LinearSpring> springs_;
   StaticObstacles obstacles_;
+  std::unique_ptr<SurfaceContact> self_contact_;
   SpdSolver solver_;
   struct ActiveContact {
     int node;

@@ -256,10 +256,22 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
       {"solid_inside_the_wall_film",  // the coupled runner would push it off the walls in its first step
        [] {
          auto s = coupled_scene();
-         s["coupling"]["wall_gap"] = 10.0;
+         s["coupling"]["contact_gap"] = 10.0;
          return s;
        },
-       "/coupling/wall_gap"},
+       "/coupling/contact_gap"},
+      {"self_contact_on_a_kinematic_solid",  // it deforms nothing, so it cannot fold onto itself
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0, 0.1, 0}}};
+         s["solids"][0]["self_contact"] = true;
+         return s;
+       },
+       "/solids/0/self_contact"},
+      {"self_contact_not_a_bool", [] { auto s = solid_scene(); s["solids"][0]["self_contact"] = "yes"; return s; },
+       "/solids/0/self_contact"},
+      {"solid_contact_not_a_bool", [] { auto s = coupled_scene(); s["coupling"]["solid_contact"] = 1; return s; },
+       "/coupling/solid_contact"},
       {"kinematic_and_deformable_alone",
        [] {
          auto s = solid_scene();

@@ -53,14 +53,22 @@ Field coupling() {
           .greater(0).less(60).def(10),
       Field::boolean("wall_contact",
                      "The container's walls are contact obstacles for every solid (the container's faces, "
-                     "set back by `wall_gap`), so a solid that sinks, rises or is thrown comes to rest on "
+                     "set back by `contact_gap`), so a solid that sinks, rises or is thrown comes to rest on "
                      "the floor, the lid or a side with a film of fluid of that thickness between; the "
                      "contact is part of the simultaneous solve, with `obstacles.friction`. "
                      "`false`: solids that reach a wall stop the run.")
           .def(true),
-      Field::number("wall_gap", "m",
+      Field::boolean("solid_contact",
+                     "Deformable solids touch each other through the fluid: a surface node of one solid "
+                     "and the nearest surface triangle of another keep a film of `contact_gap` between "
+                     "them (node-to-surface penalty constraints in the simultaneous solve, momentum "
+                     "conserving, Coulomb friction from `obstacles.friction`; solid/contact/surface_contact.hpp). "
+                     "Kinematic and fixed parts are obstacles for the others. `false`: solids that meet stop the run.")
+          .def(true),
+      Field::number("contact_gap", "m",
                     "Thickness of the fluid film kept between a solid and the container's walls "
-                    "(`wall_contact`); 0: half the fluid's edge length next to the solids as meshed.")
+                    "(`wall_contact`), the obstacles, another solid (`solid_contact`) or itself "
+                    "(`/solids/*/self_contact`); 0: half the fluid's edge length next to the solids as meshed.")
           .at_least(0).def(0),
   });
 }

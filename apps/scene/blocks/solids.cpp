@@ -206,6 +206,14 @@ Field solids() {
                    "`components` (all by default; a symmetry plane holds its normal component only).",
                    fixed_region()).def(Json::array()),
       Field::vector("initial_velocity", 3, "m/s", "Initial velocity of every node.").def({0, 0, 0}),
+      Field::boolean("self_contact",
+                     "`tet_fem` solids: the surface folds onto itself without passing through (a bunny's "
+                     "ear against its head): node-to-surface contact between a surface node and the "
+                     "triangles of the same solid that face it and lie farther than twice the film (or "
+                     "half a surface edge) at rest (solid/contact/surface_contact.hpp). The film is "
+                     "`coupling.contact_gap` in coupled scenes, 5% of the solid's mean surface edge in "
+                     "solid-only scenes.")
+          .def(false),
       Field::array("springs", "Linear springs tying a region of a `tet_fem` solid to fixed anchors "
                    "(coupled and solid runners).", spring()).def(Json::array()),
       motion(),
