@@ -381,6 +381,11 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   report.pressure_unknowns = sys.num_pressures();
   Eigen::VectorXd u, p;
   report.solve = solve_with_contact(h, sys, interface.unknown, u, p);  // eq. (7) with contact
+  const Eigen::VectorXd pressure_forces = interface.H_all.transpose() * p;  // J p^{n+1}, fixed nodes too
+  pressure_force_.assign(solids_.size(), Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < solids_.size(); ++i)
+    for (int a = 0; a < solids_[i].model->num_nodes(); ++a)
+      pressure_force_[i] += pressure_forces.segment<3>(solids_[i].dof_offset + 3 * a);
   update(h, u, p, interface.unknown, report);                         // eqs. (8) and (5)
   report.mesh_update = update_mesh_to_solids();  // x^{n+1}: the fluid mesh follows the solids
   report.fluid_gravity_potential = fluid_gravity_potential(report);

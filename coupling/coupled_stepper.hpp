@@ -143,6 +143,11 @@ class CoupledStepper {
   /// it shares, at the same time; the fields (fluid().fields(), pressure, level set) are the
   /// t^{n+1} values, unchanged. Before the first step: fluid().mesh().nodes.
   std::vector<Eigen::Vector3d> fluid_node_positions() const;
+  /// The fluid's pressure force on solid i in the last step [N]: the sum over its nodes of
+  /// J p^{n+1} (J = Hᵀ, f_a = ∫_Γ φ_a p n dA, coupled_system.hpp), n into the solid. Zero before the first step.
+  Eigen::Vector3d pressure_force(int i) const {
+    return i < static_cast<int>(pressure_force_.size()) ? pressure_force_[i] : Eigen::Vector3d::Zero();
+  }
   /// Walls, open patches, inflows and sources of the fluid (solid interfaces are handled here).
   fluid::BoundaryConditions& fluid_boundary() { return boundary_; }
   const mesh::TetMesh& mesh() const { return mesh_; }
@@ -243,6 +248,7 @@ class CoupledStepper {
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_
   std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes
   std::unique_ptr<solid::SurfaceContact> surface_contact_;  // solid-solid and self contact, or none
+  std::vector<Eigen::Vector3d> pressure_force_;  // per solid, of the last step [N]
   // The vertices of the mesh fluid_ last stepped on, moved to the solids at t^{n+1}
   // (MeshUpdateResult::moved_vertices); empty before the first step.
   std::vector<Eigen::Vector3d> fluid_mesh_moved_vertices_;

@@ -326,6 +326,10 @@ class CoupledRunner : public Simulation {
     if (i < 0) return {};
     const auto& model = stepper_->solid_model(i);
     const Eigen::VectorXd x = stepper_->solid(i).positions();
+    if (kind == "fluid_force") {
+      const Eigen::Vector3d f = stepper_->pressure_force(i);
+      return {f.x(), f.y(), f.z()};
+    }
     if (kind == "solid_volume") {
       double volume = 0;
       for (const auto& t : model.tets())
@@ -459,7 +463,8 @@ RunnerEntry coupled_runner() {
             return deforming;
           },
           [] { return std::make_unique<CoupledRunner>(); },
-          {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy"}};
+          {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy",
+           "fluid_force"}};
 }
 
 }  // namespace tetfsi::run

@@ -46,7 +46,7 @@ std::uint64_t fnv1a(const std::string& text) {
 /// probes.csv column names of one probe.
 std::vector<std::string> probe_columns(const scene::Json& p) {
   const auto name = p.at("name").get<std::string>();
-  if (p.at("kind") == "point_displacement") return {name + "_x", name + "_y", name + "_z"};
+  if (p.at("kind") == "point_displacement" || p.at("kind") == "fluid_force") return {name + "_x", name + "_y", name + "_z"};
   return {name};
 }
 

@@ -61,7 +61,10 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
       else if (type == "bowl")
         s = mesh::make_bowl(g.at("radius").get<double>(), g.at("thickness").get<double>(), g.at("segments").get<int>(),
                             g.at("rings").get<int>());
-      else if (type == "sphere" || type == "sphere_shell")
+      else if (type == "cylinder") {
+        s = mesh::make_cylinder(g.at("radius").get<double>(), g.at("length").get<double>(), g.at("segments").get<int>());
+        for (auto& v : s.vertices) v = Eigen::Vector3d(v.x(), v.z(), -v.y());  // axis z -> y (a rotation: orientation kept)
+      } else if (type == "sphere" || type == "sphere_shell")
         s = mesh::make_sphere(g.at("radius").get<double>(), g.at("subdivisions").get<int>());
       else  // sheet: size along x and z, thickness along y (a horizontal slab when y is up)
         s = mesh::make_box({g.at("size")[0].get<double>(), g.at("thickness").get<double>(), g.at("size")[1].get<double>()});

@@ -270,6 +270,34 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
        "/solids/0/self_contact"},
       {"self_contact_not_a_bool", [] { auto s = solid_scene(); s["solids"][0]["self_contact"] = "yes"; return s; },
        "/solids/0/self_contact"},
+      {"cylinder_zero_radius",
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["geometry"] = {{"type", "cylinder"}, {"radius", 0.0}, {"length", 0.1}};
+         return s;
+       },
+       "/solids/0/geometry/radius"},
+      {"cylinder_without_length",
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["geometry"] = {{"type", "cylinder"}, {"radius", 0.1}};
+         return s;
+       },
+       "/solids/0/geometry/length"},
+      {"fluid_force_of_an_unknown_solid",
+       [] {
+         auto s = coupled_scene();
+         s["probes"] = {{{"name", "f"}, {"kind", "fluid_force"}, {"solid", "nobody"}}};
+         return s;
+       },
+       "/probes/0/solid"},
+      {"fluid_force_in_a_solid_only_scene",
+       [] {
+         auto s = solid_scene();
+         s["probes"] = {{{"name", "f"}, {"kind", "fluid_force"}, {"solid", s["solids"][0]["name"]}}};
+         return s;
+       },
+       "/probes/0"},
       {"solid_contact_not_a_bool", [] { auto s = coupled_scene(); s["coupling"]["solid_contact"] = 1; return s; },
        "/coupling/solid_contact"},
       {"kinematic_and_deformable_alone",

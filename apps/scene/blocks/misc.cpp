@@ -45,7 +45,7 @@ Field probes() {
       Field::string("name", "Column name in probes.csv.").req(),
       Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy",
                                   "membrane_point", "membrane_radius", "membrane_volume", "particle_point",
-                                  "body_energy", "fluid_point", "fluid_kinetic_energy", "fluid_volume"},
+                                  "body_energy", "fluid_point", "fluid_kinetic_energy", "fluid_volume", "fluid_force"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
                          "+ elastic + gravitational energy [J] of everything (mpm scenes: the stored energy of "
@@ -62,12 +62,15 @@ Field probes() {
                          "tet for a free surface); `fluid_volume`: volume of the fluid [m^3]: the liquid's "
                          "for a free surface (fluid.fill `regions`), else the fluid mesh's; in the coupled "
                          "runner with the solids at their current position (the cavity volume when the "
-                         "fluid fills only a shell's cavity).").req()})
+                         "fluid fills only a shell's cavity). Coupled runner: `fluid_force`: the fluid's "
+                         "pressure force [N] on a solid in the last step (columns _x, _y, _z; the sum of J p over "
+                         "its nodes, Chentanez et al. 2006 sec. 3.4; no viscous part).").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
           Field::vector("point", 3, "m", "Rest position of the tracked point.").req()})
       .variant("solid_volume", {Field::string("solid", "Name of the solid.").req()})
+      .variant("fluid_force", {Field::string("solid", "Name of the solid.").req()})
       .variant("total_energy", {})
       .variant("fluid_point", {
           Field::vector("point", 3, "m", "Where to sample (world coordinates).").req(),

@@ -7,11 +7,12 @@ namespace {
 
 Field geometry() {
   return Field::object("geometry", "The solid's rest shape, before `placement`.", {
-      Field::enumeration("type", {"mesh", "volume_mesh", "box", "sphere", "sheet", "bowl", "sphere_shell"},
+      Field::enumeration("type", {"mesh", "volume_mesh", "box", "sphere", "cylinder", "sheet", "bowl", "sphere_shell"},
                          "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `volume_mesh`: a "
                          "tetrahedral mesh file (VTK .vtu, Gmsh .msh 2.2/4.1 ASCII) used as the solid's FEM "
                          "mesh as it is (solid-only scenes); `box`, "
-                         "`sphere`, `sheet`: primitives centred at the origin; `bowl`: a hemispherical "
+                         "`sphere`, `sheet`: primitives centred at the origin; `cylinder`: a circular "
+                         "cylinder (a disc or a rod) along y, centred at the origin; `bowl`: a hemispherical "
                          "shell open toward +y, its spheres' centre at the origin and its rim in the plane "
                          "y = 0; `sphere_shell`: a hollow "
                          "sphere whose wall is the solid and whose cavity (radius - thickness) is filled "
@@ -32,6 +33,11 @@ Field geometry() {
         Field::number("radius", "m", "Sphere radius.").req().greater(0),
         Field::integer("subdivisions", "Icosphere subdivisions of the surface (20 * 4^n triangles).")
             .at_least(0).at_most(7).def(3)})
+    .variant("cylinder", {
+        Field::number("radius", "m", "Radius.").req().greater(0),
+        Field::number("length", "m", "Extent along y (the axis).").req().greater(0),
+        Field::integer("segments", "Sides of the regular polygon inscribed in the circle.").at_least(3).at_most(1024)
+            .def(32)})
     .variant("sheet", {
         Field::vector("size", 2, "m", "Extent along x and z.").req().greater(0),
         Field::number("thickness", "m", "Extent along y.").req().greater(0)})
