@@ -480,13 +480,18 @@ TEST(BadInputs, BadHexMeshFilesAreRefused) {
       {"tet_given_hexes", [] { return volume_mesh_scene("good_hex.vtu"); }, "/solids/0/geometry/file"},
       {"hex_missing_file", [] { return hex_mesh_scene("nowhere.msh"); }, "/solids/0/geometry/file"},
       {"hex_empty_mesh", [] { return hex_mesh_scene("empty_hex.vtu"); }, "/solids/0/geometry/file"},
+      {"hex_kinematic_file", [] {  // a moving solid is a surface to the kinematic runner: no hex files
+         auto s = hex_mesh_scene("good_hex.vtu");
+         s["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0.1, 0, 0}}};
+         return s; }, "/solids/0/geometry/type"},
   };
   const std::map<std::string, std::string> causes = {
       {"hex_inverted", "inverted_hex.vtu: hex 1 is inverted"},
       {"hex_given_tets", "tets.vtu: cell 0 has VTK type 10 with 4 points; only hexahedra (VTK_HEXAHEDRON, type 12"},
       {"tet_given_hexes", "good_hex.vtu: cell 0 has VTK type 12 with 8 points; only tetrahedra"},
       {"hex_missing_file", "file not found: "},
-      {"hex_empty_mesh", "empty_hex.vtu: the mesh has no hexahedra"}};
+      {"hex_empty_mesh", "empty_hex.vtu: the mesh has no hexahedra"},
+      {"hex_kinematic_file", "a \"volume_mesh\" solid runs in the solid runner only"}};
   expect_refused_for(dir.path(), cases, causes);
   // The good file runs (both hexes, the hex runner).
   const std::string good = write(dir.path(), "hex_good", hex_mesh_scene("good_hex.vtu"));
