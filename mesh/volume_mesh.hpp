@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "mesh/complex_mesher.hpp"  // MeshError
+
 #include "mesh/surface_import.hpp"
 #include "mesh/tet_mesh.hpp"
 
@@ -14,6 +16,30 @@ namespace tetfsi::mesh {
 /// l its longest edge (a regular tet has V = l^3 / (6 sqrt 2) = 0.118 l^3). The same bound as
 /// TetModel's, so every tet accepted here is accepted there.
 constexpr double kDegenerateTet = 1e-12;
+
+/// The lower-case extension of a volume mesh file (".vtu" or ".msh") after checking that the file
+/// exists and is at most kMaxSurfaceBytes.
+/// @throws MeshError naming the file (missing, too large, another extension)
+std::string volume_mesh_extension(const std::string& path);
+
+/// The cells of a .vtu volume mesh (point indices) and its points, every cell a VTK_TETRA (4 points)
+/// or, with `hexes`, a VTK_HEXAHEDRON (8 points).
+/// @throws MeshError naming the file and the first cell of another type (for a tet / hex mix-up,
+///         the model the file is for)
+std::vector<std::vector<int>> read_vtu_cells(const std::string& path, bool hexes, std::vector<Eigen::Vector3d>& points);
+
+/// Runs `read` and turns any std::exception it throws into a MeshError with the same message (the
+/// file readers' std::runtime_error already names the file).
+template <class Read>
+auto as_mesh_error(Read&& read) {
+  try {
+    return read();
+  } catch (const MeshError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw MeshError(e.what());
+  }
+}
 
 /// Reads the tets of `path` by its extension: `.vtu` (io::read_vtu; every cell must be VTK_TETRA,
 /// type 10) or `.msh` (io::read_msh_tets). No placement, no checks (check_volume_mesh).

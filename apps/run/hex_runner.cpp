@@ -1,6 +1,9 @@
 /// @file hex_runner.cpp
-/// Solid-only scenes with Total Lagrangian hex8 blocks (solid/hex, seed paper 002): /fluid/type
+/// Solid-only scenes with Total Lagrangian hex8 solids (solid/hex, seed paper 002): /fluid/type
 /// is "none", no tet solid deforms, and at least one solid has model "hex8" and motion "none".
+/// Each solid's mesh is a structured block (`box` geometry) or a hex mesh file (`volume_mesh`),
+/// rotated and translated by its placement (hex_geometry.hpp); condition boxes are world
+/// coordinates.
 ///
 /// `model.analysis: "static"`: load stepping with Newton-Raphson (solid/hex/static_solver.hpp)
 /// from load factor 0 to 1 in `static.load_steps` steps, done in setup(); frame k of the output
@@ -25,10 +28,10 @@
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/hex_geometry.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/watchdog.hpp"
-#include "solid/hex/block_mesh.hpp"
 #include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
 #include "solid/integrator/newmark.hpp"
@@ -41,19 +44,11 @@ namespace hex = solid::hex;
 
 bool is_hex(const scene::Json& s) { return s.at("motion").at("type") == "none" && s.at("model").at("type") == "hex8"; }
 
-/// The scene's solid as a hex::BlockProblem (block placed by translation only).
-hex::BlockProblem problem_of(const scene::Json& s, const std::string& ptr) {
+/// The scene's solid as a hex::BlockProblem on its placed mesh (hex_mesh_of: a box or a file,
+/// rotated and translated; the condition boxes select nodes of the placed mesh).
+hex::BlockProblem problem_of(const scene::Json& s, std::vector<std::string>& warnings) {
   hex::BlockProblem p;
-  const Eigen::Vector3d size = vec3(s.at("geometry").at("size"));
-  const auto& pl = s.at("placement");
-  if (vec3(pl.at("rotation_deg")).norm() != 0)
-    throw InputError(ptr + "/placement/rotation_deg: a hex8 block must be axis-aligned (rotation [0, 0, 0])");
-  const Eigen::Vector3d c = vec3(pl.at("translation"));
-  p.lo = c - size / 2;
-  p.hi = c + size / 2;
-  p.nx = s["model"].at("nx").get<int>();
-  p.ny = s["model"].at("ny").get<int>();
-  p.nz = s["model"].at("nz").get<int>();
+  p.mesh = hex_mesh_of(s, warnings);
   p.material = hex_material(s.at("material"));
   for (const auto& box : s.at("fixed_regions")) {
     hex::RegionCondition rc;
@@ -132,7 +127,9 @@ class HexRunner : public Simulation {
       HexBody b;
       b.name = s.at("name").get<std::string>();
       b.index = static_cast<int>(i);
-      const hex::BlockProblem p = problem_of(s, ptr);
+      std::vector<std::string> warnings;
+      const hex::BlockProblem p = problem_of(s, warnings);
+      for (const auto& w : warnings) log.warn("{}", w);
       try {
         b.model = hex::make_model(p);
         b.bc = hex::make_conditions(p, b.model->mesh());
@@ -145,12 +142,10 @@ class HexRunner : public Simulation {
         throw InputError(fmt::format("{}: {}", ptr, e.what()));
       }
       const auto& hm = b.model->mesh();
-      for (const auto& q : hex::boundary_faces_in_box(hm, p.lo, p.hi, 1e-9 * (p.hi - p.lo).norm())) {
-        b.surface.triangles.push_back({q[0], q[1], q[2]});
-        b.surface.triangles.push_back({q[0], q[2], q[3]});
-      }
-      b.surface.vertices = hm.vertices;
-      log.info("hex solid '{}': {} x {} x {} cells, {} nodes", b.name, p.nx, p.ny, p.nz, hm.num_vertices());
+      b.surface = hex_boundary_surface(hm);
+      log.info("hex solid '{}': {} hexes{}, {} nodes", b.name, hm.num_hexes(),
+               s["geometry"]["type"] == "volume_mesh" ? " from " + s["geometry"]["file"].get<std::string>() : "",
+               hm.num_vertices());
       if (s["model"].at("analysis") == "static") {
         any_static = true;
         solve_static(b, p, log);

@@ -9,6 +9,7 @@
 
 #include "apps/run/container.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/hex_geometry.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -142,15 +143,31 @@ class Checker {
       const auto& s = solids[i];
       const bool volume_mesh = s.at("geometry").at("type") == "volume_mesh";
       const std::string ptr = fmt::format(volume_mesh ? "/solids/{}/geometry/file" : "/solids/{}/geometry", i);
-      if (s.at("model").at("type") == "hex8") {  // a structured block: no surface to read, but a box to place
-        hex_cells_ += double(s["model"]["nx"].get<int>()) * s["model"]["ny"].get<int>() * s["model"]["nz"].get<int>();
-      }
+      // A deforming hex8 solid is meshed by the hex runner (hex_geometry.hpp); a kinematic one is a
+      // surface like any other.
+      const bool hex8 = s.at("model").at("type") == "hex8" && s.at("motion").at("type") == "none";
+      if (hex8 && s.at("geometry").at("type") != "box" && s["geometry"]["type"] != "volume_mesh") continue;  // schema
       try {
         std::vector<std::string> warnings;
         mesh::SurfaceMesh cavity;
         Placed& p = placed_[i];
         int tets = -1;
-        p.surface = surface_of(s, warnings, &cavity, &tets);
+        if (hex8 && s["geometry"]["type"] == "box") {  // counted first: a block over the limit is not built
+          const auto& m = s["model"];
+          const double cells = double(m["nx"].get<int>()) * m["ny"].get<int>() * m["nz"].get<int>();
+          if (!(cells <= (opt_.max_tets ? *opt_.max_tets : default_max_tets()))) {
+            hex_cells_ += cells;  // estimate() refuses it with the count
+            continue;
+          }
+        }
+        if (hex8) {  // the placed hex mesh the hex runner builds, its boundary, its regions
+          const mesh::HexMesh hm = hex_mesh_of(s, warnings);
+          hex_cells_ += hm.num_hexes();
+          p.surface = hex_boundary_surface(hm);
+          for (auto& [key, message] : empty_hex_regions(s, hm, fmt::format("/solids/{}", i))) add(key, message);
+        } else {
+          p.surface = surface_of(s, warnings, &cavity, &tets);
+        }
         p.tets = tets;
         for (auto& w : warnings) report_.warnings.push_back(std::move(w));
         mesh::bounding_box(p.surface, p.lo, p.hi);
@@ -262,24 +279,22 @@ class Checker {
       for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
       return s;
     };
-    // The hex8 runner builds an axis-aligned structured block and one analysis for all blocks
-    // (hex_runner.cpp): refused here so that validate gives run's verdict before any setup.
+    // The hex8 runner runs one analysis for all hex8 solids (hex_runner.cpp): refused here so that
+    // validate gives run's verdict before any setup.
     std::set<std::string> hex_analyses;
     for (std::size_t i = 0; i < solids.size(); ++i) {
       const auto& s = solids[i];
       if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "hex8") continue;
       hex_analyses.insert(s["model"].at("analysis").get<std::string>());
-      if (vec3(s.at("placement").at("rotation_deg")).norm() != 0)
-        add(fmt::format("/solids/{}/placement/rotation_deg", i),
-            fmt::format("solid '{}': a hex8 block must be axis-aligned (rotation [0, 0, 0]); use model \"tet_fem\" "
-                        "for a rotated solid", s.at("name").get<std::string>()));
     }
     // A volume mesh is the solid's FEM mesh as given. The coupled runner meshes fluid and solids in
     // one CGAL Mesh_3 complex, which remeshes every solid from its surface and cannot keep given
     // tets (nor make the fluid conform to their boundary facets); the other runners take no
-    // deforming tet solid. So volume meshes run in the solid runner only.
+    // deforming tet solid. So tet volume meshes run in the solid runner only (hex8 volume meshes in
+    // the hex runner, whose scenes have no fluid: check below).
     for (std::size_t i = 0; i < solids.size(); ++i)
-      if (solids[i].at("geometry").at("type") == "volume_mesh" && runner_->name != "solid")
+      if (solids[i].at("geometry").at("type") == "volume_mesh" && runner_->name != "solid" &&
+          (solids[i]["model"]["type"] != "hex8" || solids[i]["motion"]["type"] != "none"))
         add(fmt::format("/solids/{}/geometry/type", i),
             fmt::format("solid '{}': a \"volume_mesh\" solid runs in the solid runner only (fluid type \"none\", "
                         "every solid deforming, model \"tet_fem\"); this scene goes to the {} runner{}",
@@ -439,7 +454,7 @@ class Checker {
         count(kTetsPerCube * p.area * grading / std::pow(0.5 * (near + far), 3), "/mesh/grading_distance",
               fmt::format("the graded band of {:g} m around solid '{}'", grading, name));
     }
-    if (hex_cells_ > 0) count(hex_cells_, "/solids", "the hex8 cells (nx ny nz)");
+    if (hex_cells_ > 0) count(hex_cells_, "/solids", "the hex8 cells (nx ny nz, or a hex mesh file's)");
     return n;
   }
 

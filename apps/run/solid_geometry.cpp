@@ -12,7 +12,6 @@
 #include "mesh/volume_mesh.hpp"
 
 namespace tetfsi::run {
-namespace {
 
 mesh::Placement placement_of(const scene::Json& solid) {
   mesh::Placement placement;
@@ -20,8 +19,6 @@ mesh::Placement placement_of(const scene::Json& solid) {
   placement.translation = vec3(solid.at("placement").at("translation"));
   return placement;
 }
-
-}  // namespace
 
 mesh::TetMesh volume_mesh_of(const scene::Json& solid, std::vector<std::string>& warnings) {
   const auto& g = solid.at("geometry");

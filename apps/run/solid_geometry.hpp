@@ -7,10 +7,14 @@
 #include <vector>
 
 #include "apps/scene/scene.hpp"
+#include "mesh/surface_import.hpp"
 #include "mesh/surface_mesh.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace tetfsi::run {
+
+/// The rigid placement of /solids/i (placement.rotation_deg, placement.translation; unit scale 1).
+mesh::Placement placement_of(const scene::Json& solid);
 
 /// The placed, checked rest surface of the solid described by resolved JSON `solid` (/solids/i).
 /// Surfaces whose normals point inwards are flipped, with a message added to `warnings`.

@@ -10,6 +10,21 @@ namespace tetfsi::mesh::io {
 namespace {
 
 constexpr int kGmshTet4 = 4;
+constexpr int kGmshHex8 = 5;
+
+/// Name of a 3-D Gmsh element type for messages (gmsh.info "MSH file format", element types).
+std::string element_name(int type) {
+  switch (type) {
+    case 4: return "4-node tetrahedron";
+    case 5: return "8-node hexahedron";
+    case 6: return "6-node prism";
+    case 7: return "5-node pyramid";
+    case 11: return "10-node tetrahedron";
+    case 12: return "27-node hexahedron";
+    case 17: return "20-node hexahedron";
+    default: return "3-D element";
+  }
+}
 
 /// Dimension of a Gmsh element type (gmsh.info "MSH file format", element types): 0, 1 and 2 for
 /// the point, line, triangle and quadrangle families, 3 for everything else.
@@ -22,11 +37,19 @@ int element_dimension(int type) {
   }
 }
 
+/// The nodes and the 3-D elements of one wanted type (4-node tets or 8-node hexes).
+struct MshCells {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::vector<int>> cells;
+};
+
 class MshParser {
  public:
-  MshParser(const std::string& text, std::string name) : in_(text), name_(std::move(name)) {}
+  /// `wanted`: the Gmsh type every 3-D element must have; `hint`: appended to the refusal of others.
+  MshParser(const std::string& text, std::string name, int wanted, std::string hint)
+      : in_(text), name_(std::move(name)), wanted_(wanted), hint_(std::move(hint)) {}
 
-  TetMesh parse() {
+  MshCells parse() {
     std::string line;
     bool have_format = false, have_nodes = false, have_elements = false;
     while (next_line(line)) {
@@ -95,7 +118,7 @@ class MshParser {
   }
 
   void add_node(long long tag, const Eigen::Vector3d& x) {
-    if (!index_.emplace(tag, mesh_.num_vertices()).second) fail("node tag " + std::to_string(tag) + " appears twice");
+    if (!index_.emplace(tag, static_cast<int>(mesh_.vertices.size())).second) fail("node tag " + std::to_string(tag) + " appears twice");
     mesh_.vertices.push_back(x);
   }
 
@@ -153,16 +176,18 @@ class MshParser {
 
   void add_element(long long tag, int type, const long long* nodes, std::size_t count) {
     if (element_dimension(type) < 3) return;  // boundary and tagging elements
-    if (type != kGmshTet4 || count != 4)
-      fail("element " + std::to_string(tag) + " has Gmsh type " + std::to_string(type) +
-           "; only 4-node tetrahedra (type 4) are supported as 3-D elements");
-    std::array<int, 4> t{};
-    for (int k = 0; k < 4; ++k) {
+    const std::size_t wanted_nodes = wanted_ == kGmshHex8 ? 8 : 4;
+    if (type != wanted_ || count != wanted_nodes)
+      fail("element " + std::to_string(tag) + " has Gmsh type " + std::to_string(type) + " (" + element_name(type) +
+           "); only " + (wanted_ == kGmshHex8 ? "8-node hexahedra" : "4-node tetrahedra") + " (type " +
+           std::to_string(wanted_) + ") are supported as 3-D elements here" + hint_);
+    std::vector<int> c(wanted_nodes);
+    for (std::size_t k = 0; k < wanted_nodes; ++k) {
       const auto it = index_.find(nodes[k]);
       if (it == index_.end()) fail("element " + std::to_string(tag) + " refers to unknown node " + std::to_string(nodes[k]));
-      t[k] = it->second;
+      c[k] = it->second;
     }
-    mesh_.tets.push_back(t);
+    mesh_.cells.push_back(std::move(c));
   }
 
   void read_elements_22() {
@@ -197,21 +222,43 @@ class MshParser {
 
   std::istringstream in_;
   std::string name_;
+  int wanted_;
+  std::string hint_;
   int version_ = 0;
-  TetMesh mesh_;
+  MshCells mesh_;
   std::unordered_map<long long, int> index_;
 };
 
 }  // namespace
 
-TetMesh parse_msh_tets(const std::string& text, const std::string& name) { return MshParser(text, name).parse(); }
-
-TetMesh read_msh_tets(const std::filesystem::path& path) {
+namespace {
+std::string file_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("read_msh(" + path.string() + "): cannot open the file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  return parse_msh_tets(buffer.str(), path.string());
+  return buffer.str();
 }
+}  // namespace
+
+TetMesh parse_msh_tets(const std::string& text, const std::string& name) {
+  MshCells cells = MshParser(text, name, kGmshTet4, " (a hexahedral mesh is for model \"hex8\")").parse();
+  TetMesh m;
+  m.vertices = std::move(cells.vertices);
+  for (const auto& c : cells.cells) m.tets.push_back({c[0], c[1], c[2], c[3]});
+  return m;
+}
+
+TetMesh read_msh_tets(const std::filesystem::path& path) { return parse_msh_tets(file_text(path), path.string()); }
+
+HexMesh parse_msh_hexes(const std::string& text, const std::string& name) {
+  MshCells cells = MshParser(text, name, kGmshHex8, " (a tetrahedral mesh is for model \"tet_fem\")").parse();
+  HexMesh m;
+  m.vertices = std::move(cells.vertices);
+  for (const auto& c : cells.cells) m.hexes.push_back({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]});
+  return m;
+}
+
+HexMesh read_msh_hexes(const std::filesystem::path& path) { return parse_msh_hexes(file_text(path), path.string()); }
 
 }  // namespace tetfsi::mesh::io

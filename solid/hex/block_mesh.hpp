@@ -23,8 +23,6 @@ std::vector<int> nodes_in_box(const mesh::HexMesh& mesh, const Eigen::Vector3d& 
 std::vector<std::array<int, 4>> boundary_faces_in_box(const mesh::HexMesh& mesh, const Eigen::Vector3d& lo,
                                                       const Eigen::Vector3d& hi, double tol = 1e-9);
 
-/// Local node indices of the 6 faces of a VTK hexahedron, outward normals.
-inline constexpr int kHexFaces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                        {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+using mesh::kHexFaces;  ///< local node indices of the 6 faces, outward normals (mesh/hex_mesh.hpp)
 
 }  // namespace tetfsi::solid::hex

@@ -35,7 +35,9 @@ struct RegionCondition {
 };
 
 struct BlockProblem {
-  // Mesh: either a VTU file (vtu_path non-empty) or the block [lo, hi] with nx x ny x nz hexes.
+  // Mesh: `mesh` if it has hexes (placed and checked by the caller, e.g. the scene's hex_mesh_of),
+  // else a VTU file (vtu_path non-empty), else the block [lo, hi] with nx x ny x nz hexes.
+  mesh::HexMesh mesh;
   std::string vtu_path;
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Ones();
   int nx = 1, ny = 1, nz = 1;

@@ -322,14 +322,25 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
        },
        "/solids/0/boundary_conditions/0/type"},
       // validate passed these and run refused them (issue 16): now both refuse them before meshing.
-      {"hex_rotated",
+      // A rotated hex8 block runs; a world box that held an edge of the unrotated block holds no
+      // node of the rotated one.
+      {"hex_rotated_region_misses",
        [] {
          auto s = solid_scene();
          s["solids"][0]["model"] = {{"type", "hex8"}};
          s["solids"][0]["placement"]["rotation_deg"] = {30, 0, 0};
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-1, 0.14, 0.14}}, {"hi", {1, 0.16, 0.16}}}};
          return s;
        },
-       "/solids/0/placement/rotation_deg: solid 'box': a hex8 block must be axis-aligned"},
+       "/solids/0/fixed_regions/0: the box holds no node of the placed mesh of solid 'box'"},
+      {"hex_surface_mesh",
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "hex8"}};
+         s["solids"][0]["geometry"] = {{"type", "sphere"}, {"radius", 0.2}};
+         return s;
+       },
+       "/solids/0/model/type: expected \"tet_fem\": `hex8` needs a box or volume_mesh geometry"},
       {"hex_static_and_dynamic",
        [] {
          auto s = solid_scene();
@@ -469,6 +480,65 @@ json volume_mesh_scene(const std::string& file) {
   return s;
 }
 
+/// Each case refused by validate and run naming its key and its cause (causes[name]), in `dir`.
+void expect_refused_for(const fs::path& dir, const std::vector<Case>& cases, const std::map<std::string, std::string>& causes) {
+  for (const auto& c : cases) {
+    const std::string file = write(dir, c.name, c.scene());
+    expect_refused(dir, file, c.name + ".json: " + c.fragment);
+    expect_refused(dir, file, causes.at(c.name));
+    fs::remove(file);
+  }
+}
+
+/// A hex8 solid whose hexes come from `file` (hex runner).
+json hex_mesh_scene(const std::string& file) {
+  auto s = volume_mesh_scene(file);
+  s["solids"][0]["model"] = {{"type", "hex8"}};
+  return s;
+}
+
+TEST(BadInputs, BadHexMeshFilesAreRefused) {
+  tetfsi::test::TempDir dir("bad_hex_mesh");
+  using tetfsi::test::write_vtu_ascii;
+  // Two unit cubes side by side (x in [0, 2]), the second numbered mirror-wise (bottom and top swapped).
+  std::vector<Eigen::Vector3d> p;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 3; ++i) p.emplace_back(0.1 * i, 0.1 * j, 0.1 * k);
+  auto id = [](int i, int j, int k) { return i + 3 * (j + 2 * k); };
+  const std::vector<int> a = {id(0, 0, 0), id(1, 0, 0), id(1, 1, 0), id(0, 1, 0), id(0, 0, 1), id(1, 0, 1), id(1, 1, 1), id(0, 1, 1)};
+  std::vector<int> b = a, b_mirrored;
+  for (int& v : b) ++v;
+  b_mirrored = {b[4], b[5], b[6], b[7], b[0], b[1], b[2], b[3]};
+  write_vtu_ascii(dir.path() / "good_hex.vtu", p, {a, b}, {12, 12});
+  write_vtu_ascii(dir.path() / "inverted_hex.vtu", p, {a, b_mirrored}, {12, 12});
+  write_vtu_ascii(dir.path() / "empty_hex.vtu", p, {}, {});
+  write_vtu_ascii(dir.path() / "tets.vtu", p, {{0, 1, 3, 6}}, {10});
+  const std::vector<Case> cases = {
+      {"hex_inverted", [] { return hex_mesh_scene("inverted_hex.vtu"); }, "/solids/0/geometry/file"},
+      {"hex_given_tets", [] { return hex_mesh_scene("tets.vtu"); }, "/solids/0/geometry/file"},
+      {"tet_given_hexes", [] { return volume_mesh_scene("good_hex.vtu"); }, "/solids/0/geometry/file"},
+      {"hex_missing_file", [] { return hex_mesh_scene("nowhere.msh"); }, "/solids/0/geometry/file"},
+      {"hex_empty_mesh", [] { return hex_mesh_scene("empty_hex.vtu"); }, "/solids/0/geometry/file"},
+      {"hex_kinematic_file", [] {  // a moving solid is a surface to the kinematic runner: no hex files
+         auto s = hex_mesh_scene("good_hex.vtu");
+         s["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0.1, 0, 0}}};
+         return s; }, "/solids/0/geometry/type"},
+  };
+  const std::map<std::string, std::string> causes = {
+      {"hex_inverted", "inverted_hex.vtu: hex 1 is inverted"},
+      {"hex_given_tets", "tets.vtu: cell 0 has VTK type 10 with 4 points; only hexahedra (VTK_HEXAHEDRON, type 12"},
+      {"tet_given_hexes", "good_hex.vtu: cell 0 has VTK type 12 with 8 points; only tetrahedra"},
+      {"hex_missing_file", "file not found: "},
+      {"hex_empty_mesh", "empty_hex.vtu: the mesh has no hexahedra"},
+      {"hex_kinematic_file", "a \"volume_mesh\" solid runs in the solid runner only"}};
+  expect_refused_for(dir.path(), cases, causes);
+  // The good file runs (both hexes, the hex runner).
+  const std::string good = write(dir.path(), "hex_good", hex_mesh_scene("good_hex.vtu"));
+  const Result v = tetfsi_in(dir.path(), "validate " + good + " --end-time 1e-3");
+  EXPECT_EQ(v.status, 0) << v.out;
+}
+
 TEST(BadInputs, BadVolumeMeshFilesAndComponentsAreRefused) {
   tetfsi::test::TempDir dir("bad_volume_mesh");
   using tetfsi::test::write_vtu_ascii;
@@ -522,10 +592,5 @@ TEST(BadInputs, BadVolumeMeshFilesAndComponentsAreRefused) {
       {"component_twice", "twice"}, {"components_empty", "non-empty array"},
       {"hex8_driven", "prescribed velocity is for tet_fem solids"},
       {"coupled_volume_mesh", "cannot keep given tets"}};
-  for (const auto& c : cases) {
-    const std::string file = write(dir.path(), c.name, c.scene());
-    expect_refused(dir.path(), file, c.name + ".json: " + c.fragment);
-    expect_refused(dir.path(), file, causes.at(c.name));
-    fs::remove(file);
-  }
+  expect_refused_for(dir.path(), cases, causes);
 }

@@ -9,8 +9,8 @@ Field geometry() {
   return Field::object("geometry", "The solid's rest shape, before `placement`.", {
       Field::enumeration("type", {"mesh", "volume_mesh", "box", "sphere", "cylinder", "sheet", "bowl", "sphere_shell"},
                          "`mesh`: a closed surface file (OBJ, PLY, STL, glTF, FBX, OFF); `volume_mesh`: a "
-                         "tetrahedral mesh file (VTK .vtu, Gmsh .msh 2.2/4.1 ASCII) used as the solid's FEM "
-                         "mesh as it is (solid-only scenes); `box`, "
+                         "tetrahedral (model `tet_fem`) or hexahedral (model `hex8`) mesh file (VTK .vtu, Gmsh "
+                         ".msh 2.2/4.1 ASCII) used as the solid's FEM mesh as it is (solid-only scenes); `box`, "
                          "`sphere`, `sheet`: primitives centred at the origin; `cylinder`: a circular "
                          "cylinder (a disc or a rod) along y, centred at the origin; `bowl`: a hemispherical "
                          "shell open toward +y, its spheres' centre at the origin and its rim in the plane "
@@ -23,9 +23,13 @@ Field geometry() {
         Field::number("unit_scale", "m/unit", "Metres per file unit (0.01 for files in cm).")
             .greater(0).def(1.0)})
     .variant("volume_mesh", {
-        Field::file("file", "Tet mesh file (.vtu: VTK_TETRA cells only, ASCII, inline binary or raw appended "
-                            "data; .msh: Gmsh 2.2 or 4.1 ASCII, 4-node tets, lower-dimensional elements ignored), "
-                            "relative to the scene file's folder.").req(),
+        Field::file("file", "Volume mesh file, relative to the scene file's folder: .vtu (ASCII, inline binary "
+                            "or raw appended data) with VTK_TETRA cells only (model `tet_fem`) or VTK_HEXAHEDRON "
+                            "cells only (model `hex8`); .msh (Gmsh 2.2 or 4.1 ASCII) with 4-node tets only or "
+                            "8-node hexahedra only, lower-dimensional elements ignored. Checked before use: "
+                            "positive volume (every hex positive at its 8 corners), no repeated or duplicate "
+                            "nodes, one connected piece (unused nodes are dropped, a mesh numbered mirror-wise "
+                            "throughout is reordered).").req(),
         Field::number("unit_scale", "m/unit", "Metres per file unit (0.001 for files in mm).")
             .greater(0).def(1.0)})
     .variant("box", {Field::vector("size", 3, "m", "Edge lengths along x, y, z.").req().greater(0)})
@@ -90,13 +94,15 @@ Field material() {
 Field model() {
   return Field::object("model", "Discretisation of the solid.", {
       Field::enumeration("type", {"tet_fem", "hex8"},
-                         "`tet_fem`: the solid's tets of the meshed complex; `hex8`: a structured block "
-                         "of Total Lagrangian hexahedra (box geometry only).").def("tet_fem"),
+                         "`tet_fem`: the solid's tets of the meshed complex; `hex8`: Total Lagrangian "
+                         "hexahedra, a structured block of a `box` geometry or the hexes of a `volume_mesh` "
+                         "file, placed by `placement` (any rotation).").def("tet_fem"),
   }).tagged_by("type")
     .variant("tet_fem", {})
-    .variant("hex8", {Field::integer("nx", "Cells along x.").at_least(1).def(8),
-                      Field::integer("ny", "Cells along y.").at_least(1).def(2),
-                      Field::integer("nz", "Cells along z.").at_least(1).def(2),
+    .variant("hex8", {Field::integer("nx", "Cells along the box's x edge (box geometry; a volume_mesh "
+                                           "brings its own cells).").at_least(1).def(8),
+                      Field::integer("ny", "Cells along the box's y edge (box geometry).").at_least(1).def(2),
+                      Field::integer("nz", "Cells along the box's z edge (box geometry).").at_least(1).def(2),
                       Field::enumeration("analysis", {"dynamic", "static"},
                                          "`dynamic`: the trapezoidal integrator in time; `static`: "
                                          "load stepping with Newton-Raphson, one output frame per "
@@ -203,7 +209,9 @@ Field solids() {
   Field solid = Field::object("", "", {
       Field::string("name", "Unique name, used in output file names and probes.").req(),
       geometry().req(),
-      Field::object("placement", "Rigid placement of the rest shape: rotate, then translate.", {
+      Field::object("placement", "Rigid placement of the rest shape: rotate, then translate. Region boxes "
+                                 "(`fixed_regions`, `boundary_conditions`, spring regions) are world coordinates: "
+                                 "they select the placed solid's nodes where they lie in the scene.", {
           Field::vector("translation", 3, "m", "Translation.").def({0, 0, 0}),
           Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation (about x, then y, then z).").def({0, 0, 0})}),
       model(),
@@ -230,8 +238,9 @@ Field solids() {
                    boundary_condition()).def(Json::array()),
   });
   solid.checks.push_back([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
-    if (o.at("model").at("type") == "hex8" && o.at("geometry").at("type") != "box")
-      issues.push_back({ptr + "/model/type", "expected \"tet_fem\": `hex8` needs a box geometry"});
+    if (o.at("model").at("type") == "hex8" && o.at("geometry").at("type") != "box" &&
+        o["geometry"]["type"] != "volume_mesh")
+      issues.push_back({ptr + "/model/type", "expected \"tet_fem\": `hex8` needs a box or volume_mesh geometry"});
     if (o.at("model").at("type") != "hex8" && !o.at("boundary_conditions").empty())
       issues.push_back({ptr + "/boundary_conditions", "expected []: boundary conditions need model `hex8` "
                                                       "(tet solids use `fixed_regions`)"});
