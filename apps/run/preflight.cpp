@@ -288,6 +288,25 @@ class Checker {
                                          "(CGAL Mesh_3) remeshes solids from their surfaces and cannot keep given tets; "
                                          "use geometry type \"mesh\" with the boundary surface instead"
                                        : ""));
+    // Loads and static analysis of tet solids live in the solid runner only (solid_runner.cpp).
+    std::set<std::string> tet_analyses;
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      const auto& s = solids[i];
+      if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "tet_fem") continue;
+      tet_analyses.insert(s["model"].at("analysis").get<std::string>());
+      if (runner_->name == "solid") continue;
+      if (!s.at("boundary_conditions").empty())
+        add(fmt::format("/solids/{}/boundary_conditions", i),
+            fmt::format("solid '{}': boundary conditions of a tet_fem solid need the solid runner (fluid type "
+                        "\"none\"); this scene goes to the {} runner", s.at("name").get<std::string>(), runner_->name));
+      if (s["model"].at("analysis") == "static")
+        add(fmt::format("/solids/{}/model/analysis", i),
+            fmt::format("solid '{}': a static analysis needs the solid runner (fluid type \"none\"); this scene goes "
+                        "to the {} runner", s.at("name").get<std::string>(), runner_->name));
+    }
+    if (tet_analyses.size() > 1)
+      add("/solids", fmt::format("tet solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
+                                 "or dynamic)", list(deformable)));
     if (hex_analyses.size() > 1)
       add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
                                  "or dynamic)", list(hex)));
@@ -309,21 +328,21 @@ class Checker {
 
   void check_probes() {
     const auto& probes = js_.at("probes");
-    const bool hex_static = [&] {
+    const bool any_static = [&] {
       for (const auto& s : js_.at("solids"))
-        if (s.at("model").at("type") == "hex8" && s["model"].at("analysis") == "static") return true;
+        if (s.at("motion").at("type") == "none" && s["model"].at("analysis") == "static") return true;
       return false;
     }();
     for (std::size_t i = 0; i < probes.size(); ++i) {
       const auto kind = probes[i].at("kind").get<std::string>();
       const auto& kinds = runner_->probe_kinds;
       const bool supported = kinds.empty() || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
-      if (!supported || (hex_static && kind == "total_energy")) {
+      if (!supported || (any_static && kind == "total_energy")) {
         std::string list;
         for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
         add(fmt::format("/probes/{}/kind", i),
             fmt::format("the {} runner (which runs this scene) has no probe \"{}\"; it has: {}", runner_->name, kind,
-                        hex_static ? "point_displacement (static hex8 analysis)" : list));
+                        any_static ? "point_displacement, solid_volume (tet_fem) in a static analysis" : list));
       }
     }
   }
