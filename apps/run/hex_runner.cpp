@@ -2,16 +2,18 @@
 /// Solid-only scenes with Total Lagrangian hex8 blocks (solid/hex, seed paper 002): /fluid/type
 /// is "none", no tet solid deforms, and at least one solid has model "hex8" and motion "none".
 ///
-/// `model.analysis: "static"`: load stepping with Newton-Raphson (solid/hex/static_solver.hpp)
-/// from load factor 0 to 1 in `static.load_steps` steps, done in setup(); frame k of the output
-/// is load step k with the load factor as its "time" in the .pvd, the per-step Newton log goes to
-/// run.log and load_steps.csv (load factor, iterations, cuts, final residual ratio, reaction
-/// moment of the first moment_rotation face [N m]).
+/// `model.analysis: "static"`: load stepping with Newton-Raphson (solid/analysis/static_solver.hpp,
+/// static_steps.hpp) from load factor 0 to 1 in `static.load_steps` steps, done in setup(); frame k
+/// of the output and probes.csv row k are load step k with the load factor as their "time", the
+/// per-step Newton log goes to run.log and load_steps.csv (load factor, iterations, cuts, final
+/// residual ratio, reaction moment of the first moment_rotation face [N m]).
 /// `model.analysis: "dynamic"`: the HexModel inside the tet solid's NewmarkIntegrator
 /// (Chentanez et al. 2006, eq. 18), with gravity, fixed nodes, dead loads and obstacles.
 /// stats.csv (dynamic): kinetic, strain, gravity potential, total (their sum) [J], solver
 /// iterations, inverted elements, contacts, and the potential of the dead loads
-/// (nodal_force, traction, moment_traction) V_f = -f.d [J].
+/// (nodal_force, traction, moment_traction, body_force) V_f = -f.d [J]. A follower `pressure` is
+/// folded into the model (solid::FollowerLoadedModel); it does work, so such a block's energy is not
+/// watched.
 ///
 /// Watchdog (dynamic; watchdog.hpp): an inverted element stops the run naming it; every load is
 /// conservative (gravity, constant dead loads f, fixed nodes, static obstacles), so the energy

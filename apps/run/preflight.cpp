@@ -10,6 +10,7 @@
 #include "apps/run/container.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/scene_values.hpp"
+#include "apps/run/solid_params.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "mesh/complex_mesher.hpp"
@@ -293,13 +294,13 @@ class Checker {
     for (std::size_t i = 0; i < solids.size(); ++i) {
       const auto& s = solids[i];
       if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "tet_fem") continue;
-      tet_analyses.insert(s["model"].at("analysis").get<std::string>());
+      tet_analyses.insert(s["model"].value("analysis", "dynamic"));
       if (runner_->name == "solid") continue;
       if (!s.at("boundary_conditions").empty())
         add(fmt::format("/solids/{}/boundary_conditions", i),
             fmt::format("solid '{}': boundary conditions of a tet_fem solid need the solid runner (fluid type "
                         "\"none\"); this scene goes to the {} runner", s.at("name").get<std::string>(), runner_->name));
-      if (s["model"].at("analysis") == "static")
+      if (is_static(s))
         add(fmt::format("/solids/{}/model/analysis", i),
             fmt::format("solid '{}': a static analysis needs the solid runner (fluid type \"none\"); this scene goes "
                         "to the {} runner", s.at("name").get<std::string>(), runner_->name));
@@ -330,7 +331,7 @@ class Checker {
     const auto& probes = js_.at("probes");
     const bool any_static = [&] {
       for (const auto& s : js_.at("solids"))
-        if (s.at("motion").at("type") == "none" && s["model"].at("analysis") == "static") return true;
+        if (s.at("motion").at("type") == "none" && is_static(s)) return true;
       return false;
     }();
     for (std::size_t i = 0; i < probes.size(); ++i) {
