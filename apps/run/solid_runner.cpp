@@ -211,7 +211,7 @@ class SolidRunner : public Simulation {
   std::vector<double> load_factors() const override {
     return static_ && !bodies_.empty() ? bodies_.front().steps.load_factors : std::vector<double>{};
   }
-  void select_load_step(int k) override { selected_ = k; }
+  void select_load_step(int k) override { selected_ = load_factors().at(k); }
   StepReport setup_report() const override {
     StepReport r;
     std::vector<const StaticSteps*> steps;
@@ -337,14 +337,13 @@ class SolidRunner : public Simulation {
  private:
   const Eigen::VectorXd& displacement(const Body& b) const {
     if (!static_) return b.integrator->displacement();
-    const auto& states = b.steps.states;
-    return selected_ >= 0 && selected_ < static_cast<int>(states.size()) ? states[selected_] : states.back();
+    return state_at(b.steps, selected_);
   }
 
   std::vector<Body> bodies_;
   double h_ = 0;
   bool static_ = false;
-  int selected_ = -1;  // static: the load step probe() answers for (-1: the last)
+  double selected_ = -1;  // static: the load factor probe() answers for (-1: the final state)
   WatchdogSettings watchdog_;
 };
 

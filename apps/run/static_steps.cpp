@@ -45,6 +45,13 @@ StaticSteps solve_in_steps(const std::string& name, const solid::ElasticModel& m
   return s;
 }
 
+const Eigen::VectorXd& state_at(const StaticSteps& steps, double lambda) {
+  if (lambda < 0) return steps.states.back();
+  std::size_t k = 0;
+  while (k + 1 < steps.load_factors.size() && steps.load_factors[k + 1] <= lambda + 1e-12) ++k;
+  return steps.states[k];
+}
+
 void write_load_steps(Output& out, const std::string& name, const StaticSteps& steps) {
   std::ofstream csv(out.dir() / fmt::format("{}_load_steps.csv", name));
   csv << "load_factor,iterations,cuts,final_residual_ratio,reaction_moment\n";

@@ -28,6 +28,10 @@ StaticSteps solve_in_steps(const std::string& name, const solid::ElasticModel& m
                            const solid::BoundaryConditions& bc, const solid::StaticOptions& options,
                            spdlog::logger& log);
 
+/// The state of the last step with load factor <= lambda (+1e-12): solids of one scene may reach
+/// different intermediate load factors (step cuts); lambda < 0 gives the final state.
+const Eigen::VectorXd& state_at(const StaticSteps& steps, double lambda);
+
 /// Writes <name>_load_steps.csv: load factor, iterations, cuts, final residual ratio, reaction moment.
 void write_load_steps(Output& out, const std::string& name, const StaticSteps& steps);
 

@@ -3,10 +3,11 @@
 /// Quasi-static equilibrium of a solid (any ElasticModel: tet or hex8) by load stepping with
 /// Newton-Raphson (seed paper 002):
 ///   K_T Delta u_f = R = lambda (F_ext + F_p(u)) - F_int(u)  on the free dofs,
-/// F_ext the dead loads, F_p the follower pressure (follower_pressure.hpp), whose load stiffness
-/// -lambda dF_p/du enters K_T: the tangent is then the consistent, non-symmetric one and the
-/// solves use Eigen's SparseLU instead of Cholesky (quadratic convergence is kept).
 /// after moving the prescribed dofs to the right-hand side (seed: K_ff u_f = -K_fs u_s).
+/// F_ext are the dead loads, F_p the follower pressure (solid/loads/follower_pressure.hpp), whose
+/// load stiffness -lambda dF_p/du enters K_T: the tangent is then the consistent, non-symmetric
+/// one and the solves use Eigen's SparseLU instead of Cholesky or CG, whatever `linear_solver`
+/// says (quadratic convergence is kept).
 ///
 /// Constraints are written as u = T q + g(lambda): q are the unknowns (free dofs plus the 3
 /// translations of each RotatingFace), g the prescribed part. T only selects/sums dofs, so
@@ -15,7 +16,7 @@
 ///   (T^T K_T T) Delta q = T^T (R(u) - K_T Delta g),   Delta g = g(lambda_1) - g(lambda_0),
 /// (= K_ff Delta u_f = -K_fs Delta u_s at equilibrium) and then iterates
 ///   (T^T K_T T) Delta q = T^T R(u),  u <- u + T Delta q
-/// until ||T^T R|| <= residual_tolerance * max(||lambda F_ext||, ||F_int||) and
+/// until ||T^T R|| <= residual_tolerance * max(||lambda F_ext||, ||F_int - lambda F_p||) and
 /// ||Delta q|| <= increment_tolerance * max(||u||, 1e-12 L) (L the mesh's bounding-box diagonal).
 /// A failed step (inverted element, non-finite values, no convergence within max_iterations,
 /// residual growing 1e6-fold, or a failed factorisation) is retried with half the load

@@ -1,7 +1,7 @@
 // `tetfsi run` with boundary_conditions on a dynamic tet solid (solid runner): the beam of
 // data/scenes/volume_mesh_beam.json (meshes/beam.vtu, ~1,100 tets, L = 1 m along x, nu = 0,
-// E = 1e7 Pa, rho = 1000 kg/m^3), clamped at x = 0, no gravity, pulled along +x by a body force
-// b = rho g (type body_force, N/m^3) and Rayleigh-damped (alpha = 100 1/s against the first axial
+// E = 1e7 Pa, rho = 1000 kg/m^3), clamped at x = 0 (a `fixed` condition), no gravity, pulled along
+// +x by a body force b = rho g (type body_force, N/m^3) and Rayleigh-damped (alpha = 100 1/s against the first axial
 // mode omega = (pi / 2) sqrt(E / rho) = 157 rad/s) to rest: the settled end displacement is the
 // hanging bar's rho g L^2 / (2E) = 0.4905 mm (uniaxial stress; strain <= 1e-3). Checked within 2 %
 // (unstructured tets, consistent nodal loads; the St. Venant-Kirchhoff nonlinearity is 1.5e-3), the
@@ -27,8 +27,8 @@ TEST(SolidLoadsRun, TetBarUnderBodyForceSettlesAtHangingBarDisplacement) {
     "name": "bar",
     "geometry": { "type": "volume_mesh", "file": ")" + mesh.string() + R"(" },
     "material": { "density": 1000, "youngs_modulus": 1e7, "poissons_ratio": 0.0, "rayleigh_alpha": 100 },
-    "fixed_regions": [ { "lo": [-1, -1, -1], "hi": [1e-6, 1, 1] } ],
     "boundary_conditions": [
+      { "type": "fixed", "box": { "lo": [-1, -1, -1], "hi": [1e-6, 1, 1] }, "components": "xyz" },
       { "type": "body_force", "box": { "lo": [-1, -1, -1], "hi": [2, 1, 1] }, "value": [9810, 0, 0] } ]
   } ],
   "probes": [ { "name": "end", "kind": "point_displacement", "solid": "bar", "point": [1.0, 0.0, 0.0] } ]
