@@ -66,6 +66,7 @@ class Checker {
     read_liquid_regions();
     check_placements();
     check_runner();
+    check_load_boxes();
     check_probes();
     check_emitters();
     check_viscosity();
@@ -325,6 +326,27 @@ class Checker {
                                  "\"none\"", list(hex)));
     else if (name == "mesh_only" && !solids.empty())
       add("/solids", "no runner simulates this combination of fluid and solids yet");
+  }
+
+  /// A boundary-condition box that misses the solid's bounding box selects no node: the run would
+  /// stop on it after meshing, so validate says so too.
+  void check_load_boxes() {
+    const auto& solids = js_.at("solids");
+    for (std::size_t i = 0; i < solids.size() && i < placed_.size(); ++i) {
+      if (!placed_[i].ok) continue;
+      const auto& p = placed_[i];
+      const double tol = 1e-9 * (p.hi - p.lo).norm();
+      const auto& bcs = solids[i].at("boundary_conditions");
+      for (std::size_t j = 0; j < bcs.size(); ++j) {
+        const Eigen::Vector3d lo = vec3(bcs[j].at("box").at("lo")), hi = vec3(bcs[j].at("box").at("hi"));
+        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all()) continue;
+        add(fmt::format("/solids/{}/boundary_conditions/{}/box", i, j),
+            fmt::format("the box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m misses solid '{}' (bounding box "
+                        "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): it selects no node",
+                        lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z(), solid_name(i), p.lo.x(), p.lo.y(), p.lo.z(),
+                        p.hi.x(), p.hi.y(), p.hi.z()));
+      }
+    }
   }
 
   void check_probes() {

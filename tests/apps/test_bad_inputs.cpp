@@ -567,6 +567,14 @@ TEST(BadInputs, LoadKeysAndStaticAnalysisAreRefused) {
          return s;
        },
        "/solids/0/model/analysis"},
+      {"load_box_misses_solid",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {
+             {{"type", "nodal_force"}, {"box", {{"lo", {2, 2, 2}}, {"hi", {3, 3, 3}}}}, {"value", {0, -1, 0}}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/box"},
       {"static_total_energy_probe",
        [&] {
          auto s = solid_scene();
