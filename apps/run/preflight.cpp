@@ -496,7 +496,14 @@ class Checker {
     report_.frames = std::floor(end * frame_rate * (1 + 1e-12)) + 1;
     const double max_steps = sim.at("max_steps").get<double>();
     report_.steps = std::max(report_.frames - 1, sim.contains("dt") ? std::ceil(end / sim["dt"].get<double>()) : 0.0);
-    if (!(report_.steps <= max_steps))
+    double load_steps = 0;  // a static analysis: a frame per load step (more after step cuts), no time steps
+    for (const auto& s : js_.at("solids"))
+      if (s.at("motion").at("type") == "none" && is_static(s))
+        load_steps = std::max(load_steps, s.at("static").at("load_steps").get<double>());
+    if (load_steps > 0) {
+      report_.steps = load_steps;
+      report_.frames = load_steps + 1;
+    } else if (!(report_.steps <= max_steps))
       add(sim.contains("dt") && end / sim["dt"].get<double>() >= report_.frames - 1 ? "/simulation/dt" : "/simulation/frame_rate",
           fmt::format("the run would take at least {:.3g} steps (end_time {:g} s, {}), more than /simulation/max_steps "
                       "= {:g}: shorten /simulation/end_time, {}, or raise /simulation/max_steps",
