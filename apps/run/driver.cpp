@@ -108,9 +108,20 @@ class Driver {
       setup = sim->setup_report();
       check_row_finite(header, stats_row(setup, 0, 0.0, 0.0), 0, 0.0);
     }
+    // A static runner's load steps: one probes row per step, the load factor as its time.
+    std::vector<std::vector<double>> static_rows;
+    const std::vector<double> factors = sim->time_dependent() ? std::vector<double>{} : sim->load_factors();
+    if (!probes.empty() && !factors.empty()) {
+      for (std::size_t k = 0; k < factors.size(); ++k) {
+        sim->select_load_step(static_cast<int>(k));
+        static_rows.push_back(probe_row(*sim, static_cast<long>(k), factors[k]));
+      }
+      sim->select_load_step(static_cast<int>(factors.size()) - 1);
+    }
     Stopwatch io;
     write_frame(*sim, out, 0, 0.0);
-    if (!probes.empty()) out.probes_row(probe_values);
+    if (!probes.empty() && static_rows.empty()) out.probes_row(probe_values);
+    for (const auto& row : static_rows) out.probes_row(row);
     double t_output = io.seconds();
     if (!sim->time_dependent()) {
       out.stats_row(stats_row(setup, 0, 0.0, t_output));

@@ -5,16 +5,18 @@
 /// rotated and translated by its placement (hex_geometry.hpp); condition boxes are world
 /// coordinates.
 ///
-/// `model.analysis: "static"`: load stepping with Newton-Raphson (solid/hex/static_solver.hpp)
-/// from load factor 0 to 1 in `static.load_steps` steps, done in setup(); frame k of the output
-/// is load step k with the load factor as its "time" in the .pvd, the per-step Newton log goes to
-/// run.log and load_steps.csv (load factor, iterations, cuts, final residual ratio, reaction
-/// moment of the first moment_rotation face [N m]).
+/// `model.analysis: "static"`: load stepping with Newton-Raphson (solid/analysis/static_solver.hpp,
+/// static_steps.hpp) from load factor 0 to 1 in `static.load_steps` steps, done in setup(); frame k
+/// of the output and probes.csv row k are load step k with the load factor as their "time", the
+/// per-step Newton log goes to run.log and load_steps.csv (load factor, iterations, cuts, final
+/// residual ratio, reaction moment of the first moment_rotation face [N m]).
 /// `model.analysis: "dynamic"`: the HexModel inside the tet solid's NewmarkIntegrator
 /// (Chentanez et al. 2006, eq. 18), with gravity, fixed nodes, dead loads and obstacles.
 /// stats.csv (dynamic): kinetic, strain, gravity potential, total (their sum) [J], solver
 /// iterations, inverted elements, contacts, and the potential of the dead loads
-/// (nodal_force, traction, moment_traction) V_f = -f.d [J].
+/// (nodal_force, traction, moment_traction, body_force) V_f = -f.d [J]. A follower `pressure` is
+/// folded into the model (solid::FollowerLoadedModel); it does work, so such a block's energy is not
+/// watched.
 ///
 /// Watchdog (dynamic; watchdog.hpp): an inverted element stops the run naming it; every load is
 /// conservative (gravity, constant dead loads f, fixed nodes, static obstacles), so the energy
@@ -24,17 +26,17 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
-
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_params.hpp"
+#include "apps/run/static_steps.hpp"
 #include "apps/run/watchdog.hpp"
 #include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
 #include "solid/integrator/newmark.hpp"
+#include "solid/loads/follower_pressure.hpp"
 #include "solid/solid_error.hpp"
 
 namespace tetfsi::run {
@@ -50,54 +52,18 @@ hex::BlockProblem problem_of(const scene::Json& s, std::vector<std::string>& war
   hex::BlockProblem p;
   p.mesh = hex_mesh_of(s, warnings);
   p.material = hex_material(s.at("material"));
-  for (const auto& box : s.at("fixed_regions")) {
-    hex::RegionCondition rc;
-    rc.lo = vec3(box.at("lo"));
-    rc.hi = vec3(box.at("hi"));
-    rc.components.clear();
-    for (const auto& c : box.at("components")) rc.components += c.get<std::string>();
-    p.conditions.push_back(rc);
-  }
-  using K = hex::RegionCondition::Kind;
-  const std::map<std::string, K> kinds = {{"fixed", K::Fixed},
-                                          {"displacement", K::Displacement},
-                                          {"nodal_force", K::NodalForce},
-                                          {"traction", K::Traction},
-                                          {"moment_rotation", K::MomentRotation},
-                                          {"moment_traction", K::MomentTraction}};
-  for (const auto& bc : s.at("boundary_conditions")) {
-    hex::RegionCondition rc;
-    rc.kind = kinds.at(bc.at("type").get<std::string>());
-    rc.lo = vec3(bc.at("box").at("lo"));
-    rc.hi = vec3(bc.at("box").at("hi"));
-    rc.components = bc.at("components").get<std::string>();
-    rc.value = vec3(bc.at("value"));
-    rc.axis = vec3(bc.at("axis"));
-    rc.center = vec3(bc.at("center"));
-    rc.angle = bc.at("angle").get<double>();
-    rc.moment = bc.at("moment").get<double>();
-    p.conditions.push_back(rc);
-  }
-  const auto& st = s.at("static");
-  p.options.load_steps = st.at("load_steps").get<int>();
-  p.options.max_iterations = st.at("max_iterations").get<int>();
-  p.options.residual_tolerance = st.at("residual_tolerance").get<double>();
-  p.options.increment_tolerance = st.at("increment_tolerance").get<double>();
-  p.options.max_step_cuts = st.at("max_step_cuts").get<int>();
-  p.options.linear_solver = st.at("linear_solver") == "cg" ? hex::LinearSolverKind::ConjugateGradient
-                                                          : hex::LinearSolverKind::Cholmod;
+  p.conditions = region_conditions(s, true);
+  p.options = static_options(s);
   return p;
 }
 
 struct HexBody {
   std::string name;
   std::unique_ptr<hex::HexModel> model;
-  hex::BoundaryConditions bc;
+  solid::BoundaryConditions bc;
+  std::unique_ptr<solid::FollowerLoadedModel> loaded;      // dynamic with pressure only
   std::unique_ptr<solid::NewmarkIntegrator> integrator;  // dynamic only
-  std::vector<double> load_factors;                          // static only: frame k
-  std::vector<Eigen::VectorXd> states;                       // static only: u per load step
-  std::vector<hex::StepLog> logs;
-  std::vector<double> moments;                               // reaction moment per step [N m]
+  StaticSteps steps;                                         // static only: frame k = load step k
   mesh::SurfaceMesh surface;  // boundary quads split in triangles (hex-mesh node indices)
   int index = 0;               // /solids/index
   std::string scheme;          // /solids/index/integrator/scheme (dynamic only)
@@ -132,12 +98,7 @@ class HexRunner : public Simulation {
       for (const auto& w : warnings) log.warn("{}", w);
       try {
         b.model = hex::make_model(p);
-        b.bc = hex::make_conditions(p, b.model->mesh());
-        // Overlapping `fixed` regions fix an edge node's dof twice: no contradiction in a scene
-        // (the solver refuses a dof constrained twice, so it gets each once).
-        auto& fixed = b.bc.fixed_dofs;
-        std::sort(fixed.begin(), fixed.end());
-        fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+        b.bc = hex::make_conditions(p, *b.model);
       } catch (const std::exception& e) {
         throw InputError(fmt::format("{}: {}", ptr, e.what()));
       }
@@ -169,19 +130,17 @@ class HexRunner : public Simulation {
             "load_potential"};
   }
   double max_dt() const override { return h_; }
+  std::vector<double> load_factors() const override {
+    return static_ && !bodies_.empty() ? bodies_.front().steps.load_factors : std::vector<double>{};
+  }
+  void select_load_step(int k) override { selected_ = load_factors().at(k); }
 
   StepReport setup_report() const override {
     StepReport r;
     r.phase_seconds = {assemble_, solve_};
-    double steps = 0, its = 0, max_its = 0, cuts = 0;
-    for (const auto& b : bodies_)
-      for (const auto& l : b.logs) {
-        steps += 1;
-        its += l.iterations;
-        max_its = std::max(max_its, double(l.iterations));
-        cuts += l.cuts;
-      }
-    r.values = {steps, its, max_its, cuts};
+    std::vector<const StaticSteps*> steps;
+    for (const auto& b : bodies_) steps.push_back(&b.steps);
+    r.values = static_totals(steps);
     return r;
   }
 
@@ -222,7 +181,7 @@ class HexRunner : public Simulation {
     if (static_) return "";
     for (const auto& b : bodies_) {
       auto what = inverted_hexes(*b.model, b.integrator->displacement(), b.name, b.index);
-      if (what.empty())
+      if (what.empty() && !b.loaded)  // a follower pressure does work: the energy is not watched
         what = b.energy.diagnosis(
             fmt::format("hex solid '{}'", b.name), "kinetic + strain + gravitational - work of the loads",
             "every load on it is conservative (gravity, dead loads, fixed nodes, static obstacles)",
@@ -240,15 +199,9 @@ class HexRunner : public Simulation {
   void write_frame(Output& out, int frame, double time) override {
     for (const auto& b : bodies_) {
       if (static_) {  // every load step, "time" = load factor
-        std::ofstream csv(out.dir() / fmt::format("{}_load_steps.csv", b.name));
-        csv << "load_factor,iterations,cuts,final_residual_ratio,reaction_moment\n";
-        for (std::size_t k = 0; k < b.states.size(); ++k) {
-          write(out, b, static_cast<int>(k), b.load_factors[k], b.states[k], Eigen::VectorXd());
-          if (k == 0) continue;
-          const auto& l = b.logs[k - 1];
-          csv << csv_row({l.load_factor, double(l.iterations), double(l.cuts),
-                          l.residuals.empty() ? 0.0 : l.residuals.back(), b.moments[k - 1]});
-        }
+        write_load_steps(out, b.name, b.steps);
+        for (std::size_t k = 0; k < b.steps.states.size(); ++k)
+          write(out, b, static_cast<int>(k), b.steps.load_factors[k], b.steps.states[k], Eigen::VectorXd());
       } else {
         write(out, b, frame, time, b.integrator->displacement(), b.integrator->velocity());
       }
@@ -277,38 +230,14 @@ class HexRunner : public Simulation {
 
  private:
   const Eigen::VectorXd& displacement(const HexBody& b) const {
-    return static_ ? b.states.back() : b.integrator->displacement();
+    if (!static_) return b.integrator->displacement();
+    return state_at(b.steps, selected_);
   }
 
   void solve_static(HexBody& b, const hex::BlockProblem& p, spdlog::logger& log) {
-    b.load_factors = {0.0};
-    b.states = {Eigen::VectorXd::Zero(3 * b.model->num_nodes())};
-    auto on_step = [&](const hex::StepLog& l, const Eigen::VectorXd& u) {
-      std::string ratios;
-      for (std::size_t k = 1; k < l.residuals.size(); ++k)
-        ratios += fmt::format(" {:.3g}", l.residuals[k - 1] > 0 ? l.residuals[k] / l.residuals[k - 1] : 0.0);
-      log.info("hex '{}': load factor {:.6g}: {} Newton solves, {} cuts, residuals [{}], ratios [{} ]", b.name,
-               l.load_factor, l.iterations, l.cuts, fmt::join(l.residuals, ", "), ratios);
-      b.load_factors.push_back(l.load_factor);
-      b.states.push_back(u);
-      b.logs.push_back(l);
-      double m = 0;
-      if (!b.bc.rotating_faces.empty()) {
-        Eigen::Vector3d f, mom;
-        hex::face_reaction(*b.model, b.bc.rotating_faces[0], u, f, mom);
-        m = mom.dot(b.bc.rotating_faces[0].axis.normalized());
-      }
-      b.moments.push_back(m);
-    };
-    try {
-      const auto result = hex::solve_static(*b.model, b.bc, p.options, 1.0, on_step);
-      assemble_ += result.assembly_seconds;
-      solve_ += result.solve_seconds;
-    } catch (const hex::NonConvergence& e) {
-      throw RunError(fmt::format("hex solid '{}': static solve failed: {}", b.name, e.what()));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(fmt::format("hex solid '{}': {}", b.name, e.what()));
-    }
+    b.steps = solve_in_steps(b.name, *b.model, b.bc, p.options, log);
+    assemble_ += b.steps.assembly_seconds;
+    solve_ += b.steps.solve_seconds;
   }
 
   void make_dynamic(HexBody& b, const scene::Json& s, const scene::Json& js, const std::string& ptr) {
@@ -316,7 +245,12 @@ class HexRunner : public Simulation {
       throw InputError(ptr + "/boundary_conditions: `displacement` and `moment_rotation` need analysis: static");
     try {
       const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
-      b.integrator = std::make_unique<solid::NewmarkIntegrator>(*b.model, settings);
+      const solid::ElasticModel* model = b.model.get();
+      if (!b.bc.pressures.empty()) {  // follower pressure folded into the model's force
+        b.loaded = std::make_unique<solid::FollowerLoadedModel>(*b.model, b.bc.pressures);
+        model = b.loaded.get();
+      }
+      b.integrator = std::make_unique<solid::NewmarkIntegrator>(*model, settings);
     } catch (const solid::SolidError& e) {
       throw InputError(fmt::format("{}: {}", ptr, e.what()));
     }
@@ -364,6 +298,7 @@ class HexRunner : public Simulation {
   std::vector<HexBody> bodies_;
   double h_ = 0, assemble_ = 0, solve_ = 0;
   bool static_ = false;
+  double selected_ = -1;  // static: the load factor probe() answers for (-1: the final state)
   WatchdogSettings watchdog_;
 };
 

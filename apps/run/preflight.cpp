@@ -11,6 +11,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
 #include "apps/run/scene_values.hpp"
+#include "apps/run/solid_params.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "mesh/complex_mesher.hpp"
@@ -66,6 +67,7 @@ class Checker {
     read_liquid_regions();
     check_placements();
     check_runner();
+    check_load_boxes();
     check_probes();
     check_emitters();
     check_viscosity();
@@ -309,6 +311,29 @@ class Checker {
         add(fmt::format("/solids/{}/self_contact", i),
             fmt::format("solid '{}': self-contact is for deforming \"tet_fem\" solids (motion \"none\")",
                         solids[i].at("name").get<std::string>()));
+      else if (solids[i].at("self_contact").get<bool>() && is_static(solids[i]))
+        add(fmt::format("/solids/{}/self_contact", i),
+            fmt::format("solid '{}': self-contact acts in dynamic runs only (model.analysis \"dynamic\")",
+                        solids[i].at("name").get<std::string>()));
+    // Loads and static analysis of tet solids live in the solid runner only (solid_runner.cpp).
+    std::set<std::string> tet_analyses;
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      const auto& s = solids[i];
+      if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "tet_fem") continue;
+      tet_analyses.insert(s["model"].value("analysis", "dynamic"));
+      if (runner_->name == "solid") continue;
+      if (!s.at("boundary_conditions").empty())
+        add(fmt::format("/solids/{}/boundary_conditions", i),
+            fmt::format("solid '{}': boundary conditions of a tet_fem solid need the solid runner (fluid type "
+                        "\"none\"); this scene goes to the {} runner", s.at("name").get<std::string>(), runner_->name));
+      if (is_static(s))
+        add(fmt::format("/solids/{}/model/analysis", i),
+            fmt::format("solid '{}': a static analysis needs the solid runner (fluid type \"none\"); this scene goes "
+                        "to the {} runner", s.at("name").get<std::string>(), runner_->name));
+    }
+    if (tet_analyses.size() > 1)
+      add("/solids", fmt::format("tet solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
+                                 "or dynamic)", list(deformable)));
     if (hex_analyses.size() > 1)
       add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
                                  "or dynamic)", list(hex)));
@@ -328,23 +353,44 @@ class Checker {
       add("/solids", "no runner simulates this combination of fluid and solids yet");
   }
 
+  /// A boundary-condition box that misses the solid's bounding box selects no node: the run would
+  /// stop on it after meshing, so validate says so too.
+  void check_load_boxes() {
+    const auto& solids = js_.at("solids");
+    for (std::size_t i = 0; i < solids.size() && i < placed_.size(); ++i) {
+      if (!placed_[i].ok) continue;
+      const auto& p = placed_[i];
+      const double tol = 1e-9 * (p.hi - p.lo).norm();
+      const auto& bcs = solids[i].at("boundary_conditions");
+      for (std::size_t j = 0; j < bcs.size(); ++j) {
+        const Eigen::Vector3d lo = vec3(bcs[j].at("box").at("lo")), hi = vec3(bcs[j].at("box").at("hi"));
+        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all()) continue;
+        add(fmt::format("/solids/{}/boundary_conditions/{}/box", i, j),
+            fmt::format("the box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m misses solid '{}' (bounding box "
+                        "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): it selects no node",
+                        lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z(), solid_name(i), p.lo.x(), p.lo.y(), p.lo.z(),
+                        p.hi.x(), p.hi.y(), p.hi.z()));
+      }
+    }
+  }
+
   void check_probes() {
     const auto& probes = js_.at("probes");
-    const bool hex_static = [&] {
+    const bool any_static = [&] {
       for (const auto& s : js_.at("solids"))
-        if (s.at("model").at("type") == "hex8" && s["model"].at("analysis") == "static") return true;
+        if (s.at("motion").at("type") == "none" && is_static(s)) return true;
       return false;
     }();
     for (std::size_t i = 0; i < probes.size(); ++i) {
       const auto kind = probes[i].at("kind").get<std::string>();
       const auto& kinds = runner_->probe_kinds;
       const bool supported = kinds.empty() || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
-      if (!supported || (hex_static && kind == "total_energy")) {
+      if (!supported || (any_static && kind == "total_energy")) {
         std::string list;
         for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
         add(fmt::format("/probes/{}/kind", i),
             fmt::format("the {} runner (which runs this scene) has no probe \"{}\"; it has: {}", runner_->name, kind,
-                        hex_static ? "point_displacement (static hex8 analysis)" : list));
+                        any_static ? "point_displacement, solid_volume (tet_fem) in a static analysis" : list));
       }
     }
   }
@@ -475,7 +521,14 @@ class Checker {
     report_.frames = std::floor(end * frame_rate * (1 + 1e-12)) + 1;
     const double max_steps = sim.at("max_steps").get<double>();
     report_.steps = std::max(report_.frames - 1, sim.contains("dt") ? std::ceil(end / sim["dt"].get<double>()) : 0.0);
-    if (!(report_.steps <= max_steps))
+    double load_steps = 0;  // a static analysis: a frame per load step (more after step cuts), no time steps
+    for (const auto& s : js_.at("solids"))
+      if (s.at("motion").at("type") == "none" && is_static(s))
+        load_steps = std::max(load_steps, s.at("static").at("load_steps").get<double>());
+    if (load_steps > 0) {
+      report_.steps = load_steps;
+      report_.frames = load_steps + 1;
+    } else if (!(report_.steps <= max_steps))
       add(sim.contains("dt") && end / sim["dt"].get<double>() >= report_.frames - 1 ? "/simulation/dt" : "/simulation/frame_rate",
           fmt::format("the run would take at least {:.3g} steps (end_time {:g} s, {}), more than /simulation/max_steps "
                       "= {:g}: shorten /simulation/end_time, {}, or raise /simulation/max_steps",

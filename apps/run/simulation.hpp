@@ -50,6 +50,13 @@ class Simulation {
   virtual void write_frame(Output& out, int frame, double time) = 0;
   /// Values of one probe (resolved JSON of /probes/i); empty if this model does not support it.
   virtual std::vector<double> probe(const scene::Json& probe) const { return {}; }
+  /// A runner that is not time dependent and solves in load steps (static analysis): the load
+  /// factor of each stored state (of its first solid), 0 (the rest state) first; empty otherwise.
+  /// The driver then writes one probes.csv row per entry, its time column the load factor.
+  virtual std::vector<double> load_factors() const { return {}; }
+  /// Makes probe() answer for load step k (index into load_factors(); every solid shows its state
+  /// at that load factor); the last one is selected after setup.
+  virtual void select_load_step(int /*k*/) {}
   /// Report for the first stats row of a runner that is not time dependent (setup statistics).
   virtual StepReport setup_report() const { return {}; }
 };

@@ -3,8 +3,10 @@
 /// The one reader from a resolved scene's /solids/i block to the solid models' parameter structs
 /// (keys and defaults: apps/scene/blocks/solids.cpp). Every runner that builds a solid reads it here.
 #include "apps/scene/scene.hpp"
+#include "solid/analysis/static_solver.hpp"
 #include "solid/hex/material.hpp"
 #include "solid/integrator/newmark.hpp"
+#include "solid/loads/region_conditions.hpp"
 #include "solid/tet/material.hpp"
 #include "solid/tet/tet_model.hpp"
 
@@ -24,5 +26,15 @@ solid::hex::Material hex_material(const scene::Json& material);
 /// of /solids/i/material and the scheme and linear solver of /solids/i/integrator.
 /// @throws solid::SolidError on an unknown scheme or solver name
 solid::NewmarkSettings newmark_settings(const scene::Json& solid, const scene::Json& scene, double h);
+
+/// /solids/i/boundary_conditions as region conditions (solid/loads/region_conditions.hpp); with
+/// `with_fixed_regions`, the /solids/i/fixed_regions first, as `fixed` conditions on their components.
+std::vector<solid::RegionCondition> region_conditions(const scene::Json& solid, bool with_fixed_regions);
+
+/// /solids/i/static: load stepping and Newton tolerances of `analysis: static`.
+solid::StaticOptions static_options(const scene::Json& solid);
+
+/// True if /solids/i/model/analysis is "static".
+bool is_static(const scene::Json& solid);
 
 }  // namespace tetfsi::run

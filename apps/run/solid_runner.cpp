@@ -8,9 +8,21 @@
 /// with /solids/*/self_contact, contact of its surface with itself. Solids do not collide with each other. Solids with a prescribed motion in the same scene are not moved
 /// (a warning says so).
 ///
+/// Loads (/solids/i/boundary_conditions, solid/loads/region_conditions.hpp): dead nodal forces,
+/// tractions, moment tractions and body forces go to the integrator as constant external forces,
+/// `fixed` conditions hold their components, a follower `pressure` is folded into the model
+/// (solid::FollowerLoadedModel). `model.analysis: "static"`: load stepping with Newton-Raphson
+/// (solid/analysis/static_solver.hpp) in setup(), as for hex8 solids (static_steps.hpp): frame k and
+/// probes.csv row k are load step k, time = load factor.
+///
 /// stats.csv columns (sums over the solids): kinetic 1/2 u^T M u [J], strain [J], gravity
-/// potential -sum m g.x [J], total [J], solver iterations, inverted elements, contact nodes.
+/// potential -sum m g.x [J], total [J], solver iterations, inverted elements, contact nodes, and
+/// the potential of the dead loads V_f = -f.d [J] (the watched energy includes it). Static runs:
+/// load steps, Newton iterations, most iterations in a step, step cuts.
 #include <fmt/format.h>
+
+#include <array>
+#include <map>
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/errors.hpp"
@@ -18,12 +30,14 @@
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
+#include "apps/run/static_steps.hpp"
 #include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "apps/run/watchdog.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
 #include "solid/integrator/newmark.hpp"
+#include "solid/loads/follower_pressure.hpp"
 #include "solid/output/solid_output.hpp"
 #include "solid/solid_error.hpp"
 #include "solid/tet/tet_model.hpp"
@@ -42,7 +56,35 @@ struct Body {
   std::string scheme;             ///< /solids/index/integrator/scheme
   EnergyWatch energy;             ///< energy balance (watchdog.hpp)
   bool driven = false;            ///< a fixed region moves at a prescribed velocity (does work)
+  solid::BoundaryConditions bc;   ///< /solids/index/boundary_conditions (+ fixed_regions if static)
+  std::unique_ptr<solid::FollowerLoadedModel> loaded;  ///< dynamic with a follower pressure
+  StaticSteps steps;              ///< static analysis: the load steps
 };
+
+/// Potential of the dead loads, V_f = -f.d [J] (their work is f.d).
+double load_potential(const Body& b) {
+  return b.bc.forces.size() > 0 ? -b.bc.forces.dot(b.integrator->displacement()) : 0.0;
+}
+
+/// The tet mesh as the boundary conditions see it.
+solid::LoadedMesh loaded_mesh(const mesh::TetMesh& tets, const solid::TetModel& model) {
+  solid::LoadedMesh m;
+  m.vertices = tets.vertices;
+  m.boundary = solid::tet_boundary_faces(tets.tets);
+  m.masses = model.lumped_masses();
+  m.density = model.material().density;
+  return m;
+}
+
+/// Holds the `fixed` dofs of bc (per node, its components) in the integrator.
+void fix_dofs(solid::NewmarkIntegrator& integ, const std::vector<int>& dofs) {
+  std::map<int, std::array<bool, 3>> held;
+  for (int dof : dofs) {
+    auto [it, added] = held.try_emplace(dof / 3, std::array<bool, 3>{false, false, false});
+    it->second[dof % 3] = true;
+  }
+  for (const auto& [node, comps] : held) integ.fix_components({node}, comps);
+}
 
 /// Kinetic + strain + spring energy of a state [J] (the part that is not gravitational).
 double mechanical(const solid::StepStats& e) { return e.kinetic + e.strain + e.spring; }
@@ -95,15 +137,34 @@ class SolidRunner : public Simulation {
       } catch (const solid::SolidError& e) {
         throw InputError(fmt::format("{}/material: {}", ptr, e.what()));
       }
+      static_ = is_static(s);
       try {
         const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
         b.model = std::make_unique<solid::TetModel>(tets, material, tet_model_options(mat));
-        b.integrator = std::make_unique<solid::NewmarkIntegrator>(*b.model, settings);
+        b.bc = solid::make_conditions(region_conditions(s, static_), loaded_mesh(tets, *b.model));
+        const solid::ElasticModel* model = b.model.get();
+        if (!static_ && !b.bc.pressures.empty()) {  // follower pressure folded into the model's force
+          b.loaded = std::make_unique<solid::FollowerLoadedModel>(*b.model, b.bc.pressures);
+          model = b.loaded.get();
+        }
+        b.integrator = std::make_unique<solid::NewmarkIntegrator>(*model, settings);
       } catch (const solid::SolidError& e) {  // e.g. a degenerate tet from the mesher: try another mesh size
         throw InputError(fmt::format("{}: solid '{}' (mesh.edge_length {} m): {}", ptr, b.name,
                                      sizing.edge_length, e.what()));
+      } catch (const std::invalid_argument& e) {
+        throw InputError(fmt::format("{}/boundary_conditions: solid '{}': {}", ptr, b.name, e.what()));
+      }
+      b.surface = boundary_surface(tets, &b.surface_nodes);
+      b.index = static_cast<int>(i);
+      if (static_) {
+        b.steps = solve_in_steps(b.name, *b.model, b.bc, static_options(s), log);
+        bodies_.push_back(std::move(b));
+        continue;
       }
       auto& integ = *b.integrator;
+      fix_dofs(integ, b.bc.fixed_dofs);
+      if (b.bc.forces.size() > 0) integ.set_external_forces(b.bc.forces);
+      if (b.loaded) log.info("solid '{}': a follower pressure does work on it; its energy is not watched", b.name);
       for (std::size_t r = 0; r < s.at("fixed_regions").size(); ++r) {
         const auto& box = s["fixed_regions"][r];
         const auto nodes = integ.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi")));
@@ -123,7 +184,6 @@ class SolidRunner : public Simulation {
         integ.obstacles().add_plane({vec3(p.at("point")), vec3(p.at("normal"))});
       for (const auto& bx : obs.at("boxes")) integ.obstacles().add_box({vec3(bx.at("lo")), vec3(bx.at("hi"))});
       integ.obstacles().set_friction(obs.at("friction").get<double>());
-      b.surface = boundary_surface(tets, &b.surface_nodes);
       if (s.at("self_contact").get<bool>()) {
         // No fluid keeps the surfaces apart here: a film of 5% of a surface edge keeps the edges
         // between the contact nodes from crossing.
@@ -131,12 +191,12 @@ class SolidRunner : public Simulation {
         integ.enable_self_contact(b.model->tets(), gap, obs.at("friction").get<double>());
         log.info("solid '{}': self-contact on, film {:.3g} m", b.name, gap);
       }
-      b.index = static_cast<int>(i);
       b.scheme = s.at("integrator").at("scheme").get<std::string>();
       {
         const auto e = integ.energies();
         const double weight = b.model->lumped_masses().sum() * vec3(js.at("simulation").at("gravity")).norm();
-        b.energy = EnergyWatch(e.total(), mechanical(e), energy_floor(b.model->reference_positions(), weight));
+        b.energy = EnergyWatch(e.total() + load_potential(b), mechanical(e),
+                               energy_floor(b.model->reference_positions(), weight));
       }
       log.info("solid '{}': scheme {}, solver {}, constitutive {}", b.name,
                s["integrator"]["scheme"].get<std::string>(), s["integrator"]["linear_solver"].get<std::string>(),
@@ -147,17 +207,37 @@ class SolidRunner : public Simulation {
     watchdog_ = watchdog_settings(sim);
   }
 
+  bool time_dependent() const override { return !static_; }
   std::vector<std::string> phases() const override { return {"assemble", "solve"}; }
   std::vector<std::string> columns() const override {
-    return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts"};
+    if (static_) return {"load_steps", "newton_iterations", "max_iterations_per_step", "step_cuts"};
+    return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts",
+            "load_potential"};
   }
   double max_dt() const override { return h_; }
+  std::vector<double> load_factors() const override {
+    return static_ && !bodies_.empty() ? bodies_.front().steps.load_factors : std::vector<double>{};
+  }
+  void select_load_step(int k) override { selected_ = load_factors().at(k); }
+  StepReport setup_report() const override {
+    StepReport r;
+    std::vector<const StaticSteps*> steps;
+    double assemble = 0, solve = 0;
+    for (const auto& b : bodies_) {
+      steps.push_back(&b.steps);
+      assemble += b.steps.assembly_seconds;
+      solve += b.steps.solve_seconds;
+    }
+    r.phase_seconds = {assemble, solve};
+    r.values = static_totals(steps);
+    return r;
+  }
 
   StepReport step(double h) override {
     StepReport r;
     r.dt = h;
     double assemble = 0, solve = 0;
-    std::vector<double> v(7, 0.0);
+    std::vector<double> v(8, 0.0);
     for (auto& b : bodies_) {
       solid::StepStats st;
       try {
@@ -167,12 +247,13 @@ class SolidRunner : public Simulation {
         throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
                                    stvk ? " (in the scene: material.constitutive \"neohookean\")" : ""));
       }
-      b.energy.record(st.total(), mechanical(st));
+      const double loads = load_potential(b);
+      b.energy.record(st.total() + loads, mechanical(st));
       assemble += st.assembly_seconds;
       solve += st.solve_seconds;
       const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
-                             double(st.solver_iterations), double(st.inverted), double(st.contacts)};
-      for (int k = 0; k < 7; ++k) v[k] += vals[k];
+                             double(st.solver_iterations), double(st.inverted), double(st.contacts), loads};
+      for (int k = 0; k < 8; ++k) v[k] += vals[k];
     }
     r.phase_seconds = {assemble, solve};
     r.values = v;
@@ -181,7 +262,7 @@ class SolidRunner : public Simulation {
 
   std::string non_finite() const override {
     for (const auto& b : bodies_) {
-      const auto& d = b.integrator->displacement();
+      const auto& d = displacement(b);
       const auto& u = b.integrator->velocity();
       for (int i = 0; i < d.size(); ++i) {
         if (!std::isfinite(d[i])) return fmt::format("solid '{}': displacement of node {}", b.name, i / 3);
@@ -192,10 +273,11 @@ class SolidRunner : public Simulation {
   }
 
   std::string unphysical() const override {
+    if (static_) return "";
     for (const auto& b : bodies_) {
       auto what = inverted_tets(*b.model, b.integrator->displacement(), b.name, b.index, watchdog_);
       // A driven region (fixed_regions[].velocity) does work on the body: its energy may rise.
-      if (what.empty() && !b.driven) what = b.energy.check(b.name, b.index, b.scheme, watchdog_);
+      if (what.empty() && !b.driven && !b.loaded) what = b.energy.check(b.name, b.index, b.scheme, watchdog_);
       if (!what.empty()) return what;
     }
     return "";
@@ -203,27 +285,37 @@ class SolidRunner : public Simulation {
 
   void write_frame(Output& out, int frame, double time) override {
     for (const auto& b : bodies_) {
-      const auto& d = b.integrator->displacement();
-      const auto& u = b.integrator->velocity();
-      try {
-        out.write_grid(b.name, frame, time, solid::solid_grid(*b.model, d, u));
-      } catch (const solid::SolidError& e) {
-        throw RunError(fmt::format("solid '{}': {}", b.name, e.what()));
+      if (!static_) {
+        write(out, b, frame, time, b.integrator->displacement(), b.integrator->velocity());
+        continue;
       }
-      mesh::SurfaceMesh now = b.surface;
-      std::vector<Eigen::Vector3d> vel(now.vertices.size());
-      for (std::size_t k = 0; k < now.vertices.size(); ++k) {
-        const int n = b.surface_nodes[k];
-        now.vertices[k] += d.segment<3>(3 * n);
-        vel[k] = u.segment<3>(3 * n);
-      }
-      out.write_surface(b.name, frame, now, vel);
+      write_load_steps(out, b.name, b.steps);  // every load step, "time" = load factor
+      const auto& st = b.steps;
+      for (std::size_t k = 0; k < st.states.size(); ++k)
+        write(out, b, static_cast<int>(k), st.load_factors[k], st.states[k], Eigen::VectorXd::Zero(st.states[k].size()));
     }
+  }
+
+  void write(Output& out, const Body& b, int frame, double time, const Eigen::VectorXd& d,
+             const Eigen::VectorXd& u) const {
+    try {
+      out.write_grid(b.name, frame, time, solid::solid_grid(*b.model, d, u));
+    } catch (const solid::SolidError& e) {
+      throw RunError(fmt::format("solid '{}': {}", b.name, e.what()));
+    }
+    mesh::SurfaceMesh now = b.surface;
+    std::vector<Eigen::Vector3d> vel(now.vertices.size());
+    for (std::size_t k = 0; k < now.vertices.size(); ++k) {
+      const int n = b.surface_nodes[k];
+      now.vertices[k] += d.segment<3>(3 * n);
+      vel[k] = u.segment<3>(3 * n);
+    }
+    out.write_surface(b.name, frame, now, vel);
   }
 
   std::vector<double> probe(const scene::Json& p) const override {
     const auto kind = p.at("kind").get<std::string>();
-    if (kind == "total_energy") {
+    if (kind == "total_energy" && !static_) {
       double e = 0;
       for (const auto& b : bodies_) e += b.integrator->energies().total();
       return {e};
@@ -236,11 +328,11 @@ class SolidRunner : public Simulation {
         int best = 0;
         for (int i = 1; i < b.model->num_nodes(); ++i)
           if ((X.segment<3>(3 * i) - x).squaredNorm() < (X.segment<3>(3 * best) - x).squaredNorm()) best = i;
-        const Eigen::Vector3d d = b.integrator->displacement().segment<3>(3 * best);
+        const Eigen::Vector3d d = displacement(b).segment<3>(3 * best);
         return {d.x(), d.y(), d.z()};
       }
       if (kind == "solid_volume") {
-        const Eigen::VectorXd J = b.model->volume_ratios(b.integrator->displacement());
+        const Eigen::VectorXd J = b.model->volume_ratios(displacement(b));
         double vol = 0;
         for (int t = 0; t < b.model->num_tets(); ++t) vol += J[t] * b.model->rest_volume(t);
         return {vol};
@@ -250,8 +342,15 @@ class SolidRunner : public Simulation {
   }
 
  private:
+  const Eigen::VectorXd& displacement(const Body& b) const {
+    if (!static_) return b.integrator->displacement();
+    return state_at(b.steps, selected_);
+  }
+
   std::vector<Body> bodies_;
   double h_ = 0;
+  bool static_ = false;
+  double selected_ = -1;  // static: the load factor probe() answers for (-1: the final state)
   WatchdogSettings watchdog_;
 };
 

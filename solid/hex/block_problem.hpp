@@ -8,31 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "solid/hex/boundary_conditions.hpp"
+#include "solid/analysis/static_solver.hpp"
 #include "solid/hex/hex_model.hpp"
-#include "solid/hex/static_solver.hpp"
+#include "solid/loads/region_conditions.hpp"
 
 namespace tetfsi::solid::hex {
 
-/// One boundary condition on the nodes (or boundary faces) inside the box [lo, hi] (+-1e-9 L).
-struct RegionCondition {
-  enum class Kind {
-    Fixed,            ///< all components held at 0; `components` restricts to some ("xyz", "z", ...)
-    Displacement,     ///< `value` [m] prescribed at lambda = 1 on `components`
-    NodalForce,       ///< `value` [N] on every node of the region
-    Traction,         ///< `value` [Pa], dead, on the boundary faces in the region
-    MomentRotation,   ///< rigid end rotation by `angle` [rad] about `axis` through `center`, free
-                      ///< translation (pure follower couple; RotatingFace)
-    MomentTraction,   ///< dead linear traction with couple `moment` [N m] about `axis`
-  } kind = Kind::Fixed;
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
-  std::string components = "xyz";
-  Eigen::Vector3d value = Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< MomentRotation: a point on the axis
-  double angle = 0.0;
-  double moment = 0.0;
-};
+/// Conditions by region (shared with tet solids: solid/loads/region_conditions.hpp).
+using RegionCondition = solid::RegionCondition;
+using solid::BoundaryConditions;
 
 struct BlockProblem {
   // Mesh: `mesh` if it has hexes (placed and checked by the caller, e.g. the scene's hex_mesh_of),
@@ -43,13 +27,13 @@ struct BlockProblem {
   int nx = 1, ny = 1, nz = 1;
   Material material;
   std::vector<RegionCondition> conditions;
-  StaticOptions options;
+  solid::StaticOptions options;
 };
 
 /// Builds the mesh and the model. @throws std::invalid_argument / std::runtime_error naming the cause
 std::unique_ptr<HexModel> make_model(const BlockProblem& problem);
-/// Builds the boundary conditions on the model's mesh.
+/// Builds the boundary conditions on the model's mesh (solid::make_conditions on its boundary quads).
 /// @throws std::invalid_argument if a region selects no node (naming the condition's index)
-BoundaryConditions make_conditions(const BlockProblem& problem, const mesh::HexMesh& mesh);
+BoundaryConditions make_conditions(const BlockProblem& problem, const HexModel& model);
 
 }  // namespace tetfsi::solid::hex

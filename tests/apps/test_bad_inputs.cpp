@@ -268,6 +268,14 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
          return s;
        },
        "/solids/0/self_contact"},
+      {"self_contact_in_a_static_analysis",
+       [] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "tet_fem"}, {"analysis", "static"}};
+         s["solids"][0]["self_contact"] = true;
+         return s;
+       },
+       "/solids/0/self_contact"},
       {"self_contact_not_a_bool", [] { auto s = solid_scene(); s["solids"][0]["self_contact"] = "yes"; return s; },
        "/solids/0/self_contact"},
       {"cylinder_zero_radius",
@@ -593,4 +601,100 @@ TEST(BadInputs, BadVolumeMeshFilesAndComponentsAreRefused) {
       {"hex8_driven", "prescribed velocity is for tet_fem solids"},
       {"coupled_volume_mesh", "cannot keep given tets"}};
   expect_refused_for(dir.path(), cases, causes);
+}
+
+// The load keys of /solids/i/boundary_conditions and the static analysis (issue 16).
+TEST(BadInputs, LoadKeysAndStaticAnalysisAreRefused) {
+  const json box = {{"lo", {-1, -1, -1}}, {"hi", {1, 1, 1}}};
+  expect_all_refused({
+      {"pressure_zero",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {{{"type", "pressure"}, {"box", box}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/pressure"},
+      {"pressure_not_a_number",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {{{"type", "pressure"}, {"box", box}, {"pressure", "high"}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/pressure"},
+      {"body_force_zero",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {{{"type", "body_force"}, {"box", box}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/value"},
+      {"load_type_unknown",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {{{"type", "gravity"}, {"box", box}, {"value", {0, -1, 0}}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/type"},
+      {"tet_dynamic_rotation",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {{{"type", "moment_rotation"}, {"box", box}, {"angle", 0.1}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/type"},
+      {"static_with_springs",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "tet_fem"}, {"analysis", "static"}};
+         s["solids"][0]["springs"] = {{{"point", {0, 0, 0}}, {"stiffness", 10}}};
+         return s;
+       },
+       "/solids/0/springs"},
+      {"static_driven_region",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "tet_fem"}, {"analysis", "static"}};
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-1, -1, -1}}, {"hi", {1, -0.1, 1}}, {"velocity", {0, 0.1, 0}}}};
+         return s;
+       },
+       "/solids/0/fixed_regions/0/velocity"},
+      {"kinematic_with_loads",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0, 0.1, 0}}};
+         s["solids"][0]["boundary_conditions"] = {{{"type", "nodal_force"}, {"box", box}, {"value", {0, -1, 0}}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions"},
+      {"coupled_with_loads",
+       [&] {
+         auto s = coupled_scene();
+         s["solids"][0]["boundary_conditions"] = {{{"type", "pressure"}, {"box", box}, {"pressure", 100}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions"},
+      {"coupled_static",
+       [&] {
+         auto s = coupled_scene();
+         s["solids"][0]["model"] = {{"type", "tet_fem"}, {"analysis", "static"}};
+         return s;
+       },
+       "/solids/0/model/analysis"},
+      {"load_box_misses_solid",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["boundary_conditions"] = {
+             {{"type", "nodal_force"}, {"box", {{"lo", {2, 2, 2}}, {"hi", {3, 3, 3}}}}, {"value", {0, -1, 0}}}};
+         return s;
+       },
+       "/solids/0/boundary_conditions/0/box"},
+      {"static_total_energy_probe",
+       [&] {
+         auto s = solid_scene();
+         s["solids"][0]["model"] = {{"type", "tet_fem"}, {"analysis", "static"}};
+         s["probes"] = {{{"name", "e"}, {"kind", "total_energy"}}};
+         return s;
+       },
+       "/probes/0/kind"},
+  });
 }

@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 
@@ -122,9 +123,17 @@ TEST(SolidRuns, HexCantileverRollsIntoAFullCircle) {
   ASSERT_EQ(status, 0) << log;
   const double L = 1.0, E = 1e7, h = 0.05, I = h * h * h * h / 12;
   const Csv probes = read_csv(dir.path() / "probes.csv");
-  // Tip (1, 0.025, 0.025) back at the root (0, 0.025, 0.025).
-  const double tx = 1.0 + probes.at(0, "tip_x"), ty = probes.at(0, "tip_y");
+  // One row per load step, time = load factor; the last: tip (1, 0.025, 0.025) back at the root.
+  ASSERT_EQ(probes.rows.size(), 17u);
+  EXPECT_EQ(probes.at(0, "tip_x"), 0.0);
+  EXPECT_NEAR(probes.at(16, "time"), 1.0, 1e-12);
+  const double tx = 1.0 + probes.at(16, "tip_x"), ty = probes.at(16, "tip_y");
   EXPECT_LT(std::hypot(tx, ty), 0.01 * L) << "tip at " << tx << ", " << ty;
+  for (std::size_t r = 1; r < 16; ++r) {  // the elastica's tip, L sin(theta)/theta - L, L (1 - cos theta)/theta
+    const double theta = probes.at(r, "time") * 2 * M_PI;
+    EXPECT_NEAR(probes.at(r, "tip_x"), L * std::sin(theta) / theta - L, 0.01 * L) << r;
+    EXPECT_NEAR(probes.at(r, "tip_y"), L * (1 - std::cos(theta)) / theta, 0.01 * L) << r;
+  }
   const Csv steps = read_csv(dir.path() / "beam_load_steps.csv");
   ASSERT_EQ(steps.rows.size(), 16u);
   const double M = steps.at(15, "reaction_moment"), M_ref = 2 * M_PI * E * I / L;
@@ -154,9 +163,13 @@ TEST(SolidRuns, HexBlockCompressionMatchesUniaxialNeoHookean) {
   for (int k = 0; k < 50; ++k)
     l2 -= (mu * (l2 * l2 - 1) + lambda * std::log(l1 * l2 * l2)) / (2 * mu * l2 + 2 * lambda / l2);
   const Csv probes = read_csv(dir.path() / "probes.csv");
-  EXPECT_NEAR(probes.at(0, "corner_y"), -0.3, 1e-12);
-  EXPECT_NEAR(probes.at(0, "corner_x"), l2 - 1, 1e-8);
-  EXPECT_NEAR(probes.at(0, "corner_z"), l2 - 1, 1e-8);
+  ASSERT_EQ(probes.rows.size(), 11u);  // load factor 0 and 10 steps
+  const std::size_t last = 10;
+  EXPECT_NEAR(probes.at(last, "time"), 1.0, 1e-12);
+  EXPECT_NEAR(probes.at(last, "corner_y"), -0.3, 1e-12);
+  EXPECT_NEAR(probes.at(last, "corner_x"), l2 - 1, 1e-8);
+  EXPECT_NEAR(probes.at(last, "corner_z"), l2 - 1, 1e-8);
+  EXPECT_NEAR(probes.at(5, "corner_y"), -0.15, 1e-12);  // the prescribed displacement grows with the load factor
   const Csv steps = read_csv(dir.path() / "cube_load_steps.csv");
   ASSERT_EQ(steps.rows.size(), 10u);
   for (std::size_t r = 0; r < steps.rows.size(); ++r) {
@@ -165,9 +178,39 @@ TEST(SolidRuns, HexBlockCompressionMatchesUniaxialNeoHookean) {
   }
 }
 
+// tet_cantilever_static.json: a static tet cantilever (meshes/beam.vtu, ~1,100 tets) under a dead
+// tip traction, P L^3 / (3 E I) = 10.0 mm. One probes.csv row per load step with the load factor as
+// its time; the tip deflection is proportional to it (small load: within 1 % of linear) and, the
+// constant-strain tets being stiff in bending like in cantilever.json, between 0.6 and 1.03 of
+// Euler-Bernoulli (the upper 3 % for shear deformation).
+TEST(SolidRuns, TetCantileverStaticTractionNearEulerBernoulli) {
+  TempDir dir("tet_static");
+  int status = -1;
+  const std::string log = run_scene(scene_file("tet_cantilever_static.json"), dir.path(), &status);
+  ASSERT_EQ(status, 0) << log;
+  const Csv probes = read_csv(dir.path() / "probes.csv");
+  ASSERT_EQ(probes.rows.size(), 5u);
+  const double w_eb = 0.010;
+  const double w = -probes.at(4, "tip_y");
+  std::printf("tet static cantilever: tip %.4e m = %.4f x Euler-Bernoulli\n", w, w / w_eb);
+  EXPECT_GE(w, 0.6 * w_eb);
+  EXPECT_LE(w, 1.03 * w_eb);
+  for (std::size_t r = 0; r < 5; ++r) {
+    EXPECT_NEAR(probes.at(r, "time"), 0.25 * r, 1e-12);
+    EXPECT_NEAR(-probes.at(r, "tip_y"), 0.25 * r * w, 0.01 * w) << r;
+  }
+  const Csv steps = read_csv(dir.path() / "beam_load_steps.csv");
+  ASSERT_EQ(steps.rows.size(), 4u);
+  for (std::size_t r = 0; r < 4; ++r) EXPECT_LE(steps.at(r, "final_residual_ratio"), 1e-9) << r;
+  const auto frames = lines(vtk_describe(dir.path() / "beam.pvd", &status));
+  ASSERT_EQ(status, 0);
+  EXPECT_EQ(frames.size(), 5u);
+}
+
 TEST(SolidRuns, ScenesValidateAndBadMaterialExitsTwo) {
   std::vector<fs::path> scenes;
-  for (const char* s : {"cantilever.json", "soft_drop.json", "cantilever_moment.json", "block_compression.json"})
+  for (const char* s : {"cantilever.json", "soft_drop.json", "cantilever_moment.json", "block_compression.json",
+                        "tet_cantilever_static.json"})
     scenes.push_back(scene_file(s));
   if (fs::exists(fs::path(TETFSI_SHARED_DIR) / "data/bunny.obj"))
     scenes.push_back(fs::path(TETFSI_SOURCE_DIR) / "docs/examples/bunny_drop.json");

@@ -9,8 +9,10 @@
 #include <cmath>
 
 #include "solid/hex/block_mesh.hpp"
-#include "solid/hex/static_solver.hpp"
+#include "solid/analysis/static_solver.hpp"
+#include "solid/hex/hex_model.hpp"
 
+using namespace tetfsi::solid;
 using namespace tetfsi::solid::hex;
 
 namespace {
@@ -103,7 +105,7 @@ TEST(HexCantilever, DeadMomentTractionSmallRotation) {
   const double M = c.EI() * theta / c.L;
   const auto faces = boundary_faces_in_box(c.mesh, {c.L, 0, 0}, {c.L, c.h, c.b});
   ASSERT_EQ(faces.size(), 2u);
-  add_end_moment_traction(c.bc, c.mesh, faces, Eigen::Vector3d::UnitZ(), M);
+  add_end_moment_traction(c.bc, c.mesh.vertices, faces, Eigen::Vector3d::UnitZ(), M);
   const HexModel model(c.mesh, c.material);
   StaticOptions opt;
   opt.load_steps = 2;

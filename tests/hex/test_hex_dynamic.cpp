@@ -7,9 +7,11 @@
 #include <cmath>
 
 #include "solid/hex/block_mesh.hpp"
-#include "solid/hex/static_solver.hpp"
+#include "solid/analysis/static_solver.hpp"
+#include "solid/hex/hex_model.hpp"
 #include "solid/integrator/newmark.hpp"
 
+using namespace tetfsi::solid;
 using namespace tetfsi::solid::hex;
 
 // Released from the static deflection under a small tip load (tip deflection 1e-3 L: linear

@@ -10,8 +10,10 @@
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/block_problem.hpp"
 #include "solid/hex/hex_output.hpp"
-#include "solid/hex/static_solver.hpp"
+#include "solid/analysis/static_solver.hpp"
+#include "solid/hex/hex_model.hpp"
 
+using namespace tetfsi::solid;
 using namespace tetfsi::solid::hex;
 
 namespace {
@@ -212,7 +214,7 @@ TEST(HexStatic, BlockProblemUnderDeadTraction) {
   p.conditions = {bottom, pin, pin2, top};
   p.options.load_steps = 4;
   const auto model = make_model(p);
-  const auto bc = make_conditions(p, model->mesh());
+  const auto bc = make_conditions(p, *model);
   const auto r = solve_static(*model, bc, p.options);
   std::vector<double> cauchy, pk2;
   model->element_stresses(r.displacement, cauchy, pk2);
@@ -223,5 +225,5 @@ TEST(HexStatic, BlockProblemUnderDeadTraction) {
   }
   RegionCondition nowhere{K::Fixed, {5, 5, 5}, {6, 6, 6}};
   p.conditions.push_back(nowhere);
-  EXPECT_THROW(make_conditions(p, model->mesh()), std::invalid_argument);
+  EXPECT_THROW(make_conditions(p, *model), std::invalid_argument);
 }

@@ -21,8 +21,10 @@
 #include "apps/bench/bench_support.hpp"
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/hex_output.hpp"
-#include "solid/hex/static_solver.hpp"
+#include "solid/analysis/static_solver.hpp"
+#include "solid/hex/hex_model.hpp"
 
+using namespace tetfsi::solid;
 using namespace tetfsi::solid::hex;
 namespace bench = tetfsi::bench;
 

@@ -91,6 +91,14 @@ Field material() {
   });
 }
 
+Field analysis() {
+  return Field::enumeration("analysis", {"dynamic", "static"},
+                            "`dynamic`: the implicit integrator in time; `static`: load stepping with "
+                            "Newton-Raphson (`static` block, solid-only scenes), one output frame and one "
+                            "probes.csv row per load step (time = load factor); gravity is not applied "
+                            "(give a `body_force`).").def("dynamic");
+}
+
 Field model() {
   return Field::object("model", "Discretisation of the solid.", {
       Field::enumeration("type", {"tet_fem", "hex8"},
@@ -98,15 +106,12 @@ Field model() {
                          "hexahedra, a structured block of a `box` geometry or the hexes of a `volume_mesh` "
                          "file, placed by `placement` (any rotation).").def("tet_fem"),
   }).tagged_by("type")
-    .variant("tet_fem", {})
+    .variant("tet_fem", {analysis()})
     .variant("hex8", {Field::integer("nx", "Cells along the box's x edge (box geometry; a volume_mesh "
                                            "brings its own cells).").at_least(1).def(8),
                       Field::integer("ny", "Cells along the box's y edge (box geometry).").at_least(1).def(2),
                       Field::integer("nz", "Cells along the box's z edge (box geometry).").at_least(1).def(2),
-                      Field::enumeration("analysis", {"dynamic", "static"},
-                                         "`dynamic`: the trapezoidal integrator in time; `static`: "
-                                         "load stepping with Newton-Raphson, one output frame per "
-                                         "load step (time = load factor).").def("dynamic")});
+                      analysis()});
 }
 
 Field integrator() {
@@ -123,7 +128,7 @@ Field integrator() {
 }
 
 Field static_solver() {
-  return Field::object("static", "Load stepping of a `hex8` solid with `analysis: static`.", {
+  return Field::object("static", "Load stepping of a solid with `analysis: static` (`tet_fem` or `hex8`).", {
       Field::integer("load_steps", "Equal load increments up to load factor 1.").at_least(1).def(10),
       Field::integer("max_iterations", "Newton iterations per load step before the step is halved.")
           .at_least(1).def(30),
@@ -140,21 +145,32 @@ Field static_solver() {
 Field boundary_condition() {
   return Field::object("", "", {
       Field::enumeration("type", {"fixed", "displacement", "nodal_force", "traction", "moment_rotation",
-                                  "moment_traction"},
+                                  "moment_traction", "body_force", "pressure"},
                          "`fixed`: `components` held at 0; `displacement`: `value` [m] on `components` "
                          "(reached at load factor 1); `nodal_force`: `value` [N] on every node; "
                          "`traction`: dead `value` [Pa] on the boundary faces in the box; "
                          "`moment_rotation`: the nodes turn rigidly by `angle` [rad] about `axis` "
                          "through `center`, free translation (a pure end couple); `moment_traction`: "
-                         "dead linear traction with couple `moment` [N m] about `axis`.").req(),
+                         "dead linear traction with couple `moment` [N m] about `axis`; `body_force`: "
+                         "dead `value` [N/m^3] per reference volume on the nodes in the box (nodal share "
+                         "m_a / density; a box around the whole body loads all of it); `pressure`: "
+                         "follower `pressure` [Pa] on the boundary faces in the box, along the deformed "
+                         "inward normal (positive pushes in).").req(),
       box("box", "Region (world coordinates [m]) selecting the nodes or boundary faces.").req(),
       Field::string("components", "Subset of \"xyz\" for `fixed` and `displacement`.").def("xyz"),
-      Field::vector("value", 3, "m | N | Pa", "Displacement [m], nodal force [N] or traction [Pa].")
+      Field::vector("value", 3, "m, N, Pa or N/m^3",
+                    "Displacement [m], nodal force [N], traction [Pa] or body force [N/m^3].")
           .def({0, 0, 0}),
       Field::vector("axis", 3, "", "Rotation / moment axis (normalised internally).").def({0, 0, 1}),
       Field::vector("center", 3, "m", "A point on the rotation axis.").def({0, 0, 0}),
       Field::number("angle", "rad", "`moment_rotation`: rotation at load factor 1.").def(0),
       Field::number("moment", "N m", "`moment_traction`: couple at load factor 1.").def(0),
+      Field::number("pressure", "Pa", "`pressure`: follower pressure at load factor 1 (nonzero).").def(0),
+  }).check([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+    if (o.at("type") == "pressure" && o.value("pressure", 0.0) == 0.0)
+      issues.push_back({pointer_append(ptr, "pressure"), "expected a nonzero follower pressure [Pa] for type \"pressure\""});
+    if (o.at("type") == "body_force" && o.value("value", Json::array({0, 0, 0})) == Json::array({0, 0, 0}))
+      issues.push_back({pointer_append(ptr, "value"), "expected a nonzero body force [N/m^3] for type \"body_force\""});
   });
 }
 
@@ -233,21 +249,31 @@ Field solids() {
       motion(),
       integrator(),
       static_solver(),
-      Field::array("boundary_conditions", "`hex8` only: conditions and loads by region (static and "
-                   "dynamic; in dynamic runs loads are applied at full value, rotations are not supported).",
+      Field::array("boundary_conditions", "Conditions and loads by region of a deforming solid (`tet_fem` or "
+                   "`hex8`, solid-only scenes; static and dynamic; in dynamic runs loads are applied at full value, "
+                   "constant in time, and `displacement` and `moment_rotation` are not supported).",
                    boundary_condition()).def(Json::array()),
   });
   solid.checks.push_back([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
     if (o.at("model").at("type") == "hex8" && o.at("geometry").at("type") != "box" &&
         o["geometry"]["type"] != "volume_mesh")
       issues.push_back({ptr + "/model/type", "expected \"tet_fem\": `hex8` needs a box or volume_mesh geometry"});
-    if (o.at("model").at("type") != "hex8" && !o.at("boundary_conditions").empty())
-      issues.push_back({ptr + "/boundary_conditions", "expected []: boundary conditions need model `hex8` "
-                                                      "(tet solids use `fixed_regions`)"});
+    const bool deforms = o.at("motion").at("type") == "none";
+    const bool is_static = o["model"].value("analysis", "dynamic") == "static";
+    if (!deforms && !o.at("boundary_conditions").empty())
+      issues.push_back({ptr + "/boundary_conditions", "expected []: boundary conditions need a deforming solid "
+                                                      "(motion \"none\")"});
+    if (!deforms && is_static)
+      issues.push_back({ptr + "/model/analysis", "expected \"dynamic\": a static analysis needs a deforming solid "
+                                                 "(motion \"none\")"});
     if (o.at("model").at("type") == "hex8" && !o.at("springs").empty())
       issues.push_back({ptr + "/springs", "expected []: springs need model `tet_fem`"});
-    // The dynamic hex runner holds whole nodes only and prescribes no motion (apps/run/hex_runner.cpp).
-    if (o.at("model").at("type") == "hex8" && o["model"].value("analysis", "dynamic") == "dynamic") {
+    if (is_static && !o.at("springs").empty())
+      issues.push_back({ptr + "/springs", "expected []: springs are not part of a static analysis (use a `fixed` "
+                                          "or `displacement` boundary condition)"});
+    // The dynamic runners prescribe no motion; the dynamic hex runner holds whole nodes only.
+    if (!is_static) {
+      const bool hex8 = o.at("model").at("type") == "hex8";
       const auto& bcs = o.at("boundary_conditions");
       for (std::size_t j = 0; j < bcs.size(); ++j) {
         const auto type = bcs[j].at("type").get<std::string>();
@@ -255,25 +281,28 @@ Field solids() {
           issues.push_back({fmt::format("{}/boundary_conditions/{}/type", ptr, j),
                             fmt::format("\"{}\" needs /model/analysis \"static\" (the dynamic runner prescribes no "
                                         "motion)", type)});
-        else if (type == "fixed" && bcs[j].at("components") != "xyz")
+        else if (hex8 && type == "fixed" && bcs[j].at("components") != "xyz")
           issues.push_back({fmt::format("{}/boundary_conditions/{}/components", ptr, j),
                             "fixing single components needs /model/analysis \"static\"; dynamic runs fix whole nodes "
                             "(\"xyz\")"});
       }
       const auto& fixed = o.at("fixed_regions");
-      for (std::size_t j = 0; j < fixed.size(); ++j)
+      for (std::size_t j = 0; j < fixed.size() && hex8; ++j)
         if (fixed[j].at("components").size() != 3)
           issues.push_back({fmt::format("{}/fixed_regions/{}/components", ptr, j),
                             "fixing single components of a hex8 solid needs /model/analysis \"static\"; dynamic "
                             "hex8 runs fix whole nodes ([\"x\", \"y\", \"z\"])"});
     }
-    if (o.at("model").at("type") == "hex8") {
+    // Driven regions (fixed_regions[].velocity) belong to dynamic tet_fem solids.
+    if (o.at("model").at("type") == "hex8" || is_static) {
       const auto& fixed = o.at("fixed_regions");
       for (std::size_t j = 0; j < fixed.size(); ++j)
         if (fixed[j].contains("velocity") && fixed[j]["velocity"] != Json::array({0, 0, 0}))
           issues.push_back({fmt::format("{}/fixed_regions/{}/velocity", ptr, j),
-                            "a prescribed velocity is for tet_fem solids; a hex8 solid takes a prescribed motion "
-                            "as a `displacement` boundary condition (static analysis)"});
+                            is_static ? "expected [0, 0, 0]: a static analysis has no time; prescribe a "
+                                        "`displacement` boundary condition"
+                                      : "a prescribed velocity is for tet_fem solids; a hex8 solid takes a prescribed "
+                                        "motion as a `displacement` boundary condition (static analysis)"});
     }
   });
   return Field::array("solids", "Deformable or kinematic solids.", std::move(solid)).def(Json::array());

@@ -1,8 +1,13 @@
 #pragma once
 /// @file static_solver.hpp
-/// Quasi-static equilibrium of a hex body by load stepping with Newton-Raphson (seed paper 002):
-///   K_T Delta u_f = R = lambda F_ext - F_int(u)  on the free dofs,
+/// Quasi-static equilibrium of a solid (any ElasticModel: tet or hex8) by load stepping with
+/// Newton-Raphson (seed paper 002):
+///   K_T Delta u_f = R = lambda (F_ext + F_p(u)) - F_int(u)  on the free dofs,
 /// after moving the prescribed dofs to the right-hand side (seed: K_ff u_f = -K_fs u_s).
+/// F_ext are the dead loads, F_p the follower pressure (solid/loads/follower_pressure.hpp), whose
+/// load stiffness -lambda dF_p/du enters K_T: the tangent is then the consistent, non-symmetric
+/// one and the solves use Eigen's SparseLU instead of Cholesky or CG, whatever `linear_solver`
+/// says (quadratic convergence is kept).
 ///
 /// Constraints are written as u = T q + g(lambda): q are the unknowns (free dofs plus the 3
 /// translations of each RotatingFace), g the prescribed part. T only selects/sums dofs, so
@@ -11,13 +16,14 @@
 ///   (T^T K_T T) Delta q = T^T (R(u) - K_T Delta g),   Delta g = g(lambda_1) - g(lambda_0),
 /// (= K_ff Delta u_f = -K_fs Delta u_s at equilibrium) and then iterates
 ///   (T^T K_T T) Delta q = T^T R(u),  u <- u + T Delta q
-/// until ||T^T R|| <= residual_tolerance * max(||lambda F_ext||, ||F_int||) and
+/// until ||T^T R|| <= residual_tolerance * max(||lambda F_ext||, ||F_int - lambda F_p||) and
 /// ||Delta q|| <= increment_tolerance * max(||u||, 1e-12 L) (L the mesh's bounding-box diagonal).
 /// A failed step (inverted element, non-finite values, no convergence within max_iterations,
 /// residual growing 1e6-fold, or a failed factorisation) is retried with half the load
 /// increment, up to max_step_cuts times in a row; then NonConvergence is thrown.
 /// The linear solves use CHOLMOD's supernodal Cholesky (through Eigen::CholmodSupernodalLLT),
 /// the pattern analysed once; if K_T is not positive definite there, Eigen::SimplicialLDLT.
+/// The tangent's sparsity pattern is the one the model returns at u = 0.
 /// Direct factorisation of a 3D block costs ~ dofs^2 flops (23 GFlop at 36k dofs), so large blocks
 /// can use Eigen's Jacobi-preconditioned CG instead (LinearSolverKind).
 #include <Eigen/Core>
@@ -26,14 +32,15 @@
 #include <string>
 #include <vector>
 
-#include "solid/hex/boundary_conditions.hpp"
-#include "solid/hex/hex_model.hpp"
+#include "solid/elastic_model.hpp"
+#include "solid/loads/boundary_conditions.hpp"
 
-namespace tetfsi::solid::hex {
+namespace tetfsi::solid {
 
 /// Linear solver for the Newton systems.
 enum class LinearSolverKind {
-  Cholmod,            ///< CHOLMOD supernodal Cholesky (SimplicialLDLT if K_T is indefinite): exact, default
+  Cholmod,            ///< CHOLMOD supernodal Cholesky (SimplicialLDLT if K_T is indefinite; SparseLU with
+                      ///< follower pressure): exact, default
   ConjugateGradient,  ///< Eigen CG with Jacobi preconditioner: for large 3D blocks
 };
 
@@ -86,13 +93,13 @@ class NonConvergence : public std::runtime_error {
 ///         out-of-range dofs, a force vector of the wrong size, no constraint against rigid motion
 ///         is not detected here but shows up as a failed factorisation -> NonConvergence)
 /// @throws NonConvergence with the load factor, the cause and the last residuals
-StaticResult solve_static(const HexModel& model, const BoundaryConditions& bc, const StaticOptions& options = {},
+StaticResult solve_static(const ElasticModel& model, const BoundaryConditions& bc, const StaticOptions& options = {},
                           double final_load_factor = 1.0, const StepCallback& on_step = {});
 
 /// Net force [N] and moment about its current centroid [N m] that the constraint of `face` applies
 /// to the body at displacement u: sum over its nodes of F_int and (x - x_c) x F_int (at
 /// equilibrium the constrained nodes carry no other load).
-void face_reaction(const HexModel& model, const RotatingFace& face, const Eigen::VectorXd& u,
+void face_reaction(const ElasticModel& model, const RotatingFace& face, const Eigen::VectorXd& u,
                    Eigen::Vector3d& force, Eigen::Vector3d& moment);
 
-}  // namespace tetfsi::solid::hex
+}  // namespace tetfsi::solid
