@@ -8,8 +8,8 @@
 //    tets kept their values in redistancing and the distance continued the surface across the
 //    wall (level_set.hpp), the distance to the cut-off zero set grew towards the rim and the layer
 //    lost 0.4-0.6% of its volume per step in redistancing and 0.01-0.1% in the transfer
-//    (measured at edge 0.05 m; fluid/README.md); at edge 0.075 m this run lost 58% and moved at
-//    0.25 sqrt(g D).
+//    (measured at edge 0.05 m; fluid/README.md); this run lost 56% of the layer and moved at
+//    0.20 sqrt(g D).
 #include <gtest/gtest.h>
 
 #include <cmath>
