@@ -56,6 +56,9 @@ void FluidSolver::set_liquid(Eigen::VectorXd level_set, LiquidOptions options) {
   if (!(options.band > 0.0)) throw std::invalid_argument("FluidSolver::set_liquid: the band must be positive");
   if (options.extension_layers < 0) throw std::invalid_argument("FluidSolver::set_liquid: extension_layers < 0");
   liquid_options_ = options;
+  snap_to_surface(mesh_, level_set);
+  // The sampled distance is made the distance to its zero set once; the steps then keep the cut
+  // tets' values, which hold the surface, and redistance the other nodes only.
   redistance(mesh_, level_set, options.band);
   level_set_ = std::move(level_set);
   liquid_ = liquid_geometry(mesh_, level_set_);
@@ -74,7 +77,8 @@ void FluidSolver::extend_liquid_velocity() {
 }
 
 void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
-  redistance(mesh_, phi, liquid_options_.band);
+  snap_to_surface(mesh_, phi);
+  redistance(mesh_, phi, liquid_options_.band, true);
   const double tracked = liquid_volume(mesh_, phi);
   rep.volume_drift = (tracked - target_volume_) / target_volume_;
   if (liquid_options_.restore_volume) restore_volume(mesh_, phi, target_volume_);

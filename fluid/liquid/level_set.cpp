@@ -37,6 +37,20 @@ Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+/// Squared distance from x to the half-strip that continues triangle (p, q, r) across its edge pq:
+/// the points of its plane beyond the line pq, between the normals to pq at p and at q.
+double strip_distance2(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                       const Eigen::Vector3d& r) {
+  const Eigen::Vector3d e = q - p, n = e.cross(r - p);
+  const double length = e.norm(), area2 = n.norm();
+  if (!(length > 0.0) || !(area2 > 0.0)) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d along = e / length, normal = n / area2, out = along.cross(normal);  // out: away from r
+  const Eigen::Vector3d d = x - p;
+  const double s = d.dot(along), w = d.dot(out), h = d.dot(normal);
+  const double ds = s < 0.0 ? s : (s > length ? s - length : 0.0), dw = std::min(w, 0.0);
+  return h * h + ds * ds + dw * dw;
+}
+
 std::uint64_t edge_key(int a, int b) {
   if (a > b) std::swap(a, b);
   return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
@@ -141,19 +155,35 @@ class TriangleGrid {
     std::vector<int> fill(start_.begin(), start_.end() - 1);
     for (int f = 0; f < s.num_triangles(); ++f)
       for_cells(range[f][0], range[f][1], [&](size_t c) { items_[fill[c]++] = f; });
+    mark_open_features();
   }
 
-  /// Distance from x to the nearest triangle, or `reach` if none is nearer.
+  /// Distance from x to the nearest triangle, or `reach` if none is nearer. A triangle with an
+  /// edge on the zero set's open boundary (where the surface meets a wall or a solid) counts as
+  /// continued across it in its plane (strip_distance2): the surface goes on across the wall, so
+  /// that a liquid resting against a wall that leans outward (a bowl) keeps a linear phi next to it
+  /// and the next transfer does not move its waterline (the distance to the cut-off surface grew
+  /// towards its rim and drained such a layer). The continued distance is taken no smaller than
+  /// half the distance to the triangle itself (a node that sees the surface edge-on across a thin
+  /// wall). Continuous in x, so round-off in phi does not switch a node between the two.
   double distance(const Eigen::Vector3d& x, double reach) const {
     double best2 = reach * reach;
     const Eigen::Vector3d r = Eigen::Vector3d::Constant(reach);
     if (((x + r).array() < lo_.array()).any() || ((x - r).array() > hi_.array()).any()) return reach;
     for_cells(cell_of(x - r), cell_of(x + r), [&](size_t c) {
       for (int i = start_[c]; i < start_[c + 1]; ++i) {
-        const auto& f = s_.triangles[items_[i]];
-        const double d2 =
-            (closest_on_triangle(x, s_.vertices[f[0]], s_.vertices[f[1]], s_.vertices[f[2]]) - x).squaredNorm();
+        const int t = items_[i];
+        const auto& f = s_.triangles[t];
+        const Eigen::Vector3d &a = s_.vertices[f[0]], &b = s_.vertices[f[1]], &c = s_.vertices[f[2]];
+        const double d2 = (closest_on_triangle(x, a, b, c) - x).squaredNorm();
         best2 = std::min(best2, d2);
+        for (int e = 0; e < 3; ++e)  // the triangle continued across its open edges
+          if (open_[t] >> e & 1) {
+            const Eigen::Vector3d& p = s_.vertices[f[e]];
+            const Eigen::Vector3d& q = s_.vertices[f[(e + 1) % 3]];
+            const Eigen::Vector3d& r = s_.vertices[f[(e + 2) % 3]];
+            best2 = std::min(best2, std::max(strip_distance2(x, p, q, r), 0.25 * d2));
+          }
       }
     });
     return std::sqrt(best2);
@@ -174,7 +204,20 @@ class TriangleGrid {
           f((static_cast<size_t>(k) * dims_[1] + j) * dims_[0] + i);
   }
 
+  /// Per triangle, bit e set if its edge e (vertices e, e + 1 mod 3) is on the zero set's boundary
+  /// (used by this triangle only): where the surface meets a wall or a solid.
+  void mark_open_features() {
+    std::unordered_map<std::uint64_t, int> uses;
+    for (const auto& f : s_.triangles)
+      for (int k = 0; k < 3; ++k) ++uses[edge_key(f[k], f[(k + 1) % 3])];
+    open_.assign(s_.num_triangles(), 0);
+    for (int t = 0; t < s_.num_triangles(); ++t)
+      for (int e = 0; e < 3; ++e)
+        if (uses[edge_key(s_.triangles[t][e], s_.triangles[t][(e + 1) % 3])] == 1) open_[t] |= 1 << e;
+  }
+
   const mesh::SurfaceMesh& s_;
+  std::vector<unsigned char> open_;
   double cell_;
   Eigen::Vector3d lo_, hi_;
   int dims_[3] = {1, 1, 1};
@@ -243,10 +286,24 @@ mesh::SurfaceMesh liquid_surface(const FluidMesh& mesh, const Eigen::VectorXd& p
   return std::move(b.surface);
 }
 
-void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band) {
+void snap_to_surface(const FluidMesh& mesh, Eigen::VectorXd& phi) {
+  const double snap = 1e-9 * mesh.mean_edge_length();
+  for (double& v : phi)
+    if (std::abs(v) < snap) v = 0.0;
+}
+
+void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool keep_cut_tets) {
   if (!(band > 0.0)) throw std::invalid_argument("redistance: the band must be positive");
   if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("redistance: phi does not match the mesh");
   const mesh::SurfaceMesh s = zero_set(mesh, phi);
+  std::vector<char> keep(keep_cut_tets ? phi.size() : 0, 0);
+  if (keep_cut_tets)
+    for (const auto& tet : mesh.tets) {
+      int nl = 0;
+      for (int k = 0; k < 4; ++k) nl += phi[tet[k]] < 0.0;
+      if (nl > 0 && nl < 4)
+        for (int k = 0; k < 4; ++k) keep[tet[k]] = 1;
+    }
   if (s.num_triangles() == 0) {
     for (Eigen::Index i = 0; i < phi.size(); ++i) phi[i] = phi[i] < 0.0 ? -band : band;
     return;
@@ -257,6 +314,10 @@ void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band) {
   // whose foot stayed where every value was clamped still reads +-band, and is at least a band
   // from the surface up to the step's motion, which the clamp does not see.
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
+    if (keep_cut_tets && keep[i]) {
+      out[i] = phi[i];
+      return;
+    }
     const double d = std::abs(phi[i]) >= band ? band : grid.distance(mesh.nodes[i], band);
     out[i] = phi[i] < 0.0 ? -d : d;
   });

@@ -4,8 +4,11 @@
 /// where phi >= 0, |phi| the distance to the surface within a band (Osher & Sethian 1988; for
 /// liquids, Foster & Fedkiw 2001). Each step the runner
 ///   1. advects phi semi-Lagrangian onto the new mesh (advect_nodal in semi_lagrangian.hpp),
-///   2. redistances it: every node gets the exact distance to the piecewise-linear zero set of the
-///      advected phi (its marching-tets triangles), with the sign kept, clamped to +-band;
+///   2. redistances it: the nodes of cut tets keep their values (they alone place the surface, so
+///      the liquid volume does not change), every other node gets the distance to the piecewise-
+///      linear zero set (its marching-tets triangles) continued in their planes across the walls
+///      it ends on, with the sign kept, clamped to +-band (the first time, at set_liquid, every
+///      node gets the distance);
 ///   3. restores the volume: phi += delta with the one constant delta for which the liquid volume
 ///      sum_t |Omega_t| equals the target (the initial volume plus what sources added). A level
 ///      set alone loses volume where the surface curves (Enright et al. 2002); the global shift
@@ -45,10 +48,21 @@ mesh::SurfaceMesh zero_set(const FluidMesh& mesh, const Eigen::VectorXd& phi,
 mesh::SurfaceMesh liquid_surface(const FluidMesh& mesh, const Eigen::VectorXd& phi, const TetVectors& velocity,
                                  std::vector<Eigen::Vector3d>* vertex_velocity = nullptr);
 
-/// Replaces phi by the signed distance to its zero set, clamped to [-band, band] (see file doc).
-/// Nodes of a phi without zero set keep their sign at distance band. @throws std::invalid_argument
-/// if band <= 0 or phi does not match the mesh
-void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band);
+/// Sets to 0 the values within 1e-9 mean edge lengths of 0. A node on the surface reads 0 or
+/// +-round-off depending on how phi was computed (a box region or the same box as a surface file;
+/// a value interpolated back at the same point); since cut tets keep their values (redistance),
+/// the round-off would otherwise decide for good which side such a node is on and leave slivers
+/// of liquid of zero thickness. Moves the surface by at most that distance.
+void snap_to_surface(const FluidMesh& mesh, Eigen::VectorXd& phi);
+
+/// Replaces phi by the signed distance to its zero set, clamped to [-band, band] (see file doc);
+/// where the zero set ends on the mesh boundary (a wall, a solid), a triangle there also counts as
+/// continued in its plane across that edge, taken no nearer than half its own distance. With
+/// keep_cut_tets the nodes of tets that phi cuts keep their values, so the liquid volume is kept
+/// exactly; without, a liquid against a wall that leans outward (in a bowl) lost 0.5% of its volume
+/// per step at 2 cells deep (fluid/README.md). Nodes of a phi without zero set keep their sign at
+/// distance band. @throws std::invalid_argument if band <= 0 or phi does not match the mesh
+void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool keep_cut_tets = false);
 
 /// Adds the constant delta to phi for which liquid_volume equals `target` within
 /// relative_tolerance (or the closest found in 60 secant-bisection steps); returns delta [m].

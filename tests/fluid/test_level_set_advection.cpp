@@ -47,7 +47,7 @@ Carried carry(const Sdf& shape, Advection advection) {
     const FluidMesh& to = meshes[(s + 1) % 2];
     const TetVectors velocity(from.num_tets(), u);
     phi = advection(from, velocity, phi, to, dt, nullptr, nullptr, nullptr);
-    redistance(to, phi, band);
+    redistance(to, phi, band, true);  // the steps keep the cut tets (FluidSolver::update_liquid)
   }
   return {liquid_volume(meshes[steps % 2], phi) / v0, phi.minCoeff()};
 }
