@@ -10,10 +10,12 @@
 #include "apps/run/container.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
+#include "apps/run/preflight_models.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/surface_checks.hpp"
 
@@ -31,13 +33,6 @@ struct Placed {
   double volume = 0, area = 0;  ///< [m^3], [m^2]
   double tets = -1;             ///< tets of a `volume_mesh` solid (read, not estimated); -1 otherwise
 };
-
-double surface_area(const mesh::SurfaceMesh& s) {
-  double a = 0;
-  for (const auto& t : s.triangles)
-    a += 0.5 * (s.vertices[t[1]] - s.vertices[t[0]]).cross(s.vertices[t[2]] - s.vertices[t[0]]).norm();
-  return a;
-}
 
 bool boxes_overlap(const Eigen::Vector3d& alo, const Eigen::Vector3d& ahi, const Eigen::Vector3d& blo,
                    const Eigen::Vector3d& bhi) {
@@ -268,89 +263,7 @@ class Checker {
 
   /// Scenes no runner simulates as written: refused rather than run in part.
   void check_runner() {
-    const auto& solids = js_.at("solids");
-    std::vector<std::string> kinematic, deformable, hex;
-    for (const auto& s : solids) {
-      const auto name = "'" + s.at("name").get<std::string>() + "'";
-      if (s.at("motion").at("type") != "none") kinematic.push_back(name);
-      else if (s.at("model").at("type") == "hex8") hex.push_back(name);
-      else deformable.push_back(name);
-    }
-    auto list = [](const std::vector<std::string>& v) {
-      std::string s;
-      for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-      return s;
-    };
-    // The hex8 runner runs one analysis for all hex8 solids (hex_runner.cpp): refused here so that
-    // validate gives run's verdict before any setup.
-    std::set<std::string> hex_analyses;
-    for (std::size_t i = 0; i < solids.size(); ++i) {
-      const auto& s = solids[i];
-      if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "hex8") continue;
-      hex_analyses.insert(s["model"].at("analysis").get<std::string>());
-    }
-    // A volume mesh is the solid's FEM mesh as given. The coupled runner meshes fluid and solids in
-    // one CGAL Mesh_3 complex, which remeshes every solid from its surface and cannot keep given
-    // tets (nor make the fluid conform to their boundary facets); the other runners take no
-    // deforming tet solid. So tet volume meshes run in the solid runner only (hex8 volume meshes in
-    // the hex runner, whose scenes have no fluid: check below).
-    for (std::size_t i = 0; i < solids.size(); ++i)
-      if (solids[i].at("geometry").at("type") == "volume_mesh" && runner_->name != "solid" &&
-          (solids[i]["model"]["type"] != "hex8" || solids[i]["motion"]["type"] != "none"))
-        add(fmt::format("/solids/{}/geometry/type", i),
-            fmt::format("solid '{}': a \"volume_mesh\" solid runs in the solid runner only (fluid type \"none\", "
-                        "every solid deforming, model \"tet_fem\"); this scene goes to the {} runner{}",
-                        solids[i].at("name").get<std::string>(), runner_->name,
-                        meshes_fluid() ? ", whose fluid mesh must conform to the solid's boundary: the complex mesher "
-                                         "(CGAL Mesh_3) remeshes solids from their surfaces and cannot keep given tets; "
-                                         "use geometry type \"mesh\" with the boundary surface instead"
-                                       : ""));
-    for (std::size_t i = 0; i < solids.size(); ++i)
-      if (solids[i].at("self_contact").get<bool>() &&
-          (solids[i].at("motion").at("type") != "none" || solids[i].at("model").at("type") != "tet_fem"))
-        add(fmt::format("/solids/{}/self_contact", i),
-            fmt::format("solid '{}': self-contact is for deforming \"tet_fem\" solids (motion \"none\")",
-                        solids[i].at("name").get<std::string>()));
-      else if (solids[i].at("self_contact").get<bool>() && is_static(solids[i]))
-        add(fmt::format("/solids/{}/self_contact", i),
-            fmt::format("solid '{}': self-contact acts in dynamic runs only (model.analysis \"dynamic\")",
-                        solids[i].at("name").get<std::string>()));
-    // Loads and static analysis of tet solids live in the solid runner only (solid_runner.cpp).
-    std::set<std::string> tet_analyses;
-    for (std::size_t i = 0; i < solids.size(); ++i) {
-      const auto& s = solids[i];
-      if (s.at("motion").at("type") != "none" || s.at("model").at("type") != "tet_fem") continue;
-      tet_analyses.insert(s["model"].value("analysis", "dynamic"));
-      if (runner_->name == "solid") continue;
-      if (!s.at("boundary_conditions").empty())
-        add(fmt::format("/solids/{}/boundary_conditions", i),
-            fmt::format("solid '{}': boundary conditions of a tet_fem solid need the solid runner (fluid type "
-                        "\"none\"); this scene goes to the {} runner", s.at("name").get<std::string>(), runner_->name));
-      if (is_static(s))
-        add(fmt::format("/solids/{}/model/analysis", i),
-            fmt::format("solid '{}': a static analysis needs the solid runner (fluid type \"none\"); this scene goes "
-                        "to the {} runner", s.at("name").get<std::string>(), runner_->name));
-    }
-    if (tet_analyses.size() > 1)
-      add("/solids", fmt::format("tet solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
-                                 "or dynamic)", list(deformable)));
-    if (hex_analyses.size() > 1)
-      add("/solids", fmt::format("hex8 solids ({}) of one scene must all use the same /solids/i/model/analysis (static "
-                                 "or dynamic)", list(hex)));
-    const std::string name = runner_->name;
-    if (!kinematic.empty() && (!deformable.empty() || !hex.empty()) && name != "mpm" && name != "coupled")
-      add("/solids", fmt::format("kinematic solids ({}) together with deforming solids ({}) are not supported yet: no "
-                                 "runner moves the one and deforms the other in one scene; give every solid a /motion "
-                                 "(kinematic) or none of them",
-                                 list(kinematic), list(deformable.empty() ? hex : deformable)));
-    else if (!hex.empty() && !deformable.empty())
-      add("/solids", fmt::format("hex8 solids ({}) together with tet solids ({}) are not supported yet: use one model "
-                                 "for every solid (/solids/i/model/type)", list(hex), list(deformable)));
-    else if (!hex.empty() && meshes_fluid())
-      add("/solids", fmt::format("hex8 solids ({}) do not couple to a fluid yet: use model \"tet_fem\" or fluid type "
-                                 "\"none\"", list(hex)));
-    else if (name == "mesh_only" && !solids.empty())
-      add("/solids", "no runner simulates this combination of fluid and solids yet");
+    for (auto& issue : model_mix_issues(js_, runner_->name, meshes_fluid())) issues_.push_back(std::move(issue));
   }
 
   /// A boundary-condition box that misses the solid's bounding box selects no node: the run would

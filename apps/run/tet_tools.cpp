@@ -44,6 +44,13 @@ mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_
   return s;
 }
 
+double surface_area(const mesh::SurfaceMesh& s) {
+  double a = 0;
+  for (const auto& t : s.triangles)
+    a += 0.5 * (s.vertices[t[1]] - s.vertices[t[0]]).cross(s.vertices[t[2]] - s.vertices[t[0]]).norm();
+  return a;
+}
+
 double mean_edge_length(const mesh::SurfaceMesh& surface) {
   double sum = 0;
   for (const auto& t : surface.triangles)

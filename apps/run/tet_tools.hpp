@@ -1,7 +1,7 @@
 #pragma once
 /// @file tet_tools.hpp
-/// Tet-mesh helpers the runners need for export: extraction of one subdomain and the boundary
-/// surface of a tet set. (Quality figures come from mesh/quality.hpp.)
+/// Tet-mesh helpers the runners need: extraction of one subdomain, the boundary surface of a tet
+/// set, and measures of a surface. (Quality figures come from mesh/quality.hpp.)
 #include "mesh/surface_mesh.hpp"
 #include "mesh/tet_mesh.hpp"
 
@@ -14,6 +14,9 @@ mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain);
 /// Faces of `m` that belong to one tet only, oriented outward, with vertices renumbered
 /// compactly; `to_tet_vertex` (optional) receives, per surface vertex, its vertex in `m`.
 mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_tet_vertex = nullptr);
+
+/// Total area of the triangles [m^2].
+double surface_area(const mesh::SurfaceMesh& surface);
 
 /// Mean length of the triangles' edges [m] (each edge counted once per triangle); 0 if none.
 double mean_edge_length(const mesh::SurfaceMesh& surface);

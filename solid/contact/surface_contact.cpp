@@ -193,7 +193,7 @@ bool SurfaceContact::warm_start(const SparseMatrix& A) {
   for (int v : touching_)
     if (v < static_cast<int>(touched.size())) touched[v] = 1;
   for (const Pair& p : candidates_)
-    if (touched[p.node] && p.gap <= 1e-6 * h_) activate(p, A);  // still touching (within 1 mm/s x h)
+    if (touched[p.node] && p.gap <= 1e-6 * h_) activate(p, A);  // still touching (1 µm/s over the step)
   return !active_.empty();
 }
 

@@ -89,7 +89,6 @@ class SurfaceContact {
   /// Constraint forces of the final solution u_next, then Coulomb friction applied to u_next.
   void finish(Eigen::VectorXd& u_next);
   int num_active() const { return static_cast<int>(active_.size()); }
-  int num_candidates() const { return static_cast<int>(candidates_.size()); }
   /// Nodes in contact at the end of the last step (system node ids), for a retried step.
   const std::vector<int>& touching_nodes() const { return touching_; }
   void set_touching_nodes(std::vector<int> nodes) { touching_ = std::move(nodes); }

@@ -1,0 +1,19 @@
+#pragma once
+/// @file preflight_models.hpp
+/// Preflight's checks of the solids and models one scene combines (preflight.cpp).
+#include <string>
+#include <vector>
+
+#include "apps/scene/schema.hpp"
+
+namespace tetfsi::run {
+
+/// Combinations the chosen runner cannot simulate as written (kinematic beside deforming solids
+/// outside the coupled and mpm runners, hex8 beside tet or with a fluid, volume meshes outside
+/// their runner, mixed static and dynamic analyses, loads or static analysis outside the solid
+/// runner, self-contact on a solid that cannot fold), each with its JSON pointer.
+/// @param runner        the name of the runner the scene goes to (choose_runner)
+/// @param meshes_fluid  the scene has a fluid on a tet mesh
+std::vector<scene::Issue> model_mix_issues(const scene::Json& js, const std::string& runner, bool meshes_fluid);
+
+}  // namespace tetfsi::run
