@@ -17,7 +17,8 @@
 ///
 /// stats.csv columns (sums over the solids): kinetic 1/2 u^T M u [J], strain [J], gravity
 /// potential -sum m g.x [J], total [J], solver iterations, inverted elements, contact nodes, and
-/// the potential of the dead loads V_f = -f.d [J] (the watched energy includes it). Static runs:
+/// the potential of the dead loads V_f = -f.d [J] (the watched energy includes it), and the steps
+/// taken (a step that inverts a tet is retried in halves, /simulation/max_step_halvings). Static runs:
 /// load steps, Newton iterations, most iterations in a step, step cuts.
 #include <fmt/format.h>
 
@@ -205,6 +206,7 @@ class SolidRunner : public Simulation {
     }
     log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), h_);
     watchdog_ = watchdog_settings(sim);
+    max_step_halvings_ = sim.at("max_step_halvings").get<int>();
   }
 
   bool time_dependent() const override { return !static_; }
@@ -212,7 +214,7 @@ class SolidRunner : public Simulation {
   std::vector<std::string> columns() const override {
     if (static_) return {"load_steps", "newton_iterations", "max_iterations_per_step", "step_cuts"};
     return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts",
-            "load_potential"};
+            "load_potential", "substeps"};
   }
   double max_dt() const override { return h_; }
   std::vector<double> load_factors() const override {
@@ -237,23 +239,24 @@ class SolidRunner : public Simulation {
     StepReport r;
     r.dt = h;
     double assemble = 0, solve = 0;
-    std::vector<double> v(8, 0.0);
+    std::vector<double> v(9, 0.0);
     for (auto& b : bodies_) {
-      solid::StepStats st;
+      Substeps taken;
       try {
-        st = b.integrator->step(h);  // the driver may shorten a step to land on a frame
+        step_or_halve(b, h, max_step_halvings_, taken);  // the driver may shorten a step to land on a frame
       } catch (const solid::SolidError& e) {
         const bool stvk = b.model->material().law == solid::ConstitutiveLaw::kStVK;
         throw RunError(fmt::format("solid '{}': {}{}", b.name, e.what(),
                                    stvk ? " (in the scene: material.constitutive \"neohookean\")" : ""));
       }
+      const solid::StepStats& st = b.integrator->last_stats();
       const double loads = load_potential(b);
       b.energy.record(st.total() + loads, mechanical(st));
-      assemble += st.assembly_seconds;
-      solve += st.solve_seconds;
-      const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(),
-                             double(st.solver_iterations), double(st.inverted), double(st.contacts), loads};
-      for (int k = 0; k < 8; ++k) v[k] += vals[k];
+      assemble += taken.assembly_seconds;
+      solve += taken.solve_seconds;
+      const double vals[] = {st.kinetic, st.strain, st.gravity_potential, st.total(), double(taken.solver_iterations),
+                             double(st.inverted), double(st.contacts), loads, double(taken.count)};
+      for (int k = 0; k < 9; ++k) v[k] += vals[k];
     }
     r.phase_seconds = {assemble, solve};
     r.values = v;
@@ -342,6 +345,39 @@ class SolidRunner : public Simulation {
   }
 
  private:
+  /// What the steps of one body's step(h) cost, over its substeps.
+  struct Substeps {
+    int count = 0;
+    int solver_iterations = 0;
+    double assembly_seconds = 0, solve_seconds = 0;
+  };
+
+  /// One step of length h of body b; a step that leaves a tet inverted (volume ratio J <= 0: a
+  /// contact impulse on a few nodes, or a fast rotation, that the stiffness linearised at d^n of
+  /// eq. 18 cannot follow) or fails (a system matrix that is not positive definite) is undone and
+  /// taken as two steps of h/2, each halved again, at most `halvings` times. The last substep's inverted tets are left to the watchdog (unphysical()).
+  void step_or_halve(Body& b, double h, int halvings, Substeps& taken) const {
+    auto& integ = *b.integrator;
+    const solid::NewmarkIntegrator::State before = integ.save_state();
+    bool kept = false;
+    try {
+      const solid::StepStats& st = integ.step(h);
+      taken.solver_iterations += st.solver_iterations;
+      taken.assembly_seconds += st.assembly_seconds;
+      taken.solve_seconds += st.solve_seconds;
+      kept = halvings == 0 || b.model->volume_ratios(integ.displacement()).minCoeff() > 0;
+    } catch (const solid::SolidError&) {  // e.g. A not positive definite at a crushed state
+      if (halvings == 0) throw;
+    }
+    if (kept) {
+      taken.count += 1;  // kept (the cost of an undone step is in the times)
+      return;
+    }
+    integ.restore_state(before);
+    step_or_halve(b, 0.5 * h, halvings - 1, taken);
+    step_or_halve(b, 0.5 * h, halvings - 1, taken);
+  }
+
   const Eigen::VectorXd& displacement(const Body& b) const {
     if (!static_) return b.integrator->displacement();
     return state_at(b.steps, selected_);
@@ -352,6 +388,7 @@ class SolidRunner : public Simulation {
   bool static_ = false;
   double selected_ = -1;  // static: the load factor probe() answers for (-1: the final state)
   WatchdogSettings watchdog_;
+  int max_step_halvings_ = 0;  ///< /simulation/max_step_halvings
 };
 
 }  // namespace

@@ -22,8 +22,9 @@ Field simulation() {
                      "Coupled fluid-solid scenes: a step whose solid motion would invert or flatten fluid tets "
                      "(a solid moving fast, or closing in on a wall or another solid) is undone and taken as two "
                      "half steps, each halved again if needed, at most this many times (down to dt / 2^N); "
-                     "after that the run stops (exit 1). 0: stop at once. stats.csv's `substeps` counts the "
-                     "steps taken.")
+                     "after that the run stops (exit 1). Solid-only tet scenes: the same for a step that "
+                     "inverts a solid tet or whose solve fails (a hard landing). 0: stop at once. stats.csv's "
+                     "`substeps` counts the steps taken.")
           .at_least(0).at_most(20).def(6),
       Field::object("watchdog", "Stops a run that goes unphysical (exit 1, with the object, the step and the key "
                     "to change); non-finite values always stop it.", {
