@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "apps/run/scene_values.hpp"
+#include "apps/run/solid_geometry.hpp"
 #include "mesh/primitives.hpp"
 
 namespace tetfsi::run {
@@ -13,6 +14,10 @@ mesh::SurfaceMesh container_surface(const scene::Json& domain) {
   const auto& c = domain["container"];
   const auto type = c.at("type").get<std::string>();
   if (type == "box") return {};
+  if (type == "mesh") {
+    std::vector<std::string> warnings;  // reported by the preflight, which reads the same file
+    return placed_surface_file(c, "container", warnings);
+  }
   const Eigen::Vector3d center = vec3(c.at("center"));
   mesh::SurfaceMesh s;
   if (type == "sphere") {
@@ -56,6 +61,7 @@ ContainerWalls container_walls(const scene::Json& domain, double gap) {
     }
     return walls;
   }
+  if (type == "mesh") return walls;  // no smooth inscribed shape: no wall contact (docs/scene_format.md)
   const auto& c = domain["container"];
   const Eigen::Vector3d center = vec3(c.at("center"));
   if (type == "sphere") {

@@ -12,8 +12,10 @@
 namespace tetfsi::run {
 
 /// The closed, outward surface of /domain/container placed in the scene: an icosphere
-/// (mesh::make_sphere) or a prism over a regular polygon (mesh::make_cylinder, its axis turned to
-/// x, y or z by a cyclic permutation of the coordinates). Empty when the container is the box.
+/// (mesh::make_sphere), a prism over a regular polygon (mesh::make_cylinder, its axis turned to
+/// x, y or z by a cyclic permutation of the coordinates) or the placed surface file (`mesh`).
+/// Empty when the container is the box. @throws InputError for a `mesh` file that is unreadable,
+/// open, non-manifold or self-intersecting
 mesh::SurfaceMesh container_surface(const scene::Json& domain);
 
 /// mesh::build_complex of the scene's container (the box [/domain/lo, /domain/hi] or the
@@ -26,7 +28,7 @@ mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::
 /// back into the fluid by `gap` [m]: the box's six faces; for a sphere container the inside of the
 /// sphere inscribed in its icosphere (radius: the nearest face plane's distance from the centre);
 /// for a cylinder the inside of the cylinder inscribed in its prism (R cos(π/segments)) and its
-/// two end planes. The inscribed smooth shapes keep every solid node inside the polyhedron the
+/// two end planes; none for a `mesh` container. The inscribed smooth shapes keep every solid node inside the polyhedron the
 /// fluid is meshed in, and give one normal per node (a node against a planes-per-face wall can
 /// hop between faces from one contact round to the next).
 struct ContainerWalls {

@@ -40,6 +40,25 @@ fluid::FluidParams fluid_params(const scene::Json& js, spdlog::logger& log) {
   return params;
 }
 
+std::function<Eigen::Vector3d(const Eigen::Vector3d&)> pipe_profile(const fluid::Region& region,
+                                                                    const Eigen::Vector3d& peak) {
+  const Eigen::Vector3d axis = peak.normalized();
+  const Eigen::Vector3d centre = 0.5 * (region.lo + region.hi);
+  // R: half the smaller extent of the region across the axis (the axis' dominant coordinate is
+  // the one the patch is thin in).
+  int along = 0;
+  axis.cwiseAbs().maxCoeff(&along);
+  double across = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)
+    if (k != along) across = std::min(across, region.hi[k] - region.lo[k]);
+  const double R2 = 0.25 * across * across;
+  return [axis, centre, R2, peak](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+    const Eigen::Vector3d d = x - centre;
+    const double r2 = (d - d.dot(axis) * axis).squaredNorm();
+    return std::max(0.0, 1.0 - r2 / R2) * peak;
+  };
+}
+
 std::vector<fluid::BoundaryPatch> boundary_patches(const scene::Json& js, double ambient) {
   std::vector<fluid::BoundaryPatch> patches;
   const Eigen::Vector3d lo = vec3(js.at("domain").at("lo")), hi = vec3(js.at("domain").at("hi"));
@@ -48,9 +67,16 @@ std::vector<fluid::BoundaryPatch> boundary_patches(const scene::Json& js, double
     p.region = {vec3(in.at("lo")), vec3(in.at("hi"))};
     p.kind = fluid::FaceKind::kInflow;
     p.velocity = vec3(in.at("velocity"));
+    if (in.at("profile") == "parabolic") p.velocity_field = pipe_profile(p.region, p.velocity);
     p.smoke = in.at("smoke_density").get<double>();
     const double T = in.at("temperature").get<double>();
     p.temperature = T > 0 ? T : ambient;
+    patches.push_back(p);
+  }
+  for (const auto& open : js["domain"].at("open_patches")) {
+    fluid::BoundaryPatch p;
+    p.kind = fluid::FaceKind::kOpen;
+    p.region = {vec3(open.at("lo")), vec3(open.at("hi"))};
     patches.push_back(p);
   }
   const double eps = 1e-6 * (hi - lo).norm();

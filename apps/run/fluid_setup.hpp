@@ -19,8 +19,15 @@ namespace tetfsi::run {
 /// advection scheme, pressure solver). Logs that /fluid/viscosity is unused (inviscid model).
 fluid::FluidParams fluid_params(const scene::Json& scene, spdlog::logger& log);
 
-/// Inflow patches (/domain/inflows) and open faces (/domain/open_faces) of the domain box; the
-/// other faces are walls. An inflow without a temperature gets `ambient_temperature` [K].
+/// The pipe (Poiseuille) inflow profile of /domain/inflows/i/profile "parabolic":
+/// u(x) = u_peak (1 − r²/R²) for r < R, else 0, with r the distance of x from the line through the
+/// centre of `region` along u_peak and R half the smaller extent of `region` across it.
+std::function<Eigen::Vector3d(const Eigen::Vector3d&)> pipe_profile(const fluid::Region& region,
+                                                                    const Eigen::Vector3d& peak);
+
+/// Inflow patches (/domain/inflows, uniform or parabolic), open patches (/domain/open_patches)
+/// and open faces (/domain/open_faces) of the container, first match first; the other faces are
+/// walls. An inflow without a temperature gets `ambient_temperature` [K].
 std::vector<fluid::BoundaryPatch> boundary_patches(const scene::Json& scene, double ambient_temperature);
 
 /// An emitter (/emitters/i): a source volume active for start <= t < end [s].

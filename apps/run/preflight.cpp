@@ -114,11 +114,14 @@ class Checker {
     if (js_.contains("domain")) {
       check_point("/domain/lo", js_["domain"]["lo"]);
       check_point("/domain/hi", js_["domain"]["hi"]);
-      for (std::size_t i = 0; i < js_["domain"]["inflows"].size(); ++i)
-        for (const char* k : {"lo", "hi"})
-          check_point(fmt::format("/domain/inflows/{}/{}", i, k), js_["domain"]["inflows"][i][k]);
+      for (const char* patches : {"inflows", "open_patches"})
+        for (std::size_t i = 0; i < js_["domain"][patches].size(); ++i)
+          for (const char* k : {"lo", "hi"})
+            check_point(fmt::format("/domain/{}/{}/{}", patches, i, k), js_["domain"][patches][i][k]);
       if (js_["domain"].contains("container") && js_["domain"]["container"].contains("center"))
         check_point("/domain/container/center", js_["domain"]["container"]["center"]);
+      if (js_["domain"].contains("container") && js_["domain"]["container"].contains("translation"))
+        check_point("/domain/container/translation", js_["domain"]["container"]["translation"]);
     }
     for (std::size_t i = 0; i < js_.at("solids").size(); ++i) {
       const auto& s = js_["solids"][i];
@@ -209,8 +212,10 @@ class Checker {
 
   std::string solid_name(std::size_t i) const { return js_["solids"][i]["name"].get<std::string>(); }
 
-  /// A sphere or cylinder container: at least one edge length across, and every solid strictly
-  /// inside it (the exact test mesh::build_complex makes, so `validate` refuses what meshing would).
+  /// A sphere, cylinder or mesh container: a readable closed surface (mesh), inside the domain box
+  /// (mesh; the primitives are checked by the schema), at least one edge length across, and every
+  /// solid strictly inside it (the exact test mesh::build_complex makes, so `validate` refuses what
+  /// meshing would).
   void check_container() {
     if (!meshes_fluid() || !js_.contains("domain") || !js_["domain"].contains("container")) return;
     const auto& c = js_["domain"]["container"];
@@ -221,7 +226,14 @@ class Checker {
         add(fmt::format("/domain/container/{}", k),
             fmt::format("the container's {} ({:.4g} m) is below mesh.edge_length ({:.4g} m): the mesh could not "
                         "resolve it; refine the mesh or enlarge the container", k, c[k].get<double>(), edge));
-    const mesh::SurfaceMesh container = container_surface(js_["domain"]);
+    mesh::SurfaceMesh container;
+    try {
+      container = container_surface(js_["domain"]);
+    } catch (const InputError& e) {
+      add("/domain/container/file", e.what());
+      return;
+    }
+    if (c.at("type") == "mesh" && !check_mesh_container(container, edge)) return;
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       if (!placed_[i].ok) continue;
       if (!mesh::surface_inside(placed_[i].surface, container))
@@ -229,6 +241,32 @@ class Checker {
             fmt::format("solid '{}' is not strictly inside the {} container /domain/container (the surfaces meet or "
                         "the solid lies outside)", solid_name(i), c.at("type").get<std::string>()));
     }
+  }
+
+  /// The placed file of a `mesh` container inside the domain box and at least an edge length
+  /// across in every direction; false (reported) if not.
+  bool check_mesh_container(const mesh::SurfaceMesh& container, double edge) {
+    Eigen::Vector3d lo = container.vertices.front(), hi = lo;
+    for (const auto& v : container.vertices) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const Eigen::Vector3d dlo = vec3(js_["domain"]["lo"]), dhi = vec3(js_["domain"]["hi"]);
+    if ((lo.array() < dlo.array()).any() || (hi.array() > dhi.array()).any()) {
+      add("/domain/container",
+          fmt::format("the container's surface (bounding box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m) "
+                      "reaches outside the domain box; enlarge /domain or move the container "
+                      "(/domain/container/translation)", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()));
+      return false;
+    }
+    if ((hi - lo).minCoeff() < edge) {
+      add("/domain/container",
+          fmt::format("the container's surface is {:.4g} m across at its thinnest, below mesh.edge_length ({:.4g} m): "
+                      "the mesh could not resolve it; refine the mesh or scale the container "
+                      "(/domain/container/unit_scale)", (hi - lo).minCoeff(), edge));
+      return false;
+    }
+    return true;
   }
 
   void check_placements() {

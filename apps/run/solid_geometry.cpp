@@ -74,19 +74,24 @@ mesh::SurfaceMesh surface_of(const scene::Json& solid, std::vector<std::string>&
   }
 }
 
-mesh::SurfaceMesh liquid_region_surface(const scene::Json& region, std::vector<std::string>& warnings) {
-  const auto file = region.at("file").get<std::string>();
+mesh::SurfaceMesh placed_surface_file(const scene::Json& placed, const std::string& what,
+                                      std::vector<std::string>& warnings) {
+  const auto file = placed.at("file").get<std::string>();
   try {
     mesh::Placement placement;
-    placement.unit_scale = region.at("unit_scale").get<double>();
-    placement.rotation_deg = vec3(region.at("rotation_deg"));
-    placement.translation = vec3(region.at("translation"));
+    placement.unit_scale = placed.at("unit_scale").get<double>();
+    placement.rotation_deg = vec3(placed.at("rotation_deg"));
+    placement.translation = vec3(placed.at("translation"));
     auto s = mesh::import_surface(file, placement);
-    for (auto& w : mesh::validate_surface(s, "liquid region (" + file + ")")) warnings.push_back(std::move(w));
+    for (auto& w : mesh::validate_surface(s, what + " (" + file + ")")) warnings.push_back(std::move(w));
     return s;
   } catch (const mesh::MeshError& e) {
     throw InputError(e.what());
   }
+}
+
+mesh::SurfaceMesh liquid_region_surface(const scene::Json& region, std::vector<std::string>& warnings) {
+  return placed_surface_file(region, "liquid region", warnings);
 }
 
 mesh::SurfaceMesh import_checked(const std::string& file, double unit_scale, std::vector<std::string>& warnings) {

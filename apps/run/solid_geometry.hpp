@@ -38,6 +38,13 @@ mesh::TetMesh volume_mesh_of(const scene::Json& solid, std::vector<std::string>&
 /// @throws InputError naming the solid
 mesh::SurfaceMesh cavity_of(const scene::Json& solid);
 
+/// The closed surface file of `placed` (its keys file, unit_scale, rotation_deg, translation: a
+/// `mesh` liquid region or container), scaled, rotated, translated and checked; `what` names it in
+/// messages. @throws InputError naming the file if it is unreadable, open, non-manifold or
+/// self-intersecting
+mesh::SurfaceMesh placed_surface_file(const scene::Json& placed, const std::string& what,
+                                      std::vector<std::string>& warnings);
+
 /// The placed, checked surface of a `mesh` liquid region (/fluid/regions/i with type "mesh"):
 /// the file scaled by unit_scale, rotated by rotation_deg, translated by translation.
 /// @throws InputError naming the file if it is unreadable, open, non-manifold or self-intersecting

@@ -355,7 +355,8 @@ class SolidRunner : public Simulation {
   /// One step of length h of body b; a step that leaves a tet inverted (volume ratio J <= 0: a
   /// contact impulse on a few nodes, or a fast rotation, that the stiffness linearised at d^n of
   /// eq. 18 cannot follow) or fails (a system matrix that is not positive definite) is undone and
-  /// taken as two steps of h/2, each halved again, at most `halvings` times. The last substep's inverted tets are left to the watchdog (unphysical()).
+  /// taken as two steps of h/2, each halved again, at most `halvings` times. The last substep's
+  /// inverted tets, and a state that overflowed, are left to the watchdog (unphysical()).
   void step_or_halve(Body& b, double h, int halvings, Substeps& taken) const {
     auto& integ = *b.integrator;
     const solid::NewmarkIntegrator::State before = integ.save_state();
@@ -365,7 +366,10 @@ class SolidRunner : public Simulation {
       taken.solver_iterations += st.solver_iterations;
       taken.assembly_seconds += st.assembly_seconds;
       taken.solve_seconds += st.solve_seconds;
-      kept = halvings == 0 || b.model->volume_ratios(integ.displacement()).minCoeff() > 0;
+      // An overflowed state (loads far beyond the material: a volume ratio that is not finite) is
+      // not a step too long; it is kept for the watchdog to name the load (inverted_tets).
+      const Eigen::VectorXd J = b.model->volume_ratios(integ.displacement());
+      kept = halvings == 0 || !J.allFinite() || J.minCoeff() > 0;
     } catch (const solid::SolidError&) {  // e.g. A not positive definite at a crushed state
       if (halvings == 0) throw;
     }

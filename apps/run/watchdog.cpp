@@ -78,6 +78,8 @@ std::string coupled_energy_source(const scene::Json& js) {
     if (d.contains("inflows") && !d["inflows"].empty()) return "/domain/inflows push fluid in";
     if (d.contains("open_faces") && !d["open_faces"].empty())
       return "/domain/open_faces let fluid in and out (gravity can drain the tank)";
+    if (d.contains("open_patches") && !d["open_patches"].empty())
+      return "/domain/open_patches let fluid in and out (gravity can drain the tank)";
   }
   if (js.contains("emitters") && !js["emitters"].empty()) return "/emitters add fluid, smoke or heat (buoyancy)";
   const auto& f = js.at("fluid");

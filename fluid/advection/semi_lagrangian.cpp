@@ -149,7 +149,26 @@ int exit_face(const FluidMesh& m, const std::vector<int>& face_of, const Locatio
   return best;
 }
 
-/// Drops the tangential velocity of the samples whose trace left through an open face (ExitRule::kOpen).
+/// The prescribed velocity of inflow face f at the foot (which lies on it): the face's vertex
+/// velocities weighted by the foot's barycentric coordinates of those vertices, renormalised.
+Eigen::Vector3d inflow_at(const FluidMesh& old_mesh, const BoundaryExits& exits, int f, const Location& foot) {
+  const BoundaryFace& bf = old_mesh.boundary_faces[f];
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  double weight = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 4; ++k)
+      if (old_mesh.tets[foot.tet][k] == bf.nodes[a]) {
+        const double w = std::max(foot.bary[k], 0.0);
+        u += w * exits.inflow_velocity[f][a];
+        weight += w;
+      }
+  return weight > 0 ? Eigen::Vector3d(u / weight)
+                    : Eigen::Vector3d((exits.inflow_velocity[f][0] + exits.inflow_velocity[f][1] +
+                                       exits.inflow_velocity[f][2]) / 3.0);
+}
+
+/// The samples whose trace left through an open face (ExitRule::kOpen) drop their tangential
+/// velocity; those that left through an inflow face (ExitRule::kInflow) take its velocity.
 void apply_exits(const FluidMesh& old_mesh, const BoundaryExits& exits, const std::vector<Location>& feet,
                  const std::vector<char>& cut, Packed& values, AdvectionReport& rep) {
   std::vector<int> face_of(4 * static_cast<size_t>(old_mesh.num_tets()), -1);
@@ -160,7 +179,12 @@ void apply_exits(const FluidMesh& old_mesh, const BoundaryExits& exits, const st
   for (size_t t = 0; t < values.size(); ++t) {
     if (!cut[t]) continue;
     const int f = exit_face(old_mesh, face_of, feet[t]);
-    if (f < 0 || exits.rule[f] != ExitRule::kOpen) continue;
+    if (f < 0 || exits.rule[f] == ExitRule::kClamp) continue;
+    if (exits.rule[f] == ExitRule::kInflow) {
+      values[t].head<3>() = inflow_at(old_mesh, exits, f, feet[t]);
+      ++rep.inflow_feet;
+      continue;
+    }
     const Eigen::Vector3d& n = old_mesh.boundary_faces[f].normal;
     const double un = values[t].head<3>().dot(n);
     if (un < 0.0) {
@@ -194,9 +218,9 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   std::optional<PointLocator> own_locator;
   if (!given_locator) own_locator.emplace(old_mesh);
   const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
-  // Which traces were cut at the boundary matters only where some face is open (apply_exits).
+  // Which traces were cut at the boundary matters only where some face is open or an inflow (apply_exits).
   const bool any_open =
-      exits && std::find(exits->rule.begin(), exits->rule.end(), ExitRule::kOpen) != exits->rule.end();
+      exits && std::any_of(exits->rule.begin(), exits->rule.end(), [](ExitRule r) { return r != ExitRule::kClamp; });
   std::vector<char> cut;
   const std::vector<Location> feet =
       trace_feet(old_mesh, old_locator, f_nodal, new_mesh, h, rep, any_open ? &cut : nullptr);

@@ -19,8 +19,10 @@
 /// (u.n) n of the clamped velocity where u.n < 0, the fluid entering there (ExitRule::kOpen). The exit
 /// face is the boundary face of the clamped foot's tet with the smallest barycentric coordinate (the
 /// foot lies within 2^-12 of the trace from it); if that coordinate exceeds 0.01 (the trace left
-/// through an edge of a neighbouring tet) the clamped value is kept. Walls, inflow patches and solid
-/// interfaces keep the clamped value, so domains without open faces advect exactly as without `exits`.
+/// through an edge of a neighbouring tet) the clamped value is kept. A trace cut at the face of an inflow
+/// with a velocity profile reads the prescribed velocity there (ExitRule::kInflow). Walls, solid
+/// interfaces and uniform inflows keep the clamped value, so domains without open faces or profiled inflows advect exactly as without
+/// `exits`.
 #include <Eigen/Core>
 #include <vector>
 
@@ -55,6 +57,7 @@ struct AdvectionReport {
   int clamped = 0;          ///< traces cut at the fluid boundary
   int outside_start = 0;    ///< new samples not inside the old fluid
   int backflow_feet = 0;    ///< samples whose tangential velocity was dropped at an open face (ExitRule::kOpen)
+  int inflow_feet = 0;      ///< samples that took an inflow patch's velocity (ExitRule::kInflow)
 };
 
 /// Advects `old_fields` (on `old_mesh`) to the tets of `new_mesh` over h [s].

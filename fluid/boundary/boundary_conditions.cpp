@@ -31,9 +31,15 @@ int outer_face_patch(const FluidMesh& mesh, const BoundaryConditions& bc, const 
 BoundaryExits boundary_exits(const FluidMesh& mesh, const BoundaryConditions& bc) {
   BoundaryExits e;
   e.rule.assign(mesh.boundary_faces.size(), ExitRule::kClamp);
+  e.inflow_velocity.resize(mesh.boundary_faces.size());
   for (size_t f = 0; f < mesh.boundary_faces.size(); ++f) {
     const int p = outer_face_patch(mesh, bc, mesh.boundary_faces[f]);
-    if (p >= 0 && bc.patches[p].kind == FaceKind::kOpen) e.rule[f] = ExitRule::kOpen;
+    if (p < 0) continue;
+    if (bc.patches[p].kind == FaceKind::kOpen) e.rule[f] = ExitRule::kOpen;
+    if (bc.patches[p].kind == FaceKind::kInflow && bc.patches[p].velocity_field) {
+      e.rule[f] = ExitRule::kInflow;
+      e.inflow_velocity[f] = inflow_vertex_velocity(mesh, bc.patches[p], mesh.boundary_faces[f]);
+    }
   }
   return e;
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <functional>
@@ -110,6 +111,71 @@ json container_scene() {
                 "motion": {"type": "translation", "velocity": [0, 0, 0]},
                 "material": {"density": 500, "youngs_modulus": 1e6, "poissons_ratio": 0.3}}]
   })");
+}
+
+/// A container_scene whose container is the surface file `file` (absolute path).
+json mesh_container_scene(const fs::path& file) {
+  json s = container_scene();
+  s["domain"]["container"] = {{"type", "mesh"}, {"file", file.string()}};
+  return s;
+}
+
+/// The OBJ text of the cube [-a, a]^3, outward triangles; `faces` of its 6 faces (fewer: an open box).
+std::string cube_obj(double a, int faces = 6) {
+  std::string obj;
+  for (int i = 0; i < 8; ++i)
+    obj += "v " + std::to_string(i & 1 ? a : -a) + " " + std::to_string(i & 2 ? a : -a) + " " +
+           std::to_string(i & 4 ? a : -a) + "\n";
+  const char* quads[6] = {"1 3 4 2", "5 6 8 7", "1 2 6 5", "3 7 8 4", "1 5 7 3", "2 4 8 6"};
+  for (int f = 0; f < faces; ++f) {
+    int q[4];
+    std::sscanf(quads[f], "%d %d %d %d", &q[0], &q[1], &q[2], &q[3]);
+    obj += "f " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + "\n";
+    obj += "f " + std::to_string(q[0]) + " " + std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+  }
+  return obj;
+}
+
+TEST(BadInputs, ContainersFromSurfaceFilesThatCannotHoldTheFluidAreRefused) {
+  tetfsi::test::TempDir files("bad_container_files");
+  const fs::path cube = files.path() / "cube.obj", open = files.path() / "open.obj", empty = files.path() / "empty.obj";
+  std::ofstream(cube) << cube_obj(0.3);
+  std::ofstream(open) << cube_obj(0.3, 5);
+  std::ofstream(empty) << "";
+  expect_all_refused({
+      {"mesh_container_missing", [&] { return mesh_container_scene(files.path() / "nowhere.obj"); },
+       "/domain/container/file"},
+      {"mesh_container_open", [&] { return mesh_container_scene(open); }, "/domain/container/file"},
+      {"mesh_container_empty", [&] { return mesh_container_scene(empty); }, "/domain/container/file"},
+      {"mesh_container_no_file", [&] { auto s = mesh_container_scene(cube); s["domain"]["container"].erase("file"); return s; },
+       "/domain/container/file"},
+      {"mesh_container_scale_0", [&] { auto s = mesh_container_scene(cube); s["domain"]["container"]["unit_scale"] = 0; return s; },
+       "/domain/container/unit_scale"},
+      {"mesh_container_outside_box",
+       [&] { auto s = mesh_container_scene(cube); s["domain"]["container"]["translation"] = {0.2, 0, 0}; return s; },
+       "/domain/container"},
+      {"mesh_container_below_edge",
+       [&] { auto s = mesh_container_scene(cube); s["domain"]["container"]["unit_scale"] = 0.1; s["solids"] = json::array(); return s; },
+       "/domain/container"},
+      {"mesh_container_open_face", [&] { auto s = mesh_container_scene(cube); s["domain"]["open_faces"] = {"y+"}; return s; },
+       "/domain/open_faces"},
+      {"solid_outside_mesh_container",
+       [&] { auto s = mesh_container_scene(cube); s["solids"][0]["placement"]["translation"] = {0.25, 0, 0}; return s; },
+       "/solids/0/placement"},
+      {"open_patch_inverted",
+       [&] { auto s = mesh_container_scene(cube); s["domain"]["open_patches"] = {{{"lo", {0, 0.3, 0}}, {"hi", {-0.1, 0.31, 0.1}}}}; return s; },
+       "/domain/open_patches/0"},
+      {"open_patch_no_hi",
+       [&] { auto s = mesh_container_scene(cube); s["domain"]["open_patches"] = {{{"lo", {0, 0.3, 0}}}}; return s; },
+       "/domain/open_patches/0/hi"},
+      {"inflow_profile_unknown",
+       [&] {
+         auto s = mesh_container_scene(cube);
+         s["domain"]["inflows"] = {{{"lo", {-0.1, -0.31, -0.1}}, {"hi", {0.1, -0.29, 0.1}}, {"velocity", {0, 1, 0}},
+                                    {"profile", "cubic"}}};
+         return s; },
+       "/domain/inflows/0/profile"},
+  });
 }
 
 TEST(BadInputs, ContainersThatCannotHoldTheFluidAreRefused) {

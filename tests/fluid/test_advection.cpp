@@ -118,11 +118,11 @@ TEST(SemiLagrangian, MidpointBackTraceIsSecondOrderInTime) {
 
 TEST(SemiLagrangian, BackflowThroughAnOpenFaceKeepsOnlyItsNormalVelocity) {
   // Uniform u = (1, 0.5, 0) on a jittered unit box, dt = 0.1: the feet of centroids with x < 0.1 or
-  // y < 0.05 lie outside. Inflow patch at x = 0 (clamped as before); open face at y = 0, where
-  // u.n = -0.5 (backflow): a trace leaving through it must read the normal part (0, 0.5, 0), every
-  // other sample the constant. No open face: bit-identical to advection without exit rules.
+  // y < 0.05 lie outside. Inflow patch at x = 0 prescribing (1, 0, 0): a trace leaving through it
+  // reads that velocity (ExitRule::kInflow); open face at y = 0, where u.n = -0.5 (backflow): a trace
+  // leaving through it must read the normal part (0, 0.5, 0); every other sample the constant.
   const FluidMesh fm = build_fluid_mesh(box(8, 5, false));
-  const Eigen::Vector3d u0(1, 0.5, 0), u_open(0, 0.5, 0);
+  const Eigen::Vector3d u0(1, 0.5, 0), u_open(0, 0.5, 0), u_in(1, 0, 0);
   FluidFields f;
   f.velocity.assign(fm.num_tets(), u0);
   f.smoke = Eigen::VectorXd::Constant(fm.num_tets(), 0.25);
@@ -131,14 +131,15 @@ TEST(SemiLagrangian, BackflowThroughAnOpenFaceKeepsOnlyItsNormalVelocity) {
   BoundaryPatch in, open;
   in.kind = FaceKind::kInflow;
   in.region = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 1, 1)};
-  in.velocity = Eigen::Vector3d(1, 0, 0);
+  in.velocity = u_in;
+  in.velocity_field = [u_in](const Eigen::Vector3d&) { return u_in; };  // a profile: read at the exit (kInflow)
   open.kind = FaceKind::kOpen;
   open.region = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 1)};
   bc.patches = {in, open};
   const BoundaryExits exits = boundary_exits(fm, bc);
   AdvectionReport rep;
   const FluidFields g = advect(fm, f, fm, 0.1, &rep, AdvectionScheme::kLinear, &exits);
-  int open_expected = 0, open_read = 0;
+  int open_expected = 0, open_read = 0, in_expected = 0, in_read = 0;
   for (int t = 0; t < fm.num_tets(); ++t) {
     const Eigen::Vector3d x = fm.centroid(t);
     const double s_in = x.x() / 0.1, s_open = x.y() / 0.05;  // fraction of the trace to x = 0, y = 0
@@ -146,21 +147,28 @@ TEST(SemiLagrangian, BackflowThroughAnOpenFaceKeepsOnlyItsNormalVelocity) {
     ASSERT_NEAR(g.smoke[t], 0.25, 1e-12);
     const bool via_open = s_open <= 1.0 && s_open < s_in - 1e-9;
     const bool via_edge = s_open <= 1.0 && std::abs(s_open - s_in) <= 1e-9;  // either face may be found
+    const bool via_in = s_in <= 1.0 && s_in < s_open - 1e-9;
     open_expected += via_open;
+    in_expected += via_in;
     if ((via_open || via_edge) && (u - u_open).norm() < 1e-12) {
       open_read += via_open;
       continue;
     }
-    // inside feet, inflow-face exits, and open exits near an edge where the exit face is not found
+    if ((via_in || via_edge) && (u - u_in).norm() < 1e-12) {
+      in_read += via_in;
+      continue;
+    }
+    // inside feet, and exits near an edge where the exit face is not found
     ASSERT_LE((u - u0).norm(), 1e-12) << "at " << x.transpose() << ": " << u.transpose();
   }
-  std::printf("open-face exits %d of %d\n", open_read, open_expected);
+  std::printf("open-face exits %d of %d, inflow exits %d of %d\n", open_read, open_expected, in_read, in_expected);
   EXPECT_GE(open_read, 0.9 * open_expected);
+  EXPECT_GE(in_read, 0.9 * in_expected);
   EXPECT_GE(rep.backflow_feet, open_read);
+  EXPECT_GE(rep.inflow_feet, in_read);
 
-  BoundaryConditions walls_and_inflow;
-  walls_and_inflow.patches = {in};
-  const BoundaryExits closed = boundary_exits(fm, walls_and_inflow);
+  // Walls only: bit-identical to advection without exit rules.
+  const BoundaryExits closed = boundary_exits(fm, BoundaryConditions{});
   const FluidFields a = advect(fm, f, fm, 0.1, nullptr, AdvectionScheme::kLinear, &closed);
   const FluidFields b = advect(fm, f, fm, 0.1, nullptr, AdvectionScheme::kLinear);
   for (int t = 0; t < fm.num_tets(); ++t) ASSERT_EQ(a.velocity[t], b.velocity[t]);

@@ -12,13 +12,16 @@ namespace {
 /// [lo, hi] of the domain (the bounding box the inflows, emitters and probes refer to).
 Field container() {
   return Field::object("container",
-                       "The shape of the fluid's vessel; absent or `box`: the domain box itself. A `sphere` or "
-                       "`cylinder` must lie inside the domain box; its surface is a slip wall (no flux), apart "
-                       "from `inflows` patches (by region, as for the box); `open_faces` name box faces and "
-                       "need the box. Meshed as a polyhedron: an icosphere or a prism over a regular polygon "
-                       "inscribed in the exact shape.", {
-      Field::enumeration("type", {"box", "sphere", "cylinder"},
-                         "`box`: the domain box; `sphere`, `cylinder`: the primitive below.").req(),
+                       "The shape of the fluid's vessel; absent or `box`: the domain box itself. A `sphere`, "
+                       "`cylinder` or `mesh` container must lie inside the domain box; its surface is a slip wall "
+                       "(no flux), apart from `inflows` and `open_patches` (by region, as for the box); "
+                       "`open_faces` name box faces and need the box. Meshed as a polyhedron: an icosphere or a "
+                       "prism over a regular polygon inscribed in the exact shape, or the file's triangles. "
+                       "Wall contact (/coupling/wall_contact) covers the box, sphere and cylinder; a solid that "
+                       "reaches the wall of a `mesh` container stops the run.", {
+      Field::enumeration("type", {"box", "sphere", "cylinder", "mesh"},
+                         "`box`: the domain box; `sphere`, `cylinder`: the primitive below; `mesh`: a closed "
+                         "surface file (OBJ, PLY, STL, glTF, FBX, OFF), its inside the fluid.").req(),
   }).tagged_by("type")
     .variant("box", {})
     .variant("sphere", {
@@ -31,7 +34,14 @@ Field container() {
         Field::number("radius", "m", "Radius.").req().greater(0),
         Field::number("length", "m", "Length along the axis, cap to cap.").req().greater(0),
         Field::enumeration("axis", {"x", "y", "z"}, "Axis direction.").def("z"),
-        Field::integer("segments", "Sides of the polygon the circle is meshed as.").at_least(8).at_most(512).def(48)});
+        Field::integer("segments", "Sides of the polygon the circle is meshed as.").at_least(8).at_most(512).def(48)})
+    .variant("mesh", {
+        Field::file("file", "Closed, manifold surface file, relative to the scene file's folder; its triangles "
+                            "are the container's walls.").req(),
+        Field::number("unit_scale", "m/unit", "Metres per file unit (0.01 for files in cm).").greater(0).def(1.0),
+        Field::vector("rotation_deg", 3, "deg", "Euler XYZ rotation (about x, then y, then z), after the scale.")
+            .def({0, 0, 0}),
+        Field::vector("translation", 3, "m", "Translation, applied last.").def({0, 0, 0})});
 }
 
 /// The container (if a sphere or cylinder) inside the domain box, and no open faces with it.
@@ -39,12 +49,13 @@ void check_container(const Json& o, const std::string& ptr, std::vector<Issue>& 
   if (!o.contains("container") || !o["container"].is_object()) return;
   const auto& c = o["container"];
   const auto type = c.value("type", "box");
-  if (type == "box" || !c.contains("center") || !c.contains("radius")) return;
-  if (!o["open_faces"].empty())
+  if (type == "box") return;
+  if (o.contains("open_faces") && !o["open_faces"].empty())
     issues.push_back({pointer_append(ptr, "open_faces"),
                       fmt::format("open faces name faces of the domain box; a {} container has none (its surface "
-                                  "is a wall; use `inflows` patches)", type)});
-  if (!o.contains("lo") || !o.contains("hi")) return;
+                                  "is a wall; use `open_patches` and `inflows` patches)", type)});
+  // A mesh container's extent is checked against the box once its file is read (preflight.cpp).
+  if (!c.contains("center") || !c.contains("radius") || !o.contains("lo") || !o.contains("hi")) return;
   const double r = c["radius"].get<double>();
   std::array<double, 3> half{r, r, r};
   if (type == "cylinder" && c.contains("length"))
@@ -70,13 +81,24 @@ Field domain() {
       Field::vector("hi", 3, "m", "Upper corner of the patch region.").req(),
       Field::vector("velocity", 3, "m/s", "Inflow velocity.").req(),
       Field::number("smoke_density", "", "Smoke concentration of the inflow.").at_least(0).def(0),
-      Field::number("temperature", "K", "Temperature of the inflow; 0: ambient.").at_least(0).def(0)});
+      Field::number("temperature", "K", "Temperature of the inflow; 0: ambient.").at_least(0).def(0),
+      Field::enumeration("profile", {"uniform", "parabolic"},
+                         "`uniform`: `velocity` on every face of the patch; `parabolic`: a pipe (Poiseuille) "
+                         "profile u = velocity (1 - r^2/R^2), r the distance of a point from the patch's axis "
+                         "(the line through the centre of [lo, hi] along `velocity`), R half the smaller extent of "
+                         "[lo, hi] across `velocity` (the disc inscribed in the patch), 0 beyond R: `velocity` is "
+                         "the peak, the mean over the disc is half of it.").def("uniform")});
   inflow.checks.push_back(lo_below_hi());
+  Field open_patch = Field::object("", "", {
+      Field::vector("lo", 3, "m", "Lower corner of the patch region.").req(),
+      Field::vector("hi", 3, "m", "Upper corner of the patch region.").req()});
+  open_patch.checks.push_back(lo_below_hi());
   return Field::object("domain",
                        "The fluid box [m]. Required when `fluid.type` is not `none`; every solid must lie "
                        "strictly inside it (and inside `container`). Box faces are walls (no flux) unless "
-                       "listed in `open_faces` or covered by an `inflows` patch. With a `container` sphere or "
-                       "cylinder the fluid fills that shape, and the box only bounds it.", {
+                       "listed in `open_faces` or covered by an `inflows` or `open_patches` patch. With a "
+                       "`container` sphere, cylinder or mesh the fluid fills that shape, and the box only bounds "
+                       "it.", {
       Field::vector("lo", 3, "m", "Lower corner.").req(),
       Field::vector("hi", 3, "m", "Upper corner (> lo in every coordinate).").req(),
       Field::array("open_faces", "Box faces with pressure 0 (flow leaves or enters freely).",
@@ -86,6 +108,11 @@ Field domain() {
                    "Inflow patches: boundary faces of the box whose centroid lies in [lo, hi] get the "
                    "prescribed velocity, smoke and temperature (first match wins, before open faces).",
                    std::move(inflow))
+          .def(Json::array()),
+      Field::array("open_patches",
+                   "Open patches of any container: boundary faces whose centroid lies in [lo, hi] have "
+                   "pressure 0 (flow leaves or enters freely), after the inflows and before the open faces.",
+                   std::move(open_patch))
           .def(Json::array()),
       container(),
   }).check(lo_below_hi()).check(check_container);
