@@ -87,16 +87,54 @@ void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
   rep.liquid_volume = liquid_.total_volume();
 }
 
-void FluidSolver::apply_sources(const BoundaryConditions& bc) {
+void FluidSolver::apply_sources(const BoundaryConditions& bc, double h) {
   // A liquid's sources fill their box with liquid (phi = min(phi, distance to the box)); what
-  // they add is added to the volume the run keeps.
-  if (free_surface_ && !bc.sources.empty()) {
+  // they add is added to the volume the run keeps. An inflow patch pours liquid: its region swept
+  // one mean edge length into the fluid along the inflow velocity is kept full of liquid moving at
+  // that velocity, so the patch's faces have liquid nodes and its flux enters the cut-tet system.
+  std::vector<Region> pouring;
+  if (free_surface_)
+    for (const BoundaryPatch& p : bc.patches)
+      if (p.kind == FaceKind::kInflow && p.velocity.norm() > 0) {
+        const Eigen::Vector3d reach = mesh_.mean_edge_length() * p.velocity.normalized();
+        pouring.push_back({p.region.lo.cwiseMin(p.region.lo + reach), p.region.hi.cwiseMax(p.region.hi + reach)});
+      }
+  if (free_surface_ && (!bc.sources.empty() || !pouring.empty())) {
     const double before = liquid_.total_volume();
-    for (const SourceVolume& s : bc.sources)
+    auto fill = [&](const Region& r) {
       for (int i = 0; i < mesh_.num_nodes(); ++i)
-        level_set_[i] = std::min(level_set_[i], box_distance(mesh_.nodes[i], s.region.lo, s.region.hi));
+        level_set_[i] = std::min(level_set_[i], box_distance(mesh_.nodes[i], r.lo, r.hi));
+    };
+    for (const SourceVolume& s : bc.sources) fill(s.region);
+    for (const Region& r : pouring) fill(r);
     liquid_ = liquid_geometry(mesh_, level_set_);
     target_volume_ += liquid_.total_volume() - before;
+  }
+  std::size_t poured = 0;
+  for (const BoundaryPatch& p : bc.patches) {
+    if (!free_surface_ || p.kind != FaceKind::kInflow || !(p.velocity.norm() > 0)) continue;
+    for (int t = 0; t < mesh_.num_tets(); ++t)
+      if (pouring[poured].contains(mesh_.centroid(t)))
+        fields_.velocity[t] = p.velocity_field ? p.velocity_field(mesh_.centroid(t)) : p.velocity;
+    ++poured;
+  }
+  // The liquid the inflow faces let in over the step, h sum_f A_f (-u_f.n_f) over the faces with
+  // liquid at every node, joins the volume the run keeps: the layer stays full (its back-traces end
+  // on the wall), so the refill above does not see it.
+  if (!pouring.empty()) {
+    double inflow = 0;
+    for (size_t f = 0; f < mesh_.boundary_faces.size(); ++f) {
+      if (boundary_.face_kind[f] != FaceKind::kInflow) continue;
+      const BoundaryFace& bf = mesh_.boundary_faces[f];
+      if (!(level_set_[bf.nodes[0]] < 0 && level_set_[bf.nodes[1]] < 0 && level_set_[bf.nodes[2]] < 0)) continue;
+      const BoundaryPatch& p = bc.patches[boundary_.face_patch[f]];
+      Eigen::Vector3d u = p.velocity;
+      if (p.velocity_field)
+        u = (p.velocity_field(mesh_.nodes[bf.nodes[0]]) + p.velocity_field(mesh_.nodes[bf.nodes[1]]) +
+             p.velocity_field(mesh_.nodes[bf.nodes[2]])) / 3.0;
+      inflow -= bf.area * u.dot(bf.normal);
+    }
+    target_volume_ += h * inflow;
   }
   for (const SourceVolume& s : bc.sources)
     for (int t = 0; t < mesh_.num_tets(); ++t)
@@ -168,7 +206,7 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   boundary_ = classify_boundary(mesh_, bc);
   rep.assemble_seconds += now() - t0;
   t0 = now();
-  apply_sources(bc);
+  apply_sources(bc, h);
   if (params_.apply_gravity)
     for (auto& u : fields_.velocity) u += h * params_.gravity;
   add_buoyancy(mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, h, fields_.velocity);

@@ -3,7 +3,9 @@
 /// One time step of the inviscid incompressible fluid on a (possibly new) tetrahedral mesh:
 ///   1. advect velocity, smoke and temperature from the previous mesh to this one
 ///      (semi_lagrangian.hpp; skipped on the first step),
-///   2. sources: emitter volumes and inflow patches set smoke and temperature,
+///   2. sources: emitter volumes and inflow patches set smoke and temperature; with a free
+///      surface both add liquid (an inflow patch keeps the layer one edge deep in front of it full
+///      of liquid at its velocity),
 ///   3. body forces: gravity, buoyancy, optional vorticity confinement (body_forces.hpp),
 ///   4. projection with the boundary conditions of this step (projection.hpp).
 /// Kinematic solids enter through BoundaryConditions::solid_vertex_velocity.
@@ -121,7 +123,7 @@ class FluidSolver {
   void report_energies(StepReport& rep) const;
 
  private:
-  void apply_sources(const BoundaryConditions& bc);
+  void apply_sources(const BoundaryConditions& bc, double h);
   /// Steps 2-3 of level_set.hpp on the current mesh, then the cut-tet geometry; fills rep's
   /// liquid columns. `phi` is the advected level set.
   void update_liquid(Eigen::VectorXd phi, StepReport& rep);

@@ -105,8 +105,11 @@ Field domain() {
                    Field::enumeration("", {"x-", "x+", "y-", "y+", "z-", "z+"}, "A box face."))
           .def(Json::array()),
       Field::array("inflows",
-                   "Inflow patches: boundary faces of the box whose centroid lies in [lo, hi] get the "
-                   "prescribed velocity, smoke and temperature (first match wins, before open faces).",
+                   "Inflow patches: boundary faces of the container whose centroid lies in [lo, hi] get "
+                   "the prescribed velocity, smoke and temperature (first match wins, before open patches "
+                   "and open faces). With a free-surface liquid (fluid.fill `regions`) a patch pours "
+                   "liquid: the layer one edge length deep in front of it is kept full of liquid moving "
+                   "at its velocity, and what it adds is added to the volume the run keeps.",
                    std::move(inflow))
           .def(Json::array()),
       Field::array("open_patches",
