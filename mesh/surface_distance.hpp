@@ -1,7 +1,8 @@
 #pragma once
 /// @file surface_distance.hpp
 /// Signed distance to a closed triangle surface, for shapes given as surface files (the initial
-/// liquid of a free-surface scene, fluid/liquid/level_set.hpp).
+/// liquid of a free-surface scene, fluid/liquid/level_set.hpp; the walls of a container read from
+/// a file as contact obstacles, apps/run/container.hpp).
 ///
 ///   d(x) = s(x) min_{y in S} |x - y|,   s(x) = -1 inside S, +1 outside,
 ///
@@ -27,6 +28,8 @@ class SurfaceDistance {
   /// Signed distance [m] from `x` to the surface, negative inside. Not thread-safe (the inside
   /// test shares one tree); call from one thread.
   double operator()(const Eigen::Vector3d& x) const;
+  /// The same, and the point of the surface nearest to x [m] in `closest`.
+  double operator()(const Eigen::Vector3d& x, Eigen::Vector3d& closest) const;
 
  private:
   struct Impl;

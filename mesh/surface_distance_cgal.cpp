@@ -50,6 +50,16 @@ SurfaceDistance::~SurfaceDistance() = default;
 SurfaceDistance::SurfaceDistance(SurfaceDistance&&) noexcept = default;
 SurfaceDistance& SurfaceDistance::operator=(SurfaceDistance&&) noexcept = default;
 
+double SurfaceDistance::operator()(const Eigen::Vector3d& x, Eigen::Vector3d& closest) const {
+  const K::Point_3 p(x.x(), x.y(), x.z());
+  const K::Point_3 y = impl_->tree.closest_point(p);
+  closest = Eigen::Vector3d(y.x(), y.y(), y.z());
+  const double d = (x - closest).norm();
+  const auto side = (*impl_->inside)(p);
+  if (side == CGAL::ON_BOUNDARY) return 0.0;
+  return side == CGAL::ON_BOUNDED_SIDE ? -d : d;
+}
+
 double SurfaceDistance::operator()(const Eigen::Vector3d& x) const {
   const K::Point_3 p(x.x(), x.y(), x.z());
   const double d = std::sqrt(CGAL::to_double(impl_->tree.squared_distance(p)));

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "mesh/primitives.hpp"
+#include "mesh/surface_distance.hpp"
 
 namespace tetfsi::run {
 
@@ -47,6 +49,7 @@ void ContainerWalls::add_to(solid::StaticObstacles& obstacles) const {
   for (const auto& p : planes) obstacles.add_plane(p);
   for (const auto& s : spheres) obstacles.add_sphere_interior(s);
   for (const auto& c : cylinders) obstacles.add_cylinder_interior(c);
+  for (const auto& o : implicits) obstacles.add_implicit(o);
 }
 
 ContainerWalls container_walls(const scene::Json& domain, double gap) {
@@ -61,7 +64,21 @@ ContainerWalls container_walls(const scene::Json& domain, double gap) {
     }
     return walls;
   }
-  if (type == "mesh") return walls;  // no smooth inscribed shape: no wall contact (docs/scene_format.md)
+  if (type == "mesh") {
+    // The file's surface set back by the gap: phi = -d(x) - gap, d the signed distance (negative
+    // inside), the normal from the nearest surface point toward the inside. The fluid is meshed in
+    // CGAL's approximation of the surface, within facet_distance (an edge / 10) of it, below the
+    // default gap (half an edge), so a node the walls hold stays in the meshed fluid.
+    auto distance = std::make_shared<mesh::SurfaceDistance>(container_surface(domain));
+    walls.implicits.push_back({[distance, gap](const Eigen::Vector3d& x, Eigen::Vector3d& normal) {
+      Eigen::Vector3d nearest;
+      const double d = (*distance)(x, nearest);
+      const Eigen::Vector3d r = x - nearest;
+      normal = r.norm() > 0 ? Eigen::Vector3d((d < 0 ? 1.0 : -1.0) * r.normalized()) : Eigen::Vector3d::UnitZ();
+      return -d - gap;
+    }});
+    return walls;
+  }
   const auto& c = domain["container"];
   const Eigen::Vector3d center = vec3(c.at("center"));
   if (type == "sphere") {

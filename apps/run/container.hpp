@@ -28,15 +28,17 @@ mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::
 /// back into the fluid by `gap` [m]: the box's six faces; for a sphere container the inside of the
 /// sphere inscribed in its icosphere (radius: the nearest face plane's distance from the centre);
 /// for a cylinder the inside of the cylinder inscribed in its prism (R cos(π/segments)) and its
-/// two end planes; none for a `mesh` container. The inscribed smooth shapes keep every solid node inside the polyhedron the
+/// two end planes; for a `mesh` container the inside of its surface file set back by `gap`
+/// (signed distance to the file's triangles, solid::ImplicitObstacle). The inscribed smooth shapes keep every solid node inside the polyhedron the
 /// fluid is meshed in, and give one normal per node (a node against a planes-per-face wall can
 /// hop between faces from one contact round to the next).
 struct ContainerWalls {
   std::vector<solid::PlaneObstacle> planes;
   std::vector<solid::SphereInteriorObstacle> spheres;
   std::vector<solid::CylinderInteriorObstacle> cylinders;
+  std::vector<solid::ImplicitObstacle> implicits;
   void add_to(solid::StaticObstacles& obstacles) const;
-  std::size_t count() const { return planes.size() + spheres.size() + cylinders.size(); }
+  std::size_t count() const { return planes.size() + spheres.size() + cylinders.size() + implicits.size(); }
 };
 ContainerWalls container_walls(const scene::Json& domain, double gap);
 

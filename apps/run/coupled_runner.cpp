@@ -140,9 +140,6 @@ class CoupledRunner : public Simulation {
     if (c.at("wall_contact").get<bool>() && !cavity_only && js.contains("domain")) {
       walls = container_walls(js.at("domain"), gap);
       log.info("wall contact: {} wall(s), fluid film {:.3g} m", walls.count(), gap);
-      if (walls.count() == 0)
-        log.warn("/coupling/wall_contact: the walls of a container from a surface file are no contact obstacles; "
-                 "a solid that reaches them stops the run");
     }
     const auto& solids = js.at("solids");
     for (int i = 0; i < stepper_->num_solids(); ++i) {

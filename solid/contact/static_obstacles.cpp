@@ -35,6 +35,11 @@ void StaticObstacles::set_friction(double mu) {
   friction_ = mu;
 }
 
+void StaticObstacles::add_implicit(const ImplicitObstacle& obstacle) {
+  if (!obstacle.distance) throw SolidError("implicit obstacle: no distance function");
+  implicits_.push_back(obstacle);
+}
+
 double StaticObstacles::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d& normal) const {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& p : planes_) {
@@ -80,6 +85,14 @@ double StaticObstacles::signed_distance(const Eigen::Vector3d& x, Eigen::Vector3
     if (phi < best) {
       best = phi;
       normal = r.norm() > 0 ? Eigen::Vector3d(-r.normalized()) : c.axis.unitOrthogonal();
+    }
+  }
+  for (const auto& o : implicits_) {
+    Eigen::Vector3d n;
+    const double phi = o.distance(x, n);
+    if (phi < best) {
+      best = phi;
+      normal = n;
     }
   }
   return best;

@@ -1,7 +1,8 @@
 #pragma once
 /// @file static_obstacles.hpp
 /// Contact of solid nodes with static obstacles: half-spaces (floor planes), axis-aligned
-/// boxes, and the insides of spheres and cylinders (vessels).
+/// boxes, the insides of spheres and cylinders (vessels), and signed-distance functions (the
+/// inside of a vessel read from a surface file).
 ///
 /// The primary contact treatment is inside the implicit solve (NewmarkIntegrator::step():
 /// active set of landing constraints, inelastic normal, Coulomb friction from the constraint
@@ -18,6 +19,7 @@
 /// coupled system of eq. (4) unchanged). Limitation: nodes only; an obstacle edge can still
 /// cut through a large solid face between nodes.
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 namespace tetfsi::solid {
@@ -48,6 +50,15 @@ struct CylinderInteriorObstacle {
   double radius = 1;
 };
 
+/// An obstacle given by a signed-distance function: `distance(x, normal)` returns phi(x) [m],
+/// positive on the side the solid lives on, and sets the unit normal pointing to that side (e.g.
+/// the inside of a closed surface read from a file: phi = -d(x) - gap with d the surface's signed
+/// distance, negative inside, and n = (x - y)/|x - y| for its nearest point y inside, (y - x)/|y - x|
+/// outside). Called from one thread.
+struct ImplicitObstacle {
+  std::function<double(const Eigen::Vector3d& x, Eigen::Vector3d& normal)> distance;
+};
+
 class StaticObstacles {
  public:
   /// @throws SolidError on a zero normal, a box with hi <= lo, or a negative friction
@@ -56,9 +67,13 @@ class StaticObstacles {
   /// @throws SolidError on a radius <= 0 (or a zero axis)
   void add_sphere_interior(const SphereInteriorObstacle& sphere);
   void add_cylinder_interior(const CylinderInteriorObstacle& cylinder);
+  /// @throws SolidError on an empty function
+  void add_implicit(const ImplicitObstacle& obstacle);
   void set_friction(double mu);
   double friction() const { return friction_; }
-  bool empty() const { return planes_.empty() && boxes_.empty() && spheres_.empty() && cylinders_.empty(); }
+  bool empty() const {
+    return planes_.empty() && boxes_.empty() && spheres_.empty() && cylinders_.empty() && implicits_.empty();
+  }
 
   /// Signed distance to the nearest obstacle surface (negative inside) and its outward normal.
   double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d& normal) const;
@@ -76,6 +91,7 @@ class StaticObstacles {
   std::vector<BoxObstacle> boxes_;
   std::vector<SphereInteriorObstacle> spheres_;
   std::vector<CylinderInteriorObstacle> cylinders_;
+  std::vector<ImplicitObstacle> implicits_;
   double friction_ = 0;
 };
 

@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "apps/run/container.hpp"
 #include "mesh/primitives.hpp"
+#include "tests/test_support.hpp"
 
 using tetfsi::scene::Json;
 
@@ -75,4 +78,37 @@ TEST(ContainerWalls, SphereIsTheBallInscribedInTheIcosphere) {
   }
   EXPECT_NEAR(nearest, r, 1e-12);
   EXPECT_NEAR(phi(walls, Eigen::Vector3d(0.1, -0.3, 0)), r - gap - 0.3, 1e-12);
+}
+
+TEST(ContainerWalls, MeshIsTheFileSurfaceSetBackByTheGap) {
+  // The cube [-0.4, 0.4]^3 as an OBJ file: phi = (distance to the nearest face) - gap inside, the
+  // normal pointing inward from that face; a node through the floor has phi < -gap and the floor's normal.
+  tetfsi::test::TempDir dir("container_walls_mesh");
+  const auto file = dir.path() / "cube.obj";
+  {
+    std::ofstream obj(file);
+    for (int i = 0; i < 8; ++i)
+      obj << "v " << (i & 1 ? 0.4 : -0.4) << " " << (i & 2 ? 0.4 : -0.4) << " " << (i & 4 ? 0.4 : -0.4) << "\n";
+    for (const char* f : {"1 3 4", "1 4 2", "5 6 8", "5 8 7", "1 2 6", "1 6 5", "3 7 8", "3 8 4", "1 5 7", "1 7 3",
+                          "2 4 8", "2 8 6"})
+      obj << "f " << f << "\n";
+  }
+  const Json domain = {{"lo", {-1, -1, -1}},
+                       {"hi", {1, 1, 1}},
+                       {"container", {{"type", "mesh"}, {"file", file.string()}, {"unit_scale", 1.0},
+                                      {"rotation_deg", {0, 0, 0}}, {"translation", {0, 0, 0}}}}};
+  const double gap = 0.05;
+  const auto walls = tetfsi::run::container_walls(domain, gap);
+  ASSERT_EQ(walls.implicits.size(), 1u);
+  tetfsi::solid::StaticObstacles o;
+  walls.add_to(o);
+  Eigen::Vector3d n;
+  EXPECT_NEAR(o.signed_distance(Eigen::Vector3d(0.01, 0.02, 0.03), n), 0.4 - 0.03 - gap, 1e-6);
+  EXPECT_NEAR(n.z(), -1.0, 1e-6);  // nearest face: z = 0.4, the inside is below it
+  EXPECT_NEAR(o.signed_distance(Eigen::Vector3d(0.05, -0.3, -0.1), n), 0.1 - gap, 1e-6);
+  EXPECT_NEAR(n.y(), 1.0, 1e-6);
+  EXPECT_NEAR(o.signed_distance(Eigen::Vector3d(0.05, -0.38, -0.1), n), 0.02 - gap, 1e-6);
+  EXPECT_NEAR(n.y(), 1.0, 1e-6);
+  EXPECT_NEAR(o.signed_distance(Eigen::Vector3d(0.05, -0.45, -0.1), n), -0.05 - gap, 1e-6);  // through the floor
+  EXPECT_NEAR(n.y(), 1.0, 1e-6);
 }

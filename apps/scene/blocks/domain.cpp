@@ -17,8 +17,8 @@ Field container() {
                        "(no flux), apart from `inflows` and `open_patches` (by region, as for the box); "
                        "`open_faces` name box faces and need the box. Meshed as a polyhedron: an icosphere or a "
                        "prism over a regular polygon inscribed in the exact shape, or the file's triangles. "
-                       "Wall contact (/coupling/wall_contact) covers the box, sphere and cylinder; a solid that "
-                       "reaches the wall of a `mesh` container stops the run.", {
+                       "Wall contact (/coupling/wall_contact) holds solids off every container's walls (for a "
+                       "`mesh`: the signed distance to its triangles).", {
       Field::enumeration("type", {"box", "sphere", "cylinder", "mesh"},
                          "`box`: the domain box; `sphere`, `cylinder`: the primitive below; `mesh`: a closed "
                          "surface file (OBJ, PLY, STL, glTF, FBX, OFF), its inside the fluid.").req(),
