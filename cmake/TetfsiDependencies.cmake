@@ -29,6 +29,17 @@ add_library(tetfsi_hypre INTERFACE)
 target_include_directories(tetfsi_hypre SYSTEM INTERFACE ${HYPRE_INCLUDE_DIR})
 target_link_libraries(tetfsi_hypre INTERFACE ${HYPRE_LIBRARY} MPI::MPI_C)
 
+# OpenVDB 10 (volume files; only fluid/io/vdb_writer.cpp and its test include it). Debian's
+# FindOpenVDB.cmake also asks for Boost.Iostreams development files that nothing here needs, and
+# Imath's CMake config names a Python module Debian does not install: import both by hand. The
+# headers use Imath's half (<Imath/half.h>) and TBB.
+find_path(OPENVDB_INCLUDE_DIR openvdb/openvdb.h REQUIRED)
+find_library(OPENVDB_LIBRARY openvdb REQUIRED)
+find_library(IMATH_LIBRARY NAMES Imath-3_1 Imath REQUIRED)
+add_library(tetfsi_openvdb INTERFACE)
+target_include_directories(tetfsi_openvdb SYSTEM INTERFACE ${OPENVDB_INCLUDE_DIR})
+target_link_libraries(tetfsi_openvdb INTERFACE ${OPENVDB_LIBRARY} ${IMATH_LIBRARY} TBB::tbb)
+
 if(TETFSI_BUILD_TESTS)
   find_package(GTest REQUIRED)
   # Debian's python3-vtk9 installs into the system interpreter, not into any other python3 on PATH.

@@ -64,17 +64,19 @@ class Driver {
     sim.write_frame(out, frame, t);
     const Output::Bytes& after = out.bytes_written();
     ++frames_written_;
-    log_.info("frame {} (t = {:.6g} s): {} bytes written (.vtu {}, surfaces {}) in {:.3f} s", frame, t,
+    log_.info("frame {} (t = {:.6g} s): {} bytes written (.vtu {}, surfaces {}, volumes {}) in {:.3f} s", frame, t,
               after.total() - before.total(), after.vtu - before.vtu, after.surfaces - before.surfaces,
-              clock.seconds());
+              after.volumes - before.volumes, clock.seconds());
   }
 
   /// The run.log line on the frames written in all.
   void log_output_total(const Output& out) {
     const Output::Bytes& b = out.bytes_written();
-    log_.info("output: {} frame(s), {} bytes of frame files (.vtu {}, surfaces {}), {:.0f} bytes per frame",
-              frames_written_, b.total(), b.vtu, b.surfaces,
+    log_.info("output: {} frame(s), {} bytes of frame files (.vtu {}, surfaces {}, volumes {}), {:.0f} bytes per frame",
+              frames_written_, b.total(), b.vtu, b.surfaces, b.volumes,
               frames_written_ ? double(b.total()) / frames_written_ : 0.0);
+    if (out.volumes() && b.volumes > 0)
+      log_.info("volumes: {} bytes of .vdb files at a voxel size of {:.6g} m", b.volumes, out.fixed_voxel_size());
   }
 
   void run() {

@@ -8,9 +8,14 @@
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
+
+#include "apps/run/errors.hpp"
+#include "apps/run/preflight.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "fluid/io/fluid_output.hpp"
+#include "fluid/io/voxel_sampling.hpp"
 #include "fluid/liquid/level_set.hpp"
 #include "mesh/surface_distance.hpp"
 
@@ -156,6 +161,41 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
   };
 }
 
+namespace {
+
+/// The solver's mesh with its nodes at `node_positions` and its geometry (centroids, gradients)
+/// recomputed, for locating points in the frame's fluid.
+fluid::FluidMesh moved_fluid_mesh(const fluid::FluidMesh& mesh, const std::vector<Eigen::Vector3d>& node_positions) {
+  fluid::FluidMesh moved = mesh;
+  if (node_positions == mesh.nodes) return moved;
+  mesh::TetMesh m;
+  m.vertices.resize(mesh.mesh_vertex_to_node.size(), Eigen::Vector3d::Zero());
+  for (int n = 0; n < mesh.num_nodes(); ++n) m.vertices[mesh.node_to_mesh_vertex[n]] = node_positions[n];
+  fluid::update_fluid_mesh_geometry(m, moved);
+  return moved;
+}
+
+/// The frame's fluid volumes (export.volumes): the node fields of the grid (make_fluid_grid's
+/// point data) sampled on the moved mesh, and the liquid's level set from its surface.
+void write_fluid_volumes(Output& out, int frame, const fluid::FluidSolver& solver,
+                         const std::vector<Eigen::Vector3d>& node_positions, const mesh::SurfaceMesh* surface) {
+  const fluid::FluidMesh moved = moved_fluid_mesh(solver.mesh(), node_positions);
+  const double h = out.voxel_size(solver.mesh().mean_edge_length());
+  const double voxels = fluid::voxel_range(moved, h).count();
+  if (!(voxels <= default_max_voxels()))
+    throw InputError(fmt::format("/export/voxel_size: {:.4g} m gives {:.3g} voxels over the fluid's bounding box, "
+                                 "more than the limit of {:.3g} ({} bytes per voxel, a quarter of this machine's "
+                                 "memory): raise /export/voxel_size",
+                                 h, voxels, default_max_voxels(), kBytesPerVoxel));
+  const auto& f = solver.fields();
+  fluid::NodalFields nodal{fluid::average_to_nodes(solver.mesh(), f.smoke),
+                           fluid::average_to_nodes(solver.mesh(), f.temperature),
+                           fluid::average_to_nodes(solver.mesh(), f.velocity)};
+  out.write_volumes("fluid", frame, fluid::sample_voxels(moved, nodal, h), surface);
+}
+
+}  // namespace
+
 void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver,
                        const std::vector<Eigen::Vector3d>& node_positions) {
   if (node_positions.size() != solver.mesh().nodes.size())
@@ -163,6 +203,7 @@ void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSo
                                 " node positions for " + std::to_string(solver.mesh().num_nodes()) + " fluid nodes");
   auto grid = fluid::make_fluid_grid(solver.mesh(), solver.fields(), solver.pressure());
   grid.points = node_positions;
+  mesh::SurfaceMesh surface;
   if (solver.has_free_surface()) {
     fluid::add_liquid_fields(grid, solver.mesh(), solver.level_set(), solver.liquid().liquid_volume);
     // The level set's zero set and wet boundary faces on the moved nodes: the surface's vertices
@@ -171,10 +212,12 @@ void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSo
     fluid::FluidMesh moved = solver.mesh();
     moved.nodes = node_positions;
     std::vector<Eigen::Vector3d> velocity;
-    const auto surface = fluid::liquid_surface(moved, solver.level_set(), solver.fields().velocity, &velocity);
+    surface = fluid::liquid_surface(moved, solver.level_set(), solver.fields().velocity, &velocity);
     out.write_surface("liquid", frame, surface, velocity);
   }
   out.write_grid("fluid", frame, time, grid);
+  if (out.volumes())
+    write_fluid_volumes(out, frame, solver, node_positions, solver.has_free_surface() ? &surface : nullptr);
 }
 
 void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, spdlog::logger& log) {

@@ -52,7 +52,10 @@ std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene
                                                                      const Eigen::Vector3d& gravity);
 
 /// Writes the fluid's frame: the grid "fluid" (with the level set and liquid fractions of a free
-/// surface) and, for a free surface, the closed liquid surface "liquid" with vertex velocities.
+/// surface), for a free surface the closed liquid surface "liquid" with vertex velocities, and
+/// with export.volumes the volume file "fluid" (node fields at the voxel centres; the liquid
+/// surface's level set). @throws InputError naming /export/voxel_size if the voxels over the
+/// fluid's bounding box exceed default_max_voxels()
 /// Both are drawn with the fluid nodes at `node_positions` (solver.mesh().nodes order), the
 /// positions at `time` (coupled runs: coupling::CoupledStepper::fluid_node_positions, so that the
 /// fluid's interface vertices are the solids' vertices of the same frame); the fields are the

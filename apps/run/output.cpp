@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "apps/run/errors.hpp"
+#include "fluid/io/vdb_writer.hpp"
 #include "mesh/io/atomic_file.hpp"
 #include "mesh/io/ply_writer.hpp"
 
@@ -46,6 +47,7 @@ std::string csv_row(const std::vector<double>& row) {
 OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
   static const std::regex temporary(R"(.+\.tmp\.[0-9]+)");
   static const std::regex surface_frame(R"(.+_[0-9]{5}\.(ply|obj))");
+  static const std::regex volume_frame(R"(.+_[0-9]{5}\.vdb)");
   OutputCleanup done;
   std::error_code ec;
   auto remove = [&](const fs::path& p, int& count) {
@@ -71,7 +73,8 @@ OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
       if (!e.is_regular_file(ec)) continue;
       const std::string name = e.path().filename().string();
       if (std::regex_match(name, temporary)) remove(e.path(), done.temporary_files);
-      else if (earlier_run && (std::regex_match(name, frame) || (object == "surfaces" && std::regex_match(name, surface_frame))))
+      else if (earlier_run && (std::regex_match(name, frame) || (object == "surfaces" && std::regex_match(name, surface_frame)) ||
+                               (object == "volumes" && std::regex_match(name, volume_frame))))
         remove(e.path(), done.earlier_run_files);
     }
     if (done.earlier_run_files > before && fs::is_empty(folder, ec)) fs::remove(folder, ec);
@@ -83,7 +86,9 @@ Output::Output(fs::path dir, scene::Json export_cfg)
     : dir_(std::move(dir)),
       cfg_(std::move(export_cfg)),
       compression_(cfg_.at("compression") == "none" ? mesh::io::VtuCompression::None : mesh::io::VtuCompression::Zlib),
-      z_up_(cfg_.at("up_axis") == "z") {
+      z_up_(cfg_.at("up_axis") == "z"),
+      volumes_(cfg_.value("volumes", "none") == "vdb") {
+  if (cfg_.contains("voxel_size")) voxel_size_ = cfg_["voxel_size"].get<double>();
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
@@ -138,6 +143,29 @@ void Output::write_surface(const std::string& object, int frame, const mesh::Sur
     write_obj(path, surface);
   }
   bytes_.surfaces += fs::file_size(path);
+}
+
+double Output::voxel_size(double mean_edge_length) {
+  if (voxel_size_ == 0) voxel_size_ = 0.5 * mean_edge_length;
+  return voxel_size_;
+}
+
+void Output::write_volumes(const std::string& object, int frame, fluid::VoxelSamples samples,
+                           const mesh::SurfaceMesh* surface) {
+  if (!volumes_) return;
+  fs::create_directories(dir_ / "volumes");
+  const fs::path path = dir_ / "volumes" / fmt::format("{}_{:05d}.vdb", object, frame);
+  mesh::SurfaceMesh turned;
+  if (z_up_) {
+    for (auto& ijk : samples.index) ijk = Eigen::Vector3i(ijk.x(), -ijk.z(), ijk.y());
+    for (auto& u : samples.velocity) u = Eigen::Vector3f(u.x(), -u.z(), u.y());
+    if (surface) {
+      turned = *surface;
+      for (auto& x : turned.vertices) x = z_up(x);
+      surface = &turned;
+    }
+  }
+  bytes_.volumes += fluid::write_vdb(path, samples, surface);
 }
 
 void Output::begin_stats(const std::vector<std::string>& header) { open_csv(stats_, dir_ / "stats.csv", header); }

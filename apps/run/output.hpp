@@ -1,7 +1,7 @@
 #pragma once
 /// @file output.hpp
 /// The output folder of a run: per-object .pvd collections with a .vtu per frame, per-frame
-/// surfaces (PLY/OBJ), stats.csv and probes.csv. Every frame file is written atomically (temp
+/// surfaces (PLY/OBJ), per-frame fluid volumes (OpenVDB), stats.csv and probes.csv. Every frame file is written atomically (temp
 /// file + rename) and a .pvd only lists frames already complete, so an interrupted run leaves
 /// whole frames. Before a run writes anything, clean_output_folder removes orphan temporary files
 /// (of a killed run) and, in a folder that holds an earlier run, that run's frames, .pvd and CSV
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "apps/scene/scene.hpp"
+#include "fluid/io/voxel_sampling.hpp"
 #include "mesh/io/vtu_writer.hpp"
 #include "mesh/surface_mesh.hpp"
 
@@ -40,6 +41,19 @@ class Output {
   void write_surface(const std::string& object, int frame, const mesh::SurfaceMesh& surface,
                      const std::vector<Eigen::Vector3d>& velocity = {});
 
+  /// Whether export.volumes asks for volume files ("vdb").
+  bool volumes() const { return volumes_; }
+  /// Voxel edge of the volume files [m]: export.voxel_size, else half of `mean_edge_length` at
+  /// the first call, kept for the rest of the run (one transform for every frame).
+  double voxel_size(double mean_edge_length);
+  /// The voxel size fixed so far [m] (0 before the first volume frame without export.voxel_size).
+  double fixed_voxel_size() const { return voxel_size_; }
+  /// Writes volumes/<object>_<frame>.vdb (fluid/io/vdb_writer.hpp) from `samples` and, if not
+  /// null, the level set of the closed liquid `surface`, turned as export.up_axis says: "z" maps
+  /// voxel (i, j, k) to (i, -k, j) (a lattice point again, no resampling) and vectors alike.
+  void write_volumes(const std::string& object, int frame, fluid::VoxelSamples samples,
+                     const mesh::SurfaceMesh* surface);
+
   /// Starts stats.csv with the given header (replacing the file of an earlier run).
   void begin_stats(const std::vector<std::string>& header);
   /// Appends one row; each row goes out in a single write, flushed.
@@ -48,10 +62,10 @@ class Output {
   void begin_probes(const std::vector<std::string>& header);
   void probes_row(const std::vector<double>& row);
 
-  /// Bytes of the frame files written so far: .vtu frames and surface files (for run.log).
+  /// Bytes of the frame files written so far: .vtu frames, surface and volume files (for run.log).
   struct Bytes {
-    std::uintmax_t vtu = 0, surfaces = 0;
-    std::uintmax_t total() const { return vtu + surfaces; }
+    std::uintmax_t vtu = 0, surfaces = 0, volumes = 0;
+    std::uintmax_t total() const { return vtu + surfaces + volumes; }
   };
   const Bytes& bytes_written() const { return bytes_; }
 
@@ -62,13 +76,16 @@ class Output {
   std::ofstream stats_, probes_;
   mesh::io::VtuCompression compression_;
   bool z_up_ = false;  ///< export.up_axis "z": turn positions and vectors (x, y, z) -> (x, -z, y)
+  bool volumes_ = false;
+  double voxel_size_ = 0;  ///< 0 until fixed by voxel_size()
   Bytes bytes_;
 };
 
 /// What clean_output_folder removed.
 struct OutputCleanup {
   int temporary_files = 0;    ///< *.tmp.<pid> files of interrupted atomic writes
-  int earlier_run_files = 0;  ///< frames (<object>/<object>_NNNNN.vtu, surfaces/<object>_NNNNN.ply|obj),
+  int earlier_run_files = 0;  ///< frames (<object>/<object>_NNNNN.vtu, surfaces/<object>_NNNNN.ply|obj,
+                              ///< volumes/<object>_NNNNN.vdb),
                               ///< *.pvd, stats.csv, probes.csv of an earlier run
 };
 

@@ -468,6 +468,7 @@ class Checker {
                       report_.tets, gb(report_.tets * kBytesPerTet), worst_what_, report_.max_tets,
                       opt_.max_tets ? "--max-tets" : "half of this machine's memory", worst_key_));
     }
+    check_voxels();
     const double end = sim.at("end_time").get<double>();
     const double frame_rate = sim.at("frame_rate").get<double>();
     report_.frames = std::floor(end * frame_rate * (1 + 1e-12)) + 1;
@@ -493,6 +494,7 @@ class Checker {
     const double written = std::floor((report_.frames - 1) / exp.at("every_n_frames").get<double>()) + 1;
     double frame_bytes = 0;
     if (exp.at("vtu").get<bool>()) frame_bytes += kVtuBytesPerTet * report_.tets;
+    frame_bytes += kVdbBytesPerVoxel * voxels_;
     if (exp.at("surfaces") != "none")
       for (const auto& p : placed_) frame_bytes += p.ok ? 40.0 * 2 * p.area / std::pow(finest_edge(), 2) : 0.0;
     report_.output_bytes = written * frame_bytes + 400.0 * report_.steps;
@@ -505,12 +507,38 @@ class Checker {
                       gb(report_.output_bytes), written, gb(frame_bytes), max_bytes / 1e9));
   }
 
+  /// export.volumes "vdb": voxels over the domain box at export.voxel_size or, absent, at half the
+  /// finest edge length (the mean edge length the default is half of is longer: an upper bound),
+  /// against default_max_voxels().
+  void check_voxels() {
+    const auto& exp = js_.at("export");
+    if (exp.at("volumes") != "vdb") return;
+    if (!meshes_fluid()) {
+      report_.warnings.push_back("/export/volumes: the scene has no tet-mesh fluid: no volume files are written");
+      return;
+    }
+    if (!js_.contains("domain")) return;  // checked on the fluid mesh at the first frame
+    const bool given = exp.contains("voxel_size");
+    const double h = given ? exp["voxel_size"].get<double>() : 0.5 * finest_edge();
+    const Eigen::Vector3d size = vec3(js_["domain"]["hi"]) - vec3(js_["domain"]["lo"]);
+    voxels_ = 1;
+    for (int a = 0; a < 3; ++a) voxels_ *= std::ceil(size[a] / h) + 2;  // as voxel_range, at most
+    if (!(voxels_ <= default_max_voxels()))
+      add("/export/voxel_size",
+          fmt::format("the volumes would have about {:.3g} voxels over the domain box at a voxel size of {:.4g} m{} "
+                      "(about {} of memory), more than the limit of {:.3g} voxels (a quarter of this machine's "
+                      "memory at {:g} bytes per voxel): {} /export/voxel_size",
+                      voxels_, h, given ? "" : " (half of the finest edge length)", gb(voxels_ * kBytesPerVoxel),
+                      default_max_voxels(), kBytesPerVoxel, given ? "raise" : "set a larger"));
+  }
+
   const scene::Scene& scene_;
   const Json& js_;
   PreflightOptions opt_;
   const RunnerEntry* runner_ = nullptr;
   std::vector<Placed> placed_;
   double hex_cells_ = 0;
+  double voxels_ = 0;  ///< estimated voxels of a volume frame (export.volumes)
   bool edge_reported_ = false;
   std::string worst_key_ = "/mesh/edge_length", worst_what_;
   std::vector<Issue> issues_;
@@ -525,11 +553,17 @@ double estimate_solid_tets(double volume, double area, double h) {
   return kTetsPerCube * (volume / std::pow(hs, 3) + area / (hs * hs));
 }
 
-double default_max_tets() {
+namespace {
+/// Physical memory of this machine [bytes] (8 GB if unknown).
+double physical_memory() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  const double bytes = pages > 0 && page > 0 ? double(pages) * double(page) : 8e9;
-  return std::floor(0.5 * bytes / kBytesPerTet);
+  return pages > 0 && page > 0 ? double(pages) * double(page) : 8e9;
 }
+}  // namespace
+
+double default_max_tets() { return std::floor(0.5 * physical_memory() / kBytesPerTet); }
+
+double default_max_voxels() { return std::floor(0.25 * physical_memory() / kBytesPerVoxel); }
 
 PreflightReport preflight(const scene::Scene& scene, const PreflightOptions& options) {
   return Checker(scene, options).run();

@@ -29,6 +29,16 @@ constexpr double kBytesPerTet = 4096;
 /// scenes, so with compression the estimate is an upper bound.
 constexpr double kVtuBytesPerTet = 150;
 
+/// Peak memory per voxel of a volume frame [bytes]: samples (index, 5 floats) while sampling, and
+/// the OpenVDB trees (4 + 4 + 12 bytes of values, leaf masks) with the file's bytes while writing.
+constexpr double kBytesPerVoxel = 96;
+/// Bytes one voxel inside the fluid adds to a .vdb frame, at most (uncompressed values of
+/// `density`, `temperature`, `velocity`; zlib and pruning write less).
+constexpr double kVdbBytesPerVoxel = 20;
+
+/// The voxel limit of export.volumes: a quarter of the physical memory / kBytesPerVoxel.
+double default_max_voxels();
+
 struct PreflightOptions {
   std::optional<double> max_tets;  ///< --max-tets; default: half the machine's memory / kBytesPerTet
 };

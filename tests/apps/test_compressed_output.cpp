@@ -120,7 +120,7 @@ TEST_F(CompressedOutput, RunLogReportsTheBytesOfEachFrame) {
   for (const char* run : {"zlib", "none"}) {
     SCOPED_TRACE(run);
     const std::string log = read_text(out(run) / "run.log");
-    static const std::regex line(R"(frame (\d+) \(t = [^)]*\): (\d+) bytes written \(\.vtu (\d+), surfaces (\d+)\))");
+    static const std::regex line(R"(frame (\d+) \(t = [^)]*\): (\d+) bytes written \(\.vtu (\d+), surfaces (\d+), volumes 0\))");
     std::map<int, std::array<std::uintmax_t, 3>> logged;
     for (auto it = std::sregex_iterator(log.begin(), log.end(), line); it != std::sregex_iterator(); ++it)
       logged[std::stoi((*it)[1])] = {std::stoull((*it)[2]), std::stoull((*it)[3]), std::stoull((*it)[4])};

@@ -15,6 +15,7 @@
 
 #include "csv.hpp"
 #include "ply_reader.hpp"
+#include "cli_helpers.hpp"
 #include "tests/test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -22,10 +23,6 @@ using namespace tetfsi::test;
 using nlohmann::json;
 
 namespace {
-
-std::string tetfsi_cmd(const std::string& args, int* status) {
-  return run_command(std::string(TETFSI_BINARY) + " " + args + " 2>&1", status);
-}
 
 /// Runs `scene` (written to dir/scene.json) into dir/out; returns the output folder.
 fs::path run_scene(const TempDir& dir, const json& scene, int* status, std::string* log) {
@@ -43,11 +40,6 @@ struct SceneRun {
   std::string log;
   fs::path out;
 };
-
-json committed(const std::string& name) {
-  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / name);
-  return json::parse(in);
-}
 
 }  // namespace
 

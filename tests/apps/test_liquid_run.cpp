@@ -35,6 +35,8 @@
 #include "fluid/operators/fluid_mesh.hpp"
 #include "mesh/io/vtu_reader.hpp"
 #include "ply_reader.hpp"
+#include "cli_helpers.hpp"
+#include "vtu_tets.hpp"
 #include "tests/test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -42,15 +44,6 @@ using namespace tetfsi::test;
 using nlohmann::json;
 
 namespace {
-
-std::string tetfsi_cmd(const std::string& args, int* status) {
-  return run_command(std::string(TETFSI_BINARY) + " " + args + " 2>&1", status);
-}
-
-json committed(const std::string& name) {
-  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / name);
-  return json::parse(in);
-}
 
 /// Volume enclosed by a closed, outward-oriented triangle surface (divergence theorem) [m^3].
 double enclosed_volume(const PlyData& ply) {
@@ -66,13 +59,7 @@ double enclosed_volume(const PlyData& ply) {
 /// frame's surface PLY is drawn from.
 double grid_liquid_volume(const fs::path& vtu) {
   const auto g = tetfsi::mesh::io::read_vtu(vtu);
-  tetfsi::mesh::TetMesh m;
-  m.vertices = g.points;
-  for (int c = 0; c < g.num_cells(); ++c) {
-    const std::int64_t* t = &g.connectivity[g.offsets[c] - 4];
-    m.tets.push_back({int(t[0]), int(t[1]), int(t[2]), int(t[3])});
-  }
-  const auto fm = tetfsi::fluid::build_fluid_mesh(m);
+  const auto fm = tetfsi::fluid::build_fluid_mesh(tet_mesh(g));
   const std::vector<double>* phi_points = nullptr;
   for (const auto& a : g.point_data)
     if (a.name == "level_set") phi_points = &a.values;

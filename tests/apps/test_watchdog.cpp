@@ -14,17 +14,14 @@
 
 #include "csv.hpp"
 #include "ply_reader.hpp"
+#include "cli_helpers.hpp"
 #include "tests/test_support.hpp"
 
 namespace fs = std::filesystem;
+using tetfsi::test::committed;
 using nlohmann::json;
 
 namespace {
-
-json committed(const std::string& name) {
-  std::ifstream in(fs::path(TETFSI_SOURCE_DIR) / "data" / "scenes" / name);
-  return json::parse(in);
-}
 
 json soft_drop() { return committed("soft_drop.json"); }
 

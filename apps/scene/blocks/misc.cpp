@@ -120,6 +120,18 @@ Field output() {
                          "surface positions and velocities) by +90 degrees about x, (x, y, z) -> (x, -z, y), so "
                          "that scene +y is +z (Blender's up). stats.csv and probes.csv stay in scene coordinates.")
           .def("y"),
+      Field::enumeration("volumes", {"none", "vdb"},
+                         "Per-frame fluid volumes for renderers (tet-mesh fluid runners): `vdb` writes "
+                         "volumes/fluid_NNNNN.vdb (OpenVDB) with float grids `density` (smoke) and `temperature` [K] "
+                         "and a Vec3f grid `velocity` [m/s], the node fields interpolated linearly in the tets at the "
+                         "voxel centres inside the fluid (background 0 outside), and for a free-surface liquid the "
+                         "level-set grid `surface` (signed distance [m] to the liquid surface, narrow band of 3 "
+                         "voxels). Turned as `up_axis` says.")
+          .def("none"),
+      Field::number("voxel_size", "m",
+                    "Voxel edge of the volumes (voxel centres at integer multiples of it); absent: half the "
+                    "fluid mesh's mean edge length at the first frame.")
+          .greater(0),
       Field::integer("every_n_frames", "Write every n-th frame only.").at_least(1).def(1),
       Field::number("max_output_gb", "GB",
                     "Largest estimated size of the output folder (frames x frame size + stats rows); a scene "
