@@ -287,7 +287,9 @@ TEST(LiquidRun, FloatingBlockHeavesAboutTheArchimedesDraft) {
   EXPECT_NEAR(mean, expected, 0.02 * d);
   for (std::size_t k = 0; k < e.size(); ++k) {
     EXPECT_LE(std::abs(e[k] - expected), z0) << "extremum " << k;
-    if (k > 0) EXPECT_LE(std::abs(e[k] - expected), std::abs(e[k - 1] - expected) + 1e-4) << "extremum " << k;
+    if (k > 0) {
+      EXPECT_LE(std::abs(e[k] - expected), std::abs(e[k - 1] - expected) + 1e-4) << "extremum " << k;
+    }
   }
 }
 
