@@ -92,12 +92,16 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc, double h) {
   // they add is added to the volume the run keeps. An inflow patch pours liquid: its region swept
   // one mean edge length into the fluid along the inflow velocity is kept full of liquid moving at
   // that velocity, so the patch's faces have liquid nodes and its flux enters the cut-tet system.
-  std::vector<Region> pouring;
+  struct Pouring {
+    Region layer;                 ///< the patch region swept one edge along its velocity
+    const BoundaryPatch* patch;
+  };
+  std::vector<Pouring> pouring;
   if (free_surface_)
     for (const BoundaryPatch& p : bc.patches)
       if (p.kind == FaceKind::kInflow && p.velocity.norm() > 0) {
         const Eigen::Vector3d reach = mesh_.mean_edge_length() * p.velocity.normalized();
-        pouring.push_back({p.region.lo.cwiseMin(p.region.lo + reach), p.region.hi.cwiseMax(p.region.hi + reach)});
+        pouring.push_back({{p.region.lo.cwiseMin(p.region.lo + reach), p.region.hi.cwiseMax(p.region.hi + reach)}, &p});
       }
   if (free_surface_ && (!bc.sources.empty() || !pouring.empty())) {
     const double before = liquid_.total_volume();
@@ -106,18 +110,14 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc, double h) {
         level_set_[i] = std::min(level_set_[i], box_distance(mesh_.nodes[i], r.lo, r.hi));
     };
     for (const SourceVolume& s : bc.sources) fill(s.region);
-    for (const Region& r : pouring) fill(r);
+    for (const Pouring& p : pouring) fill(p.layer);
     liquid_ = liquid_geometry(mesh_, level_set_);
     target_volume_ += liquid_.total_volume() - before;
   }
-  std::size_t poured = 0;
-  for (const BoundaryPatch& p : bc.patches) {
-    if (!free_surface_ || p.kind != FaceKind::kInflow || !(p.velocity.norm() > 0)) continue;
+  for (const Pouring& p : pouring)
     for (int t = 0; t < mesh_.num_tets(); ++t)
-      if (pouring[poured].contains(mesh_.centroid(t)))
-        fields_.velocity[t] = p.velocity_field ? p.velocity_field(mesh_.centroid(t)) : p.velocity;
-    ++poured;
-  }
+      if (p.layer.contains(mesh_.centroid(t)))
+        fields_.velocity[t] = p.patch->velocity_field ? p.patch->velocity_field(mesh_.centroid(t)) : p.patch->velocity;
   // The liquid the inflow faces let in over the step, h sum_f A_f (-u_f.n_f) over the faces with
   // liquid at every node, joins the volume the run keeps: the layer stays full (its back-traces end
   // on the wall), so the refill above does not see it.

@@ -5,12 +5,12 @@
 #include <set>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
-#include "apps/run/container.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
+#include "apps/run/preflight_container.hpp"
 #include "apps/run/preflight_models.hpp"
+#include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/simulation.hpp"
@@ -43,11 +43,6 @@ double max_abs(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
 }
 
-std::string gb(double bytes) {
-  if (bytes < 1e6) return fmt::format("{:.3g} kB", bytes / 1e3);
-  if (bytes < 1e9) return fmt::format("{:.3g} MB", bytes / 1e6);
-  return fmt::format("{:.3g} GB", bytes / 1e9);
-}
 
 class Checker {
  public:
@@ -212,62 +207,13 @@ class Checker {
 
   std::string solid_name(std::size_t i) const { return js_["solids"][i]["name"].get<std::string>(); }
 
-  /// A sphere, cylinder or mesh container: a readable closed surface (mesh), inside the domain box
-  /// (mesh; the primitives are checked by the schema), at least one edge length across, and every
-  /// solid strictly inside it (the exact test mesh::build_complex makes, so `validate` refuses what
-  /// meshing would).
+  /// The container's checks (preflight_container.hpp) against the solids read so far.
   void check_container() {
-    if (!meshes_fluid() || !js_.contains("domain") || !js_["domain"].contains("container")) return;
-    const auto& c = js_["domain"]["container"];
-    if (c.at("type") == "box") return;
-    const double edge = js_.at("mesh").at("edge_length").get<double>();
-    for (const char* k : {"radius", "length"})
-      if (c.contains(k) && c[k].get<double>() < edge)
-        add(fmt::format("/domain/container/{}", k),
-            fmt::format("the container's {} ({:.4g} m) is below mesh.edge_length ({:.4g} m): the mesh could not "
-                        "resolve it; refine the mesh or enlarge the container", k, c[k].get<double>(), edge));
-    mesh::SurfaceMesh container;
-    try {
-      container = container_surface(js_["domain"]);
-    } catch (const InputError& e) {
-      add("/domain/container/file", e.what());
-      return;
-    }
-    if (c.at("type") == "mesh" && !check_mesh_container(container, edge)) return;
-    for (std::size_t i = 0; i < placed_.size(); ++i) {
-      if (!placed_[i].ok) continue;
-      if (!mesh::surface_inside(placed_[i].surface, container))
-        add(fmt::format("/solids/{}/placement", i),
-            fmt::format("solid '{}' is not strictly inside the {} container /domain/container (the surfaces meet or "
-                        "the solid lies outside)", solid_name(i), c.at("type").get<std::string>()));
-    }
-  }
-
-  /// The placed file of a `mesh` container inside the domain box and at least an edge length
-  /// across in every direction; false (reported) if not.
-  bool check_mesh_container(const mesh::SurfaceMesh& container, double edge) {
-    Eigen::Vector3d lo = container.vertices.front(), hi = lo;
-    for (const auto& v : container.vertices) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-    const Eigen::Vector3d dlo = vec3(js_["domain"]["lo"]), dhi = vec3(js_["domain"]["hi"]);
-    const double slack = 1e-6 * (dhi - dlo).norm();  // assimp reads files in single precision
-    if ((lo.array() < dlo.array() - slack).any() || (hi.array() > dhi.array() + slack).any()) {
-      add("/domain/container",
-          fmt::format("the container's surface (bounding box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m) "
-                      "reaches outside the domain box; enlarge /domain or move the container "
-                      "(/domain/container/translation)", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()));
-      return false;
-    }
-    if ((hi - lo).minCoeff() < edge) {
-      add("/domain/container",
-          fmt::format("the container's surface is {:.4g} m across at its thinnest, below mesh.edge_length ({:.4g} m): "
-                      "the mesh could not resolve it; refine the mesh or scale the container "
-                      "(/domain/container/unit_scale)", (hi - lo).minCoeff(), edge));
-      return false;
-    }
-    return true;
+    if (!meshes_fluid() || !js_.contains("domain")) return;
+    std::vector<ContainedSolid> solids;
+    for (std::size_t i = 0; i < placed_.size(); ++i)
+      solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
+    for (auto& issue : container_issues(js_, solids)) issues_.push_back(std::move(issue));
   }
 
   void check_placements() {
@@ -465,7 +411,7 @@ class Checker {
       add(worst_key_,
           fmt::format("the mesh would have about {:.3g} tets (about {} of memory; most from {}), more than the "
                       "limit of {:.3g} tets ({}): change {} or raise the limit with --max-tets",
-                      report_.tets, gb(report_.tets * kBytesPerTet), worst_what_, report_.max_tets,
+                      report_.tets, format_bytes(report_.tets * kBytesPerTet), worst_what_, report_.max_tets,
                       opt_.max_tets ? "--max-tets" : "half of this machine's memory", worst_key_));
     }
     check_voxels();
@@ -504,12 +450,10 @@ class Checker {
           fmt::format("the output would take about {} ({:.3g} frames of about {} each), more than /export/max_output_gb "
                       "= {:g}: lower /simulation/frame_rate, raise /export/every_n_frames, or raise "
                       "/export/max_output_gb",
-                      gb(report_.output_bytes), written, gb(frame_bytes), max_bytes / 1e9));
+                      format_bytes(report_.output_bytes), written, format_bytes(frame_bytes), max_bytes / 1e9));
   }
 
-  /// export.volumes "vdb": voxels over the domain box at export.voxel_size or, absent, at half the
-  /// finest edge length (the mean edge length the default is half of is longer: an upper bound),
-  /// against default_max_voxels().
+  /// export.volumes "vdb": the voxel estimate and its limit (preflight_volumes.hpp).
   void check_voxels() {
     const auto& exp = js_.at("export");
     if (exp.at("volumes") != "vdb") return;
@@ -517,19 +461,7 @@ class Checker {
       report_.warnings.push_back("/export/volumes: the scene has no tet-mesh fluid: no volume files are written");
       return;
     }
-    if (!js_.contains("domain")) return;  // checked on the fluid mesh at the first frame
-    const bool given = exp.contains("voxel_size");
-    const double h = given ? exp["voxel_size"].get<double>() : 0.5 * finest_edge();
-    const Eigen::Vector3d size = vec3(js_["domain"]["hi"]) - vec3(js_["domain"]["lo"]);
-    voxels_ = 1;
-    for (int a = 0; a < 3; ++a) voxels_ *= std::ceil(size[a] / h) + 2;  // as voxel_range, at most
-    if (!(voxels_ <= default_max_voxels()))
-      add("/export/voxel_size",
-          fmt::format("the volumes would have about {:.3g} voxels over the domain box at a voxel size of {:.4g} m{} "
-                      "(about {} of memory), more than the limit of {:.3g} voxels (a quarter of this machine's "
-                      "memory at {:g} bytes per voxel): {} /export/voxel_size",
-                      voxels_, h, given ? "" : " (half of the finest edge length)", gb(voxels_ * kBytesPerVoxel),
-                      default_max_voxels(), kBytesPerVoxel, given ? "raise" : "set a larger"));
+    voxels_ = volume_voxels(js_, 0.5 * finest_edge(), issues_);
   }
 
   const scene::Scene& scene_;
@@ -552,18 +484,6 @@ double estimate_solid_tets(double volume, double area, double h) {
   const double hs = area > 0 ? std::min(h, 3 * volume / area) : h;
   return kTetsPerCube * (volume / std::pow(hs, 3) + area / (hs * hs));
 }
-
-namespace {
-/// Physical memory of this machine [bytes] (8 GB if unknown).
-double physical_memory() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? double(pages) * double(page) : 8e9;
-}
-}  // namespace
-
-double default_max_tets() { return std::floor(0.5 * physical_memory() / kBytesPerTet); }
-
-double default_max_voxels() { return std::floor(0.25 * physical_memory() / kBytesPerVoxel); }
 
 PreflightReport preflight(const scene::Scene& scene, const PreflightOptions& options) {
   return Checker(scene, options).run();

@@ -54,6 +54,9 @@ struct PreflightReport {
   std::vector<std::string> warnings;
 };
 
+/// "12.3 kB", "4.56 MB", "7.89 GB" (for messages).
+std::string format_bytes(double bytes);
+
 /// The default tet limit: half the physical memory divided by kBytesPerTet.
 double default_max_tets();
 

@@ -45,6 +45,14 @@ using nlohmann::json;
 
 namespace {
 
+/// Writes `scene` to dir/scene.json and runs it into dir/out on one thread; returns the console
+/// output, `status` the exit code.
+std::string run_in(const TempDir& dir, const json& scene, int* status) {
+  const fs::path file = dir.path() / "scene.json";
+  std::ofstream(file) << scene.dump(2);
+  return tetfsi_cmd("run " + file.string() + " --out " + (dir.path() / "out").string() + " --quiet --threads 1", status);
+}
+
 /// Volume enclosed by a closed, outward-oriented triangle surface (divergence theorem) [m^3].
 double enclosed_volume(const PlyData& ply) {
   double v = 0;
@@ -318,10 +326,9 @@ TEST(LiquidRun, NozzleAddsLiquidWhileOnAndTheVolumeThenStays) {
     "probes": [{"name": "volume", "kind": "fluid_volume"}]
   })");
   TempDir dir("liquid_nozzle");
-  const fs::path file = dir.path() / "scene.json", out = dir.path() / "out";
-  std::ofstream(file) << scene.dump(2);
+  const fs::path out = dir.path() / "out";
   int status = -1;
-  const std::string log = tetfsi_cmd("run " + file.string() + " --out " + out.string() + " --quiet --threads 1", &status);
+  const std::string log = run_in(dir, scene, &status);
   ASSERT_EQ(status, 0) << log;
   const Csv probes = read_csv(out / "probes.csv");
   const double pool = 0.4 * 0.4 * 0.06, nozzle = 0.15 * 0.1 * 0.15, flux = 1.0 * 0.15 * 0.15;
@@ -359,10 +366,9 @@ TEST(LiquidRun, InflowPatchPoursLiquidAtItsFlowRate) {
     "probes": [{"name": "volume", "kind": "fluid_volume"}]
   })");
   TempDir dir("liquid_inflow");
-  const fs::path file = dir.path() / "scene.json", out = dir.path() / "out";
-  std::ofstream(file) << scene.dump(2);
+  const fs::path out = dir.path() / "out";
   int status = -1;
-  const std::string log = tetfsi_cmd("run " + file.string() + " --out " + out.string() + " --quiet --threads 1", &status);
+  const std::string log = run_in(dir, scene, &status);
   ASSERT_EQ(status, 0) << log;
   const Csv probes = read_csv(out / "probes.csv"), stats = read_csv(out / "stats.csv");
   double v_01 = 0, v_03 = 0;
