@@ -105,6 +105,8 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
   mesh_updater_ = std::make_unique<MeshUpdater>(settings_.mesh_update);
 }
 
+void CoupledStepper::set_size_field(SizeFieldRequest request) { mesh_updater_->set_size_field(std::move(request)); }
+
 MeshUpdateReport CoupledStepper::update_mesh_to_solids() {
   MeshUpdateResult r = mesh_updater_->update(mesh_, mesh_vertices_at(solid_positions()), min_dihedral_deg_);
   min_dihedral_deg_ = r.report.min_dihedral_deg;

@@ -132,6 +132,8 @@ class CoupledStepper {
   /// none), inside eq. (7) with the obstacle contact (solid/contact/surface_contact.hpp).
   /// @throws std::invalid_argument on bad settings
   void enable_surface_contact(const solid::SurfaceContactSettings& settings, const std::vector<char>& self_contact = {});
+  /// A sizing field for the next step's mesh update (e.g. finer at a liquid's free surface).
+  void set_size_field(SizeFieldRequest request);
   /// See CoupledSettings::before_step.
   void set_before_step(std::function<void(double t, double h)> f) { settings_.before_step = std::move(f); }
   const fluid::FluidSolver& fluid() const { return fluid_; }

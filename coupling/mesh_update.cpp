@@ -92,7 +92,19 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   const double threshold = std::min(options.remesh_below_deg, 0.5 * start_min_dihedral_deg);
   bool remesh = options.policy == MeshUpdatePolicy::kRemeshEveryStep;
   if (options.policy == MeshUpdatePolicy::kRemeshWhenNeeded) remesh = moved_fluid_min < threshold;
-  if (!remesh) {
+  // A refit: the fluid tets where the sizing field moved (SizeFieldRequest).
+  const SizeFieldRequest request = std::move(size_request_);
+  size_request_ = {};
+  std::vector<char> misfit;
+  if (request.size_then && request.size_now) {
+    misfit = mesh::resized_tets(result.mesh, request.size_then, request.size_now, request.ratio, request.rings);
+    if (std::find(misfit.begin(), misfit.end(), 1) == misfit.end()) {
+      misfit.clear();
+      result.report.size_field_fitted = true;
+    }
+  }
+  const bool refit = !misfit.empty();
+  if (!remesh && !refit) {
     keep_moved();
   } else {
     // Remesh the moved fluid (the motion is already done, so remesh_step's own motion is the
@@ -106,9 +118,23 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
     opt.remesh_only_when_needed = options.policy == MeshUpdatePolicy::kRemeshWhenNeeded;
     opt.adaptive_band = opt.remesh_only_when_needed && opt.band > 0;
     opt.min_dihedral_deg = threshold;
+    if (request.size_at) opt.size_at = request.size_at;
+    if (refit) {  // the misfit tets, and the band around the solids if the policy remeshes now
+      opt.remesh_only_when_needed = false;
+      opt.adaptive_band = false;
+      if (remesh) {
+        const std::vector<char> near_solids = mesh::band_tets(result.mesh, opt.band);
+        for (std::size_t t = 0; t < misfit.size(); ++t) misfit[t] |= near_solids[t];
+      }
+      opt.remesh_tets = std::move(misfit);
+      opt.target_edge_length = request.far_edge;
+    }
     mesh::RemeshResult r = mesh::remesh_step(result.mesh, result.mesh.vertices, opt);
     const mesh::QualityReport q = mesh::quality_report(r.mesh, mesh::kFluidSubdomain);
-    if (r.report.remeshed && q.inverted + q.degenerate == 0 && q.min_dihedral_deg > moved_fluid_min) {
+    const bool better = q.min_dihedral_deg > moved_fluid_min ||
+                        (refit && q.min_dihedral_deg >= std::min(threshold, moved_fluid_min));
+    if (r.report.remeshed && q.inverted + q.degenerate == 0 && better) {
+      result.report.size_field_fitted = refit;
       result.mesh = std::move(r.mesh);
       result.old_index = std::move(r.old_index);
       result.report.remeshed = true;

@@ -13,11 +13,13 @@
 /// `old_index`. The fluid's fields are moved onto the new mesh by the advection step
 /// (fluid::FluidSolver::predict back-traces from the new mesh into the old one).
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "mesh/mesh_motion.hpp"
+#include "mesh/remesh_region.hpp"
 #include "mesh/remesher.hpp"
 #include "mesh/tet_mesh.hpp"
 
@@ -59,6 +61,9 @@ struct MeshUpdateReport {
   double check_seconds = 0;     ///< of which the validity and angle check of the moved mesh
   int passes = 0;               ///< CGAL remeshing passes (0 when not remeshed)
   bool remesh_rejected = false; ///< remeshing was tried but did not beat the moved mesh's quality
+  /// A refit (SizeFieldRequest) was asked for and the mesh now fits size_now: remeshed for it, or
+  /// the field had not moved enough anywhere.
+  bool size_field_fitted = false;
 };
 
 struct MeshUpdateResult {
@@ -73,6 +78,21 @@ struct MeshUpdateResult {
   /// The identity when the mesh was only moved.
   std::vector<int> old_index;
   MeshUpdateReport report;
+};
+
+/// A sizing field for one mesh update (e.g. finer at a liquid's free surface).
+struct SizeFieldRequest {
+  /// CGAL's sizing in every remesh of the update: min(target_edge_length, size_at). Empty: none.
+  mesh::SizeField size_at;
+  /// Refit (both set): the update also remeshes, whatever the policy, the fluid tets where the
+  /// field moved from size_then to size_now by more than `ratio` (mesh::resized_tets, `rings`
+  /// rings around them), with far_edge as the target there, together with the band around the
+  /// solids if the policy remeshes this step; the result is kept unless it has a flat or inverted
+  /// tet or a fluid dihedral angle below both the threshold and the moved mesh's.
+  mesh::SizeField size_then, size_now;
+  double far_edge = 0;
+  double ratio = 1.3;
+  int rings = 2;
 };
 
 /// Mean edge length [m] of the fluid tets with a vertex on a solid: the remeshing target that
@@ -94,8 +114,12 @@ class MeshUpdater {
   MeshUpdateResult update(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                           double start_min_dihedral_deg);
 
+  /// Sizing for the next update (SizeFieldRequest).
+  void set_size_field(SizeFieldRequest request) { size_request_ = std::move(request); }
+
  private:
   MeshUpdateOptions options_;
+  SizeFieldRequest size_request_;  ///< for the next update only
   std::unique_ptr<mesh::MeshMotion> motion_;
 };
 

@@ -68,6 +68,36 @@ std::vector<char> band_tets(const TetMesh& mesh, double band, const std::vector<
   return selected;
 }
 
+std::vector<char> resized_tets(const TetMesh& mesh, const SizeField& size_then, const SizeField& size_now,
+                               double ratio, int rings) {
+  std::vector<char> in_fluid(mesh.num_vertices(), 0), moved(mesh.num_vertices(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (mesh.subdomain[t] == kFluidSubdomain)
+      for (int v : mesh.tets[t]) in_fluid[v] = 1;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!in_fluid[v]) continue;
+    const double then = size_then(mesh.vertices[v]), now = size_now(mesh.vertices[v]);
+    moved[v] = now > ratio * then || now * ratio < then;
+  }
+  std::vector<char> flagged(mesh.tets.size(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    const auto& v = mesh.tets[t];
+    flagged[t] = mesh.subdomain[t] == kFluidSubdomain && (moved[v[0]] || moved[v[1]] || moved[v[2]] || moved[v[3]]);
+  }
+  const VertexIncidence around = vertex_incidence(mesh);
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<char> grown = flagged;
+    for (int t = 0; t < mesh.num_tets(); ++t) {
+      if (!flagged[t]) continue;
+      for (int v : mesh.tets[t])
+        for (int k = around.start[v]; k < around.start[v + 1]; ++k)
+          if (mesh.subdomain[around.element[k]] == kFluidSubdomain) grown[around.element[k]] = 1;
+    }
+    flagged = std::move(grown);
+  }
+  return flagged;
+}
+
 namespace {
 
 /// Root of x in a union-find forest stored in `parent` (path halving).

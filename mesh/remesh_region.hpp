@@ -8,6 +8,7 @@
 /// is a 2-manifold: CGAL's build_triangulation cones the hull to one infinite vertex, which needs
 /// every hull edge in exactly two hull triangles and a single fan of hull triangles around every
 /// hull vertex. Tets around an offending edge or vertex are added until none is left.
+#include <functional>
 #include <vector>
 
 #include "mesh/tet_mesh.hpp"
@@ -21,6 +22,20 @@ std::vector<int> vertex_kinds(const TetMesh& mesh);
 /// Per tet: 1 if it is a fluid tet with a vertex within `band` [m] of a seed vertex (all fluid tets
 /// if band <= 0). Seeds: the vertices flagged in `seeds`, or every solid vertex if it is empty.
 std::vector<char> band_tets(const TetMesh& mesh, double band, const std::vector<char>& seeds = {});
+
+/// A sizing field: target edge length [m] at a point.
+using SizeField = std::function<double(const Eigen::Vector3d&)>;
+
+/// Per tet: 1 for a fluid tet with a vertex x where the sizing field moved since the mesh was
+/// fitted to it, s_now(x) > ratio s_then(x) or s_now(x) ratio < s_then(x), and for the fluid tets
+/// within `rings` vertex rings of one (room for CGAL to grade). Comparing the field with itself
+/// rather than with the mesh's edges flags only where it moved: a mesh made by Mesh_3, whose edges
+/// run up to 1.6 times its size bound (a circumradius bound), is not flagged where nothing moved.
+/// Remeshing only these tets (and the region band_region builds around them) fits the mesh to
+/// s_now at a cost that follows the moved part of the field (a liquid surface), not the box.
+/// Both fields are called once per fluid vertex, from one thread.
+std::vector<char> resized_tets(const TetMesh& mesh, const SizeField& size_then, const SizeField& size_now,
+                               double ratio, int rings);
 
 /// True if the tets flagged in `region` form a topological ball: the region's Euler characteristic
 /// V - E + F - C is 1 and its hull's V - E + F is 2 (a sphere). Coned to CGAL's infinite vertex a

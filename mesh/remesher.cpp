@@ -96,6 +96,7 @@ RemeshResult remesh_step(const TetMesh& mesh, const std::vector<Eigen::Vector3d>
   for (int pass = 1; result.report.remeshed && pass <= passes; ++pass) {
     RemeshOptions opt = options;
     opt.band = pass >= 3 ? 0.0 : options.band * (1 << (pass - 1));
+    if (pass >= 2) opt.remesh_tets.clear();
     result = remesh_fluid(moved, opt, options.iterations + pass - 1, seeds);
     build += result.report.build_seconds;
     cgal += result.report.cgal_seconds;

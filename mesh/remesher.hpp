@@ -38,6 +38,10 @@ struct RemeshOptions {
   double min_dihedral_deg = 5.0;    ///< accept the fluid mesh when its min dihedral angle is above
   double band = 0.0;                ///< > 0: remesh only fluid tets within this distance [m] of a
                                     ///< solid vertex (others hidden like the solid); 0: all fluid
+  /// Per tet (non-empty): remesh exactly the fluid tets flagged here (band and seeds are not used;
+  /// the region CGAL gets is built around them as for a band), e.g. where a liquid surface's
+  /// sizing field no longer matches the mesh. Passes after the first remesh the whole fluid.
+  std::vector<char> remesh_tets;
   /// Move, remesh when needed: when true and the moved mesh is still good (no flat or inverted
   /// tet, fluid min dihedral >= min_dihedral_deg, and no fluid tet's volume changed by more than a
   /// factor max_volume_ratio), the moved mesh is returned as is (RemeshReport::remeshed false,

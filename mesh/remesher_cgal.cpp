@@ -43,9 +43,16 @@ RemeshResult remesh_fluid_unguarded(const TetMesh& mesh, const RemeshOptions& op
 
   // Which fluid tets are remeshed (band_tets) and which tets CGAL gets (band_region; the whole
   // mesh without a band, or if the region does not make a valid triangulation).
-  const std::vector<char> selected = band_tets(mesh, options.band, seeds);
+  std::vector<char> selected;
+  if (options.remesh_tets.empty()) {
+    selected = band_tets(mesh, options.band, seeds);
+  } else {
+    if (options.remesh_tets.size() != mesh.tets.size()) throw MeshError("remesh: remesh_tets does not match the mesh");
+    selected.assign(mesh.tets.size(), 0);
+    for (int t = 0; t < mesh.num_tets(); ++t) selected[t] = options.remesh_tets[t] && mesh.subdomain[t] == kFluidSubdomain;
+  }
   std::vector<char> in_region;
-  if (options.band > 0.0) in_region = band_region(mesh, selected);
+  if (options.band > 0.0 || !options.remesh_tets.empty()) in_region = band_region(mesh, selected);
   bool local = !in_region.empty();
   if (!local) in_region.assign(mesh.tets.size(), 1);
   RemeshResult result;

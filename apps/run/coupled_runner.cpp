@@ -44,6 +44,7 @@
 #include "apps/run/solid_geometry.hpp"
 #include "apps/run/solid_params.hpp"
 #include "apps/run/solid_springs.hpp"
+#include "apps/run/surface_refinement.hpp"
 #include "support/stopwatch.hpp"
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
@@ -66,8 +67,14 @@ class CoupledRunner : public Simulation {
     solid::limit_blas_threads(1);  // multi-threaded OpenBLAS slows CHOLMOD here (solid/README.md)
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
-    const mesh::MeshSizing sizing = mesh_sizing(m);
+    mesh::MeshSizing sizing = mesh_sizing(m);
     watchdog_ = watchdog_settings(js.at("simulation"));
+    // A free surface with surface_edge_length: finer near the liquid (surface_refinement.hpp).
+    refinement_ = surface_refinement(js);
+    if (refinement_.on())
+      sizing.size_at = refinement_.field(
+          liquid_region_distance(js.at("fluid").at("regions"), vec3(js.at("simulation").at("gravity"))));
+    sizing_ = sizing;
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;
     std::vector<solid::TetMaterial> materials;
@@ -132,6 +139,10 @@ class CoupledRunner : public Simulation {
       set_initial_liquid(js, stepper_->fluid(), log);
     } catch (const std::invalid_argument& e) {
       throw InputError(std::string("/fluid/regions: ") + e.what());
+    }
+    if (refinement_.on()) {
+      refinement_.mark(stepper_->fluid());
+      log.info("{}", refinement_.summary());
     }
 
     // The container's walls (a filled shell has none: its fluid is inside the solid).
@@ -226,6 +237,7 @@ class CoupledRunner : public Simulation {
     sources.clear();
     for (const auto& e : emitters_)
       if (e.active(stepper_->time())) sources.push_back(e.source);
+    if (refinement_.on()) set_size_field();
     coupling::CoupledStepReport r;
     try {
       r = stepper_->step(h);
@@ -245,6 +257,10 @@ class CoupledRunner : public Simulation {
     if (r.mesh_update.remeshed)
       log_->debug("t = {} s: fluid remeshed, {} tets, min dihedral {:.3g} deg, {:.3g} s", r.time, r.fluid.num_tets,
                   r.mesh_update.min_dihedral_deg, r.mesh_update.seconds);
+    if (refinement_.on()) {
+      if (r.mesh_update.size_field_fitted) refinement_.mark(stepper_->fluid());
+      surface_left_refined_zone_ = refinement_.left_zone(stepper_->fluid().level_set());
+    }
     last_ = r;
     energy_.record(r.total_energy(), r.fluid_kinetic + r.solid_kinetic + r.solid_strain + r.spring_energy);
     StepReport out;
@@ -353,6 +369,27 @@ class CoupledRunner : public Simulation {
   }
 
  private:
+  /// The liquid surface's sizing field for the next step's mesh update; when the surface left its
+  /// refined zone, a refit where the field moved since the last fit, with the first mesh's
+  /// grading toward the solids in CGAL's field (the refit may reach them; SizeFieldRequest).
+  void set_size_field() {
+    coupling::SizeFieldRequest request;
+    request.size_at = refinement_.current_field(stepper_->fluid());
+    if (surface_left_refined_zone_) {
+      request.size_now = request.size_at;
+      request.size_then = refinement_.fitted_field();
+      request.far_edge = refinement_.far_edge();
+      request.ratio = SurfaceRefinement::kResize;
+      request.rings = SurfaceRefinement::kRings;
+      if (auto solid = solid_graded_field(stepper_->mesh(), sizing_))
+        request.size_at = [surface = request.size_now, solid = std::move(solid)](const Eigen::Vector3d& x) {
+          return std::min(surface(x), solid(x));
+        };
+    }
+    stepper_->set_size_field(std::move(request));
+  }
+
+
   /// Starts the energy balance at the initial state, or logs why the scene is not watched.
   void setup_energy_watch(const scene::Json& js, spdlog::logger& log) {
     energy_source_ = coupled_energy_source(js);
@@ -444,6 +481,9 @@ class CoupledRunner : public Simulation {
   double h_ = 1.0 / 60.0, fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, edge_near_ = 0;
   spdlog::logger* log_ = nullptr;
   int rejected_remeshes_ = 0;
+  mesh::MeshSizing sizing_;                  ///< of the first mesh (its grading toward the solids)
+  SurfaceRefinement refinement_;             ///< the mesh finer at the liquid surface (off without one)
+  bool surface_left_refined_zone_ = false;   ///< refit the mesh to the surface in the next step
   std::string scheme_;
 };
 

@@ -26,6 +26,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
+#include "apps/run/surface_refinement.hpp"
 #include "support/stopwatch.hpp"
 #include "fluid/advection/point_locator.hpp"
 #include "fluid/fluid_solver.hpp"
@@ -34,6 +35,7 @@
 #include "mesh/complex_mesher.hpp"
 #include "mesh/surface_import.hpp"
 #include "mesh/quality.hpp"
+#include "mesh/remesh_region.hpp"
 #include "mesh/remesher.hpp"
 
 namespace tetfsi::run {
@@ -83,15 +85,11 @@ class FluidRunner : public Simulation {
     // ---- mesh ----
     const auto& m = js.at("mesh");
     mesh::MeshSizing sizing = mesh_sizing(m);
-    // A free surface with surface_edge_length: finer near the liquid (fluid/README.md, "Liquids").
-    if (f.at("type") == "liquid" && f.value("fill", "domain") == "regions")
-      surface_edge_ = f.at("surface_edge_length").get<double>();
-    far_edge_ = sizing.edge_length;
-    surface_grading_ = std::max(sizing.grading_distance, 3.0 * surface_edge_);
-    if (surface_edge_ > 0) {
-      const auto distance = liquid_region_distance(f.at("regions"), vec3(js.at("simulation").at("gravity")));
-      sizing.size_at = [this, distance](const Eigen::Vector3d& x) { return surface_size(std::abs(distance(x))); };
-    }
+    // A free surface with surface_edge_length: finer near the liquid (surface_refinement.hpp).
+    refinement_ = surface_refinement(js);
+    if (refinement_.on())
+      sizing.size_at =
+          refinement_.field(liquid_region_distance(f.at("regions"), vec3(js.at("simulation").at("gravity"))));
     std::vector<mesh::SurfaceMesh> surfaces;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
@@ -149,11 +147,9 @@ class FluidRunner : public Simulation {
     }
     dx_ = solver_->mesh().mean_edge_length();
     update_solid_velocity(0.0, 0.0);
-    if (surface_edge_ > 0) {
-      mark_refined_nodes();
-      log.info("free surface: edge {:.4g} m within {:.4g} m of the surface, graded to {:.4g} m over {:.4g} m; the "
-               "fluid is remeshed when the surface leaves the refined zone",
-               surface_edge_, 3.0 * surface_edge_, far_edge_, surface_grading_);
+    if (refinement_.on()) {
+      refinement_.mark(*solver_);
+      log.info("{}", refinement_.summary());
     }
   }
 
@@ -163,7 +159,8 @@ class FluidRunner : public Simulation {
   }
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence",
-                                  "kinetic_energy", "gravity_potential", "min_dihedral", "clamped_traces", "remeshed"};
+                                  "kinetic_energy", "gravity_potential", "min_dihedral", "clamped_traces", "remeshed",
+                                  "remeshed_tets"};
     if (solver_->has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
     return c;
   }
@@ -182,7 +179,9 @@ class FluidRunner : public Simulation {
     time_ += h;
     Stopwatch clock;
     remeshed_ = false;
-    if (surface_edge_ > 0) remesh_.size_at = current_surface_size();
+    remeshed_tets_ = 0;
+    surface_fitted_ = false;
+    if (refinement_.on()) remesh_.size_at = refinement_.current_field(*solver_);
     if (surface_left_refined_zone_ && !moving_) remesh_for_surface();
     if (moving_) {
       std::vector<Eigen::Vector3d> target = complex_.vertices;
@@ -192,11 +191,21 @@ class FluidRunner : public Simulation {
       // is flat or inverted would break the pressure matrix: then remesh again from the moved
       // mesh with more CGAL iterations, the last time over the whole fluid instead of a band. A
       // positive but small minimum dihedral angle is only reported.
+      // The surface left its refined zone: remesh where the mesh no longer fits the liquid
+      // surface's sizing field, with the band around the moving solids (the whole fluid without
+      // a band, or on a second attempt).
+      std::vector<char> misfit;
+      if (surface_left_refined_zone_) misfit = misfit_tets();
       mesh::RemeshResult r;
       mesh::QualityReport q;
       for (int attempt = 0;; ++attempt) {
         mesh::RemeshOptions opt = remesh_;
-        if (surface_left_refined_zone_) {  // the whole fluid, for the liquid surface's sizing field
+        if (!misfit.empty() && attempt == 0) {
+          opt.remesh_only_when_needed = false;
+          opt.remesh_tets = misfit;
+          const std::vector<char> near_solids = mesh::band_tets(complex_, opt.band);
+          for (std::size_t t = 0; t < near_solids.size(); ++t) opt.remesh_tets[t] |= near_solids[t];
+        } else if (!misfit.empty()) {
           opt.band = 0;
           opt.remesh_only_when_needed = false;
         }
@@ -226,6 +235,8 @@ class FluidRunner : public Simulation {
       complex_ = std::move(r.mesh);
       min_dihedral_ = r.report.min_dihedral_deg;
       remeshed_ = r.report.remeshed;
+      if (remeshed_) remeshed_tets_ = r.report.remeshed_fluid_tets;
+      if (!misfit.empty()) surface_fitted_ = remeshed_;
       update_solid_velocity(time_, h);
     }
     const double t_remesh = clock.seconds();
@@ -241,9 +252,9 @@ class FluidRunner : public Simulation {
       throw RunError(fmt::format("fluid step at t = {} s failed: {}", time_, e.what()));
     }
     last_ = s;
-    if (surface_edge_ > 0) {
-      if (remeshed_) mark_refined_nodes();
-      surface_left_refined_zone_ = surface_outside_refined_zone();
+    if (refinement_.on()) {
+      if (surface_fitted_) refinement_.mark(*solver_);
+      surface_left_refined_zone_ = refinement_.left_zone(solver_->level_set());
     }
     dx_ = solver_->mesh().mean_edge_length();
 
@@ -252,7 +263,7 @@ class FluidRunner : public Simulation {
     rep.phase_seconds = {t_remesh, s.advect_seconds, s.forces_seconds, s.assemble_seconds, s.solve_seconds};
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
                   s.max_divergence, s.kinetic_energy, s.gravity_potential, min_dihedral_, double(s.clamped_traces),
-                  double(remeshed_)};
+                  double(remeshed_), double(remeshed_tets_)};
     if (solver_->has_free_surface()) {
       rep.phase_seconds.insert(rep.phase_seconds.begin() + 1, s.surface_seconds);
       rep.values.insert(rep.values.end(), {s.liquid_volume, s.volume_drift});
@@ -297,46 +308,16 @@ class FluidRunner : public Simulation {
   }
 
  private:
-  /// Target edge length [m] at distance d from the liquid surface: surface_edge_length within
-  /// three of it, graded linearly to the mesh's edge length over max(grading_distance, 3 of it).
-  double surface_size(double d) const {
-    const double r = 3.0 * surface_edge_;
-    return surface_edge_ + (far_edge_ - surface_edge_) * std::clamp((d - r) / surface_grading_, 0.0, 1.0);
-  }
-  /// surface_size at the current level set, interpolated on the current fluid mesh (for CGAL's
-  /// remeshing sizing field; CGAL calls it from one thread).
-  std::function<double(const Eigen::Vector3d&)> current_surface_size() {
-    locator_ = std::make_shared<fluid::PointLocator>(solver_->mesh());
-    return [this, locator = locator_, hint = std::make_shared<int>(0)](const Eigen::Vector3d& x) {
-      const fluid::Location l = locator->locate(x, *hint);
-      *hint = l.tet;
-      double phi = 0;
-      for (int k = 0; k < 4; ++k) phi += l.bary[k] * solver_->level_set()[solver_->mesh().tets[l.tet][k]];
-      return surface_size(std::abs(phi));
-    };
-  }
-  /// Fluid nodes within the refined zone (3 surface edge lengths) of the surface now.
-  void mark_refined_nodes() {
-    const Eigen::VectorXd& phi = solver_->level_set();
-    refined_node_.assign(phi.size(), 0);
-    for (Eigen::Index i = 0; i < phi.size(); ++i) refined_node_[i] = std::abs(phi[i]) < 3.0 * surface_edge_;
-  }
-  /// True when a node within 1.5 surface edge lengths of the surface was not in the refined zone at
-  /// the last (re)mesh: the surface has moved into the coarse mesh.
-  bool surface_outside_refined_zone() const {
-    const Eigen::VectorXd& phi = solver_->level_set();
-    if (static_cast<Eigen::Index>(refined_node_.size()) != phi.size()) return true;
-    for (Eigen::Index i = 0; i < phi.size(); ++i)
-      if (std::abs(phi[i]) < 1.5 * surface_edge_ && !refined_node_[i]) return true;
-    return false;
-  }
-  /// Remeshes the whole fluid (solids frozen) with the sizing field of the current surface; the
-  /// solver carries the fields and the level set over in its next step.
+  /// Remeshes the fluid (solids frozen) with the sizing field of the current surface where it
+  /// moved since the last fit (misfit_tets; the whole fluid if that region is not a ball);
+  /// the solver carries the fields and the level set over in its next step.
   void remesh_for_surface() {
     mesh::RemeshOptions opt = remesh_;
     opt.remesh_only_when_needed = false;
     opt.band = 0;
-    opt.target_edge_length = far_edge_;
+    opt.target_edge_length = refinement_.far_edge();
+    opt.remesh_tets = misfit_tets();
+    if (opt.remesh_tets.empty()) return;
     mesh::RemeshResult r;
     try {
       r = mesh::remesh_step(complex_, complex_.vertices, opt);
@@ -356,8 +337,19 @@ class FluidRunner : public Simulation {
     complex_ = std::move(r.mesh);
     min_dihedral_ = q.min_dihedral_deg;
     remeshed_ = true;
+    surface_fitted_ = true;
+    remeshed_tets_ = r.report.remeshed_fluid_tets;
     update_solid_velocity(time_, 0.0);
-    log_->debug("t = {} s: remeshed for the liquid surface: {} fluid tets", time_, q.num_tets);
+    log_->debug("t = {} s: remeshed for the liquid surface: {}", time_, r.report.summary());
+  }
+
+  /// The fluid tets where the liquid surface's sizing field moved since the last fit
+  /// (SurfaceRefinement::resized_tets), or none: then the mesh fits the surface as it is, and the
+  /// step records the fit anew.
+  std::vector<char> misfit_tets() {
+    std::vector<char> misfit = refinement_.resized_tets(complex_, remesh_.size_at);
+    if (misfit.empty()) surface_fitted_ = true;
+    return misfit;
   }
 
   /// Which solid each complex vertex belongs to (-1: fluid only), and the solid vertex velocities.
@@ -424,10 +416,10 @@ class FluidRunner : public Simulation {
   fluid::StepReport last_;
   bool moving_ = false;
   bool remeshed_ = false;  ///< last step remeshed the fluid (false: static, or moved only)
-  double surface_edge_ = 0, far_edge_ = 0, surface_grading_ = 0;  ///< liquid-surface refinement [m]
-  std::vector<char> refined_node_;           ///< per fluid node: in the refined zone at the last (re)mesh
+  int remeshed_tets_ = 0;  ///< fluid tets the last step handed to CGAL to remesh (0: none)
+  SurfaceRefinement refinement_;             ///< the mesh finer at the liquid surface (off without one)
   bool surface_left_refined_zone_ = false;   ///< remesh for the surface at the start of the next step
-  std::shared_ptr<fluid::PointLocator> locator_;  ///< of the current fluid mesh, for current_surface_size
+  bool surface_fitted_ = false;              ///< this step fitted the mesh to the surface's sizing field
   double fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, dx_ = 0, time_ = 0, ambient_ = 293.15;
   double max_solid_speed_ = 0, min_dihedral_ = 0;
 };

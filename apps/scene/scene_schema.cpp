@@ -126,13 +126,6 @@ void check_free_surface(const Json& s, std::vector<Issue>& issues) {
     }
     if (!any) issues.push_back({"/fluid/regions", "no region reaches into the domain box: there is no liquid"});
   }
-  for (std::size_t i = 0; i < s["solids"].size(); ++i)
-    if (s["fluid"].value("surface_edge_length", 0.0) > 0 && s["solids"][i]["motion"]["type"] == "none") {
-      issues.push_back({"/fluid/surface_edge_length",
-                        "the mesh follows the liquid surface in the fluid runner only (static or kinematic "
-                        "solids); with deforming solids set it to 0"});
-      break;
-    }
   if (s["fluid"].value("surface_edge_length", 0.0) > s["mesh"].value("edge_length", 0.1))
     issues.push_back({"/fluid/surface_edge_length", "expected a value <= mesh.edge_length (refinement at the surface, "
                                                     "not coarsening)"});

@@ -213,3 +213,84 @@ TEST(RemeshRegion, OnlyBallsAreHandedToCgal) {
   EXPECT_FALSE(region_is_ball(box, region([](int i, int j, int) { return !(i == 1 && j == 1); })));  // tunnel
   EXPECT_FALSE(region_is_ball(box, region([](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); })));  // cavity
 }
+
+// resized_tets (remesh_region.hpp): on a 8 x 8 x 8 Kuhn box, a sizing field that moved from 0.125 m
+// to 0.05 m for x < 0.25 m flags exactly the tets with a vertex there, and one ring adds the tets
+// sharing a vertex with them; a field that did not move flags none, one 3x coarser flags all,
+// one that moved by less than the ratio none.
+TEST(RemeshRegion, ResizedTetsAreWhereTheFieldMoved) {
+  const TetMesh box = structured_box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 8, 8, 8);
+  const auto uniform = [](double h) { return [h](const Eigen::Vector3d&) { return h; }; };
+  const auto fine_strip = [](const Eigen::Vector3d& x) { return x.x() < 0.25 ? 0.05 : 0.125; };
+  const std::vector<char> strip = resized_tets(box, uniform(0.125), fine_strip, 1.3, 0);
+  const std::vector<char> grown = resized_tets(box, uniform(0.125), fine_strip, 1.3, 1);
+  int added = 0;
+  for (int t = 0; t < box.num_tets(); ++t) {
+    double lowest = 1.0;
+    for (int v : box.tets[t]) lowest = std::min(lowest, box.vertices[v].x());
+    EXPECT_EQ(strip[t] != 0, lowest < 0.25) << "tet " << t;
+    EXPECT_TRUE(!strip[t] || grown[t]);
+    if (grown[t] && !strip[t]) {
+      ++added;
+      EXPECT_LE(lowest, 0.25 + 1e-12) << "tet " << t;  // shares a vertex with a flagged tet
+    }
+  }
+  EXPECT_GT(added, 0);
+  const auto count = [](const std::vector<char>& f) { return std::count(f.begin(), f.end(), 1); };
+  EXPECT_EQ(count(resized_tets(box, fine_strip, fine_strip, 1.3, 2)), 0);
+  EXPECT_EQ(count(resized_tets(box, uniform(0.125), uniform(0.375), 1.3, 0)), box.num_tets());
+  EXPECT_EQ(count(resized_tets(box, uniform(0.125), uniform(0.15), 1.3, 0)), 0);
+}
+
+// RemeshOptions::remesh_tets: refining a slab x < 0.15 m of a 6 x 6 x 6 Kuhn box (mean edge 0.236 m)
+// to 0.08 m remeshes only the tets resized_tets flags (a local remesh), keeps every tet away from them as it
+// was (same vertices, through old_index), fills the box (volume 1 m^3 to round-off), and makes the
+// slab fine while the far side stays coarse.
+TEST(Remesher, RemeshTetsRefinesOnlyWhereTheFieldMoved) {
+  const TetMesh box = structured_box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 6, 6, 6);
+  RemeshOptions options;
+  options.target_edge_length = mean_edge_length(box, kFluidSubdomain);
+  options.size_at = [](const Eigen::Vector3d& x) { return x.x() < 0.15 ? 0.08 : 1.0; };
+  const double h = options.target_edge_length;
+  options.remesh_tets = resized_tets(
+      box, [h](const Eigen::Vector3d&) { return h; },
+      [&](const Eigen::Vector3d& x) { return std::min(h, options.size_at(x)); }, 1.3, 1);
+  const RemeshResult r = remesh_step(box, box.vertices, options);
+  std::printf("%s\n", r.report.summary().c_str());
+  EXPECT_TRUE(r.report.local);
+  EXPECT_LT(r.report.remeshed_fluid_tets, box.num_tets() / 2);
+  EXPECT_NEAR(volume(r.mesh, false), 1.0, 1e-12);
+  const QualityReport q = quality_report(r.mesh);
+  EXPECT_EQ(q.inverted + q.degenerate, 0);
+  std::set<std::array<int, 4>> kept;  // output tets made of input vertices only, as input numbering
+  for (const auto& tet : r.mesh.tets) {
+    std::array<int, 4> k{};
+    for (int i = 0; i < 4; ++i) k[i] = r.old_index[tet[i]];
+    std::sort(k.begin(), k.end());
+    if (k[0] >= 0) kept.insert(k);
+  }
+  // Mean edge length of the tets whose centroid's x is in [x0, x1].
+  const auto mean_edge = [](const TetMesh& m, double x0, double x1) {
+    double sum = 0;
+    int count = 0;
+    for (const auto& v : m.tets) {
+      double length = 0, cx = 0;
+      for (int a = 0; a < 4; ++a) {
+        cx += m.vertices[v[a]].x() / 4;
+        for (int b = a + 1; b < 4; ++b) length += (m.vertices[v[a]] - m.vertices[v[b]]).norm() / 6;
+      }
+      if (cx >= x0 && cx <= x1) sum += length, ++count;
+    }
+    return sum / count;
+  };
+  EXPECT_LT(mean_edge(r.mesh, 0, 0.1), 1.5 * 0.08);
+  EXPECT_NEAR(mean_edge(r.mesh, 0.75, 1), mean_edge(box, 0.75, 1), 1e-12);
+  for (int t = 0; t < box.num_tets(); ++t) {
+    double lowest = 1.0;
+    for (int v : box.tets[t]) lowest = std::min(lowest, box.vertices[v].x());
+    if (lowest < 0.7) continue;
+    std::array<int, 4> k = box.tets[t];
+    std::sort(k.begin(), k.end());
+    EXPECT_TRUE(kept.count(k)) << "tet " << t << " beyond x = 0.7 m was changed";
+  }
+}

@@ -112,8 +112,9 @@ Field fluid() {
                         Field::number("surface_edge_length", "m",
                                       "With `fill: regions`: target edge length of the mesh within three of it "
                                       "of the liquid surface, graded to `mesh.edge_length` over "
-                                      "max(`mesh.grading_distance`, three of it); the fluid is remeshed when the "
-                                      "surface leaves the refined zone. 0: a mesh that ignores the surface.")
+                                      "max(`mesh.grading_distance`, three of it); when the surface leaves the refined "
+                                      "zone, the fluid is remeshed where the mesh no longer fits (fluid and coupled "
+                                      "runners). 0: a mesh that ignores the surface.")
                             .at_least(0).def(0),
                         Field::enumeration("level_set_advection", {"bfecc", "semi_lagrangian"},
                                            "With `fill: regions`: how the liquid's level set is carried each step. "
