@@ -18,6 +18,8 @@ deflector.pvd and catcher.pvd (OpenDataFile, i.e. ParaView's PVD reader):
 
 Exit 77 (ctest SKIP_RETURN_CODE) when `pvpython` is not on PATH (Debian: python3-paraview).
 Usage: paraview_check.py --tetfsi BIN --scene data/scenes/smoke_sheets_ci.json [--keep DIR]
+       paraview_check.py --scene data/scenes/smoke_sheets.json --out OUTDIR   (checks the output of
+       an earlier `tetfsi run SCENE --out OUTDIR` of a scene with the same objects, e.g. the flagship)
 """
 
 import argparse
@@ -116,7 +118,8 @@ def run(cmd):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--tetfsi", required=True)
+    ap.add_argument("--tetfsi", help="the tetfsi binary (runs --scene); not needed with --out")
+    ap.add_argument("--out", help="check this output folder of an earlier run of --scene instead")
     ap.add_argument("--scene", required=True, help="data/scenes/smoke_sheets_ci.json")
     ap.add_argument("--keep", help="work in this folder and keep it")
     args = ap.parse_args()
@@ -137,8 +140,11 @@ def main():
         scene = json.load(f)
     frame_rate = scene["simulation"]["frame_rate"]
     frames = int(round(scene["simulation"]["end_time"] * frame_rate)) + 1
-    out = os.path.join(work, "out")
-    run([args.tetfsi, "run", args.scene, "--out", out, "--quiet"])
+    out = args.out or os.path.join(work, "out")
+    if not args.out:
+        if not args.tetfsi:
+            sys.exit("paraview_check: give --tetfsi BIN or --out OUTDIR")
+        run([args.tetfsi, "run", args.scene, "--out", out, "--quiet"])
     pvds = {name: os.path.join(out, name + ".pvd") for name in OBJECTS}
     script = os.path.join(work, "read_pvd.py")
     with open(script, "w") as f:

@@ -124,9 +124,11 @@ TEST(VtuReader, ZlibRoundTripIsBitwiseAndSmaller) {
   EXPECT_EQ(read_text(none).find("compressor"), std::string::npos);
   expect_same_grid(io::read_vtu(zlib), grid);
   expect_same_grid(io::read_vtu(none), grid);
-  // Connectivity, offsets, types and the zero field compress well, the smooth fields' mantissas
-  // hardly at all; raw instead of base64 saves 1/4: 239,941 vs 537,894 bytes (0.45).
-  EXPECT_LT(static_cast<double>(zlib_bytes), 0.5 * static_cast<double>(none_bytes));
+  // Connectivity, offsets, types and the zero field compress well; the smooth fields' mantissas
+  // hardly at all (their first blocks shrink by less than 10%, so their other blocks are stored);
+  // raw instead of base64 saves 1/4: 271,389 vs 537,894 bytes (0.50; 0.45 with every block
+  // deflated).
+  EXPECT_LT(static_cast<double>(zlib_bytes), 0.55 * static_cast<double>(none_bytes));
 }
 
 // export.precision "float32": every field value comes back as the nearest float (checked against
