@@ -66,7 +66,7 @@ for name, files in volume_files.items():
     volumes[name] = {"files": len(numbers), "frames_loaded_with_grids": ok, "grids": sorted(names)}
 print("BENCH " + json.dumps({"objects": objects, "volumes": volumes, "vertices": verts, "fps": sc.render.fps / sc.render.fps_base,
       "velocity_vs_ply": worst, "max_speed": max(float(np.abs(np.array(
-          [d.vector[:] for d in o.data.attributes["velocity"].data] or [[0, 0, 0]])).max()) for o in sc.objects if "velocity" in o.data.attributes)}))
+          [d.vector[:] for d in o.data.attributes["velocity"].data] or [[0, 0, 0]])).max()) for o in sc.objects if o.type == "MESH" and "velocity" in o.data.attributes)}))
 sc.frame_set((sc.frame_start + sc.frame_end) // 2)
 cam = bpy.data.objects.new("bench_camera", bpy.data.cameras.new("bench_camera"))
 cam.data.type = "ORTHO"
