@@ -3,12 +3,16 @@
 `blender -b`, a check of what the .blend holds and one Cycles frame with motion blur.
 
     scripts/bench_blender_import.py --tetfsi build/apps/tetfsi [--scene data/scenes/smoke_sheets_ci.json]
-                                    [--out DIR] [--samples 16] [--pixels 320]
+                                    [--out DIR] [--samples 16] [--pixels 320] [--volumes]
 
 Prints the seconds of each stage, the objects and frames, the largest difference between the
 `velocity` attribute of every frame mesh and the vx vy vz of its PLY (turned to Z-up when the run
 was Y-up; 0 means the attribute holds the file's float32 values), and writes DIR/render.png:
 the middle frame seen along +y (Z-up) by an orthographic camera framing every frame's surfaces.
+With --volumes the scene runs with export.volumes "vdb" (a copy of it in DIR): the fluid volume
+sequence is imported too, and the check reports, at every Blender frame, whether the volume
+object loaded that frame's volumes/fluid_NNNNN.vdb with its grids (density, temperature,
+velocity); the render then shows the smoke.
 Needs `blender` (Debian 12: apt-get install blender, Blender 3.4) and numpy in Blender's Python.
 """
 
@@ -48,9 +52,21 @@ for name, frames in bi.surface_frames(outdir).items():
         if len(p):
             lo, hi = np.minimum(lo, p.min(axis=0)), np.maximum(hi, p.max(axis=0))
 sc = bpy.context.scene
-print("BENCH " + json.dumps({"objects": objects, "vertices": verts, "fps": sc.render.fps / sc.render.fps_base,
+volumes, volume_files = {}, bi.volume_frames(outdir)
+for name, files in volume_files.items():
+    obj = bpy.data.objects[name + "_volume"]
+    numbers = sorted(files)
+    ok = 0
+    for i, k in enumerate(numbers):
+        sc.frame_set(i + 1)
+        g = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.grids
+        g.load()
+        names = {x.name for x in g}
+        ok += os.path.basename(g.frame_filepath) == os.path.basename(files[k]) and {"density", "temperature", "velocity"} <= names
+    volumes[name] = {"files": len(numbers), "frames_loaded_with_grids": ok, "grids": sorted(names)}
+print("BENCH " + json.dumps({"objects": objects, "volumes": volumes, "vertices": verts, "fps": sc.render.fps / sc.render.fps_base,
       "velocity_vs_ply": worst, "max_speed": max(float(np.abs(np.array(
-          [d.vector[:] for d in o.data.attributes["velocity"].data] or [[0, 0, 0]])).max()) for o in sc.objects if "velocity" in o.data.attributes)}))
+          [d.vector[:] for d in o.data.attributes["velocity"].data] or [[0, 0, 0]])).max()) for o in sc.objects if o.type == "MESH" and "velocity" in o.data.attributes)}))
 sc.frame_set((sc.frame_start + sc.frame_end) // 2)
 cam = bpy.data.objects.new("bench_camera", bpy.data.cameras.new("bench_camera"))
 cam.data.type = "ORTHO"
@@ -86,6 +102,7 @@ def main():
     ap.add_argument("--out", default="bench_blender_import")
     ap.add_argument("--samples", type=int, default=16)
     ap.add_argument("--pixels", type=int, default=320)
+    ap.add_argument("--volumes", action="store_true", help='run with export.volumes "vdb" and import the volumes')
     args = ap.parse_args()
     blender = shutil.which("blender")
     if not blender:
@@ -94,7 +111,15 @@ def main():
     work = os.path.abspath(args.out)
     outdir, blend = os.path.join(work, "run"), os.path.join(work, "run.blend")
     os.makedirs(work, exist_ok=True)
-    _, t_run = run([args.tetfsi, "run", args.scene, "--out", outdir, "--quiet"])
+    scene = args.scene
+    if args.volumes:
+        with open(args.scene) as f:
+            js = json.load(f)
+        js.setdefault("export", {})["volumes"] = "vdb"
+        scene = os.path.join(work, "scene_vdb.json")
+        with open(scene, "w") as f:
+            json.dump(js, f, indent=2)
+    _, t_run = run([args.tetfsi, "run", scene, "--out", outdir, "--quiet"])
     _, t_import = run([blender, "-b", "--factory-startup", "--python-exit-code", "1",
                        "--python", os.path.join(HERE, "blender_import.py"), "--", outdir, blend])
     expr = CHECK_AND_RENDER % {"here": HERE, "outdir": outdir, "pixels": args.pixels,
@@ -109,8 +134,12 @@ def main():
     print(f"objects (frames): {bench['objects']}; {bench['vertices']} vertices in all frames; {bench['fps']:g} fps")
     print(f"velocity attribute vs PLY vx vy vz: max |difference| {bench['velocity_vs_ply']:.3g} m/s; "
           f"largest component {bench['max_speed']:.3g} m/s")
+    for name, v in bench["volumes"].items():
+        print(f"volumes {name}: {v['files']} .vdb files, {v['frames_loaded_with_grids']} Blender frames loaded their "
+              f"own file with density, temperature and velocity; grids {v['grids']}")
     print(f"render: {os.path.join(work, 'render.png')}")
-    return 0 if bench["velocity_vs_ply"] == 0.0 else 1
+    volumes_ok = all(v["files"] == v["frames_loaded_with_grids"] for v in bench["volumes"].values())
+    return 0 if bench["velocity_vs_ply"] == 0.0 and volumes_ok and (bench["volumes"] or not args.volumes) else 1
 
 
 if __name__ == "__main__":

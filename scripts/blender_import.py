@@ -1,4 +1,5 @@
-"""Loads the surface frames of a tetfsi run into Blender as an animation with motion-blur data.
+"""Loads the surface frames and fluid volumes of a tetfsi run into Blender as an animation with
+motion-blur data.
 
 Usage (Blender 3.4 or newer, no add-on, only Blender's own Python and numpy):
 
@@ -20,6 +21,16 @@ k / simulation.frame_rate of the resolved scene in run.log), and saves OUT.blend
   attribute named `velocity`: the attribute Cycles reads for deformation motion blur of meshes
   (as written by the Alembic/USD importers and the fluid simulator); Cycles moves each vertex
   by velocity * shutter / fps, so the velocity stays in scene units per second;
+- with `export.volumes: "vdb"`, the run's OUTDIR/volumes/<object>_NNNNN.vdb (OpenVDB, grids
+  `density` (smoke), `temperature` [K], `velocity` [m/s] and for a liquid `surface`) as one
+  volume object `<object>_volume` per object in a collection `<object>_volume`: a Blender
+  volume sequence (`is_sequence`, frame_start 1, frame_duration = number of files,
+  frame_offset so that Blender frame k + 1 reads file NNNNN = k, sequence mode CLIP) when the
+  files are numbered without gaps, else one volume object per file with keyframed visibility as
+  for the meshes (export.every_n_frames > 1). Velocity grid `velocity` in m/s for Cycles'
+  volume motion blur, and a material whose Principled Volume reads the `density` and
+  `temperature` grids. A Y-up run's volumes are turned by the object's rotation (+90 degrees
+  about x), the files are never rewritten;
 - the scene's frame rate from the .pvd times (Blender frame k + 1 is the k-th listed frame,
   fps / fps_base = (frames - 1) / (t_last - t_first)), frame range, Cycles as render engine
   and motion blur enabled (shutter 0.5 frame); denoising off when Cycles has no
@@ -41,6 +52,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 FRAME_FILE = re.compile(r"^(?P<object>.+)_(?P<frame>\d{5})\.ply$")
+VOLUME_FILE = re.compile(r"^(?P<object>.+)_(?P<frame>\d{5})\.vdb$")
 
 
 def read_ply(path):
@@ -114,15 +126,20 @@ def run_files_are_z_up(outdir):
     return axis == '"z"'
 
 
-def surface_frames(outdir):
+def surface_frames(outdir, folder="surfaces", pattern=FRAME_FILE):
     """{object: {frame number: path}} of OUTDIR/surfaces/<object>_NNNNN.ply."""
     found = {}
-    folder = os.path.join(outdir, "surfaces")
+    folder = os.path.join(outdir, folder)
     for name in sorted(os.listdir(folder)) if os.path.isdir(folder) else []:
-        m = FRAME_FILE.match(name)
+        m = pattern.match(name)
         if m:
             found.setdefault(m.group("object"), {})[int(m.group("frame"))] = os.path.join(folder, name)
     return found
+
+
+def volume_frames(outdir):
+    """{object: {frame number: path}} of OUTDIR/volumes/<object>_NNNNN.vdb."""
+    return surface_frames(outdir, "volumes", VOLUME_FILE)
 
 
 def resolved_value(outdir, key, pattern):
@@ -177,6 +194,70 @@ def key_visibility(obj, frame, visible):
     obj.keyframe_insert("hide_viewport", frame=frame)
 
 
+def show_only_at(obj, frame, last):
+    """Keys the object visible at `frame` only (of Blender frames 1..last), held constant."""
+    key_visibility(obj, frame, True)
+    if frame > 1:
+        key_visibility(obj, frame - 1, False)
+    if frame < last:
+        key_visibility(obj, frame + 1, False)
+    for curve in obj.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "CONSTANT"
+
+
+def volume_material(bpy, name):
+    """A material whose Principled Volume takes its density from the `density` grid (smoke) and
+    its blackbody temperature from the `temperature` grid [K]."""
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    nodes = material.node_tree.nodes
+    for node in list(nodes):
+        nodes.remove(node)
+    shader = nodes.new("ShaderNodeVolumePrincipled")
+    shader.inputs["Density Attribute"].default_value = "density"
+    shader.inputs["Temperature Attribute"].default_value = "temperature"
+    output = nodes.new("ShaderNodeOutputMaterial")
+    material.node_tree.links.new(shader.outputs["Volume"], output.inputs["Volume"])
+    return material
+
+
+def import_volumes(bpy, scene, name, frames, times, blender_frame, z_up):
+    """The volume files of one object as a Blender volume sequence (numbers without gaps) or as
+    one volume object per file with keyframed visibility."""
+    collection = bpy.data.collections.new(f"{name}_volume")
+    scene.collection.children.link(collection)
+    material = volume_material(bpy, f"{name}_volume")
+    numbers = sorted(frames)
+    sequence = numbers == list(range(numbers[0], numbers[0] + len(numbers))) and \
+        [blender_frame[k] for k in numbers] == list(range(blender_frame[numbers[0]], blender_frame[numbers[0]] + len(numbers)))
+    parts = [(f"{name}_volume", numbers[:1])] if sequence else [(f"{name}_volume_{k:05d}", [k]) for k in numbers]
+    for label, ks in parts:
+        volume = bpy.data.volumes.new(label)
+        volume.filepath = os.path.abspath(frames[ks[0]])
+        if sequence:
+            # Blender reads file number (frame - frame_start + 1) + frame_offset at a scene frame.
+            volume.is_sequence = True
+            volume.frame_start = blender_frame[numbers[0]]
+            volume.frame_duration = len(numbers)
+            volume.frame_offset = numbers[0] - 1
+            volume.sequence_mode = "CLIP"
+        if not volume.grids.load():  # the grids' names are needed to name the velocity grid
+            raise SystemExit(f"blender_import: {frames[ks[0]]}: {volume.grids.error_message}")
+        volume.velocity_grid = "velocity"
+        volume.velocity_unit = "SECOND"
+        volume.materials.append(material)
+        obj = bpy.data.objects.new(label, volume)
+        if not z_up:
+            obj.rotation_euler = (np.pi / 2, 0.0, 0.0)  # (x, y, z) -> (x, -z, y), as y_up_to_z_up
+        obj["tetfsi_time"] = times[ks[0]]
+        collection.objects.link(obj)
+        if not sequence:
+            show_only_at(obj, blender_frame[ks[0]], len(blender_frame))
+    print(f"blender_import: {name}: {len(numbers)} volume frames"
+          f"{' as a volume sequence' if sequence else ' as one volume object each'}")
+
+
 def main(argv):
     import bpy
 
@@ -188,10 +269,14 @@ def main(argv):
     args = parser.parse_args(argv)
 
     objects = surface_frames(args.outdir)
-    if not objects:
-        raise SystemExit(f"blender_import: no surfaces/<object>_NNNNN.ply in {args.outdir}")
+    volumes = volume_frames(args.outdir)
+    if not objects and not volumes:
+        raise SystemExit(f"blender_import: no surfaces/<object>_NNNNN.ply or volumes/<object>_NNNNN.vdb in {args.outdir}")
     rate = resolved_value(args.outdir, "frame_rate", r"[0-9.eE+-]+")
-    times = frame_times(objects, pvd_times(args.outdir), float(rate) if rate else None)
+    listed = {name: dict(frames) for name, frames in objects.items()}
+    for name, frames in volumes.items():
+        listed.setdefault(name, {}).update(frames)
+    times = frame_times(listed, pvd_times(args.outdir), float(rate) if rate else None)
     numbers = sorted(times)
     t = np.array([times[k] for k in numbers])
     if len(t) > 1 and np.any(np.diff(t) <= 0):
@@ -231,16 +316,10 @@ def main(argv):
             obj = bpy.data.objects.new(label, make_mesh(bpy, label, positions, velocities, triangles))
             obj["tetfsi_time"] = times[k]
             collection.objects.link(obj)
-            f = blender_frame[k]
-            key_visibility(obj, f, True)
-            if f > 1:
-                key_visibility(obj, f - 1, False)
-            if f < len(numbers):
-                key_visibility(obj, f + 1, False)
-            for curve in obj.animation_data.action.fcurves:
-                for point in curve.keyframe_points:
-                    point.interpolation = "CONSTANT"
+            show_only_at(obj, blender_frame[k], len(numbers))
         print(f"blender_import: {name}: {len(frames)} frames")
+    for name, frames in sorted(volumes.items()):
+        import_volumes(bpy, scene, name, frames, times, blender_frame, z_up)
     scene.frame_set(1)
     bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.blend))
     print(f"blender_import: wrote {args.blend}: {len(numbers)} frames at {rate:g} fps, "

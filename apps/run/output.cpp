@@ -86,6 +86,7 @@ Output::Output(fs::path dir, scene::Json export_cfg)
     : dir_(std::move(dir)),
       cfg_(std::move(export_cfg)),
       compression_(cfg_.at("compression") == "none" ? mesh::io::VtuCompression::None : mesh::io::VtuCompression::Zlib),
+      precision_(cfg_.at("precision") == "float64" ? mesh::io::VtuPrecision::Float64 : mesh::io::VtuPrecision::Float32),
       z_up_(cfg_.at("up_axis") == "z"),
       volumes_(cfg_.value("volumes", "none") == "vdb") {
   if (cfg_.contains("voxel_size")) voxel_size_ = cfg_["voxel_size"].get<double>();
@@ -115,9 +116,9 @@ void Output::write_grid(const std::string& object, int frame, double time,
             f.values[i + 1] = -f.values[i + 2];
             f.values[i + 2] = y;
           }
-    bytes_.vtu += mesh::io::write_vtu(dir_ / rel, turned, compression_);
+    bytes_.vtu += mesh::io::write_vtu(dir_ / rel, turned, compression_, precision_);
   } else {
-    bytes_.vtu += mesh::io::write_vtu(dir_ / rel, grid, compression_);
+    bytes_.vtu += mesh::io::write_vtu(dir_ / rel, grid, compression_, precision_);
   }
   auto& pvd = pvds_[object];
   if (!pvd) pvd = std::make_unique<mesh::io::PvdCollection>(dir_ / (object + ".pvd"));

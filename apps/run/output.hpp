@@ -31,7 +31,8 @@ class Output {
   /// Whether frame `frame` is written at all (export.every_n_frames).
   bool frame_due(int frame) const;
 
-  /// Writes <object>/<object>_<frame>.vtu (compressed as export.compression says, turned as
+  /// Writes <object>/<object>_<frame>.vtu (compressed as export.compression says, fields of the
+  /// type export.precision says, turned as
   /// export.up_axis says: points and every 3-component field) and lists it in <object>.pvd at
   /// `time` [s] (nothing if export.vtu is false).
   void write_grid(const std::string& object, int frame, double time,
@@ -75,6 +76,7 @@ class Output {
   std::map<std::string, std::unique_ptr<mesh::io::PvdCollection>> pvds_;
   std::ofstream stats_, probes_;
   mesh::io::VtuCompression compression_;
+  mesh::io::VtuPrecision precision_;  ///< of the point and cell fields (export.precision)
   bool z_up_ = false;  ///< export.up_axis "z": turn positions and vectors (x, y, z) -> (x, -z, y)
   bool volumes_ = false;
   double voxel_size_ = 0;  ///< 0 until fixed by voxel_size()

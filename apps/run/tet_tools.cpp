@@ -1,7 +1,8 @@
 #include "apps/run/tet_tools.hpp"
 
 #include <algorithm>
-#include <map>
+#include <array>
+#include <vector>
 
 #include "mesh/interface.hpp"
 #include "mesh/submesh.hpp"
@@ -15,31 +16,39 @@ mesh::TetMesh extract_subdomain(const mesh::TetMesh& m, int subdomain) {
 }
 
 mesh::SurfaceMesh boundary_surface(const mesh::TetMesh& m, std::vector<int>* to_tet_vertex) {
-  std::map<std::array<int, 3>, std::pair<int, std::array<int, 3>>> count;
+  // Every tet face under its sorted vertex triple; after sorting, a boundary face is a triple that
+  // occurs once. The faces come out in the order of their sorted triples.
+  struct Face {
+    std::array<int, 3> key, tri;
+  };
+  std::vector<Face> faces;
+  faces.reserve(4 * m.tets.size());
   for (const auto& t : m.tets)
     for (const auto& f : mesh::kTetFaceVertices) {
-      std::array<int, 3> tri{t[f[0]], t[f[1]], t[f[2]]};
-      auto key = tri;
-      std::sort(key.begin(), key.end());
-      auto& entry = count[key];
-      ++entry.first;
-      entry.second = tri;
+      Face face{{t[f[0]], t[f[1]], t[f[2]]}, {t[f[0]], t[f[1]], t[f[2]]}};
+      std::sort(face.key.begin(), face.key.end());
+      faces.push_back(face);
     }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.key < b.key; });
   mesh::SurfaceMesh s;
   std::vector<int> map(m.vertices.size(), -1);
-  for (const auto& [key, entry] : count) {
-    if (entry.first != 1) continue;
-    std::array<int, 3> tri;
-    for (int k = 0; k < 3; ++k) {
-      int& v = map[entry.second[k]];
-      if (v < 0) {
-        v = s.num_vertices();
-        s.vertices.push_back(m.vertices[entry.second[k]]);
-        if (to_tet_vertex) to_tet_vertex->push_back(entry.second[k]);
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1) {
+      std::array<int, 3> tri;
+      for (int k = 0; k < 3; ++k) {
+        int& v = map[faces[i].tri[k]];
+        if (v < 0) {
+          v = s.num_vertices();
+          s.vertices.push_back(m.vertices[faces[i].tri[k]]);
+          if (to_tet_vertex) to_tet_vertex->push_back(faces[i].tri[k]);
+        }
+        tri[k] = v;
       }
-      tri[k] = v;
+      s.triangles.push_back(tri);
     }
-    s.triangles.push_back(tri);
+    i = j;
   }
   return s;
 }

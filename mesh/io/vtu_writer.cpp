@@ -1,5 +1,7 @@
 #include "mesh/io/vtu_writer.hpp"
 
+#include <cfloat>
+#include <cmath>
 #include <cstring>
 #include <iomanip>
 #include <sstream>
@@ -44,6 +46,7 @@ const unsigned char* bytes_of(const std::vector<T>& values) {
 }
 
 const char* vtk_type_name(double) { return "Float64"; }
+const char* vtk_type_name(float) { return "Float32"; }
 const char* vtk_type_name(std::int64_t) { return "Int64"; }
 const char* vtk_type_name(std::uint8_t) { return "UInt8"; }
 
@@ -62,13 +65,21 @@ class ArrayWriter {
     if (compression_ == VtuCompression::Zlib) {
       out_ << " format=\"appended\" offset=\"" << appended_.size() << "\"/>\n";
       append_zlib_blocks(bytes_of(values), n, appended_,
-                         std::is_floating_point_v<T> ? ZlibStrategy::Rle : ZlibStrategy::Default);
+                         std::is_floating_point_v<T> ? ZlibStrategy::RleOrStored : ZlibStrategy::Default);
       return;
     }
     std::vector<unsigned char> buffer(sizeof(n) + n);
     std::memcpy(buffer.data(), &n, sizeof(n));
     if (n) std::memcpy(buffer.data() + sizeof(n), values.data(), n);
     out_ << " format=\"binary\">\n          " << base64(buffer.data(), buffer.size()) << "\n        </DataArray>\n";
+  }
+
+  /// A field, stored as `precision` says.
+  void write_field(const DataArray& a, VtuPrecision precision) {
+    if (precision == VtuPrecision::Float64) return write(a.name, a.components, a.values);
+    std::vector<float> rounded(a.values.size());
+    for (std::size_t i = 0; i < rounded.size(); ++i) rounded[i] = to_vtu_float(a.values[i]);
+    write(a.name, a.components, rounded);
   }
 
   /// The <AppendedData> section (nothing when uncompressed); call once, after the last array.
@@ -94,6 +105,13 @@ void check_field(const DataArray& a, std::size_t count, const char* where) {
 }
 
 }  // namespace
+
+float to_vtu_float(double v) {
+  // A finite double beyond the float range has no float value (converting it is undefined
+  // behaviour); NaN and +-inf convert to themselves.
+  if (std::isfinite(v) && std::abs(v) > FLT_MAX) return v > 0 ? FLT_MAX : -FLT_MAX;
+  return static_cast<float>(v);
+}
 
 void UnstructuredGrid::add_point_data(std::string name, int components, std::vector<double> values) {
   DataArray a{std::move(name), components, std::move(values)};
@@ -138,7 +156,8 @@ UnstructuredGrid make_point_cloud(const std::vector<Eigen::Vector3d>& points) {
   return g;
 }
 
-std::uintmax_t write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid, VtuCompression compression) {
+std::uintmax_t write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid, VtuCompression compression,
+                         VtuPrecision fields) {
   if (grid.offsets.size() != grid.types.size()) {
     throw std::invalid_argument("write_vtu: offsets and types differ in length");
   }
@@ -162,9 +181,9 @@ std::uintmax_t write_vtu(const std::filesystem::path& path, const UnstructuredGr
         << grid.num_cells() << "\">\n";
     ArrayWriter arrays(out, compression);
     out << "      <PointData>\n";
-    for (const auto& a : grid.point_data) arrays.write(a.name, a.components, a.values);
+    for (const auto& a : grid.point_data) arrays.write_field(a, fields);
     out << "      </PointData>\n      <CellData>\n";
-    for (const auto& a : grid.cell_data) arrays.write(a.name, a.components, a.values);
+    for (const auto& a : grid.cell_data) arrays.write_field(a, fields);
     out << "      </CellData>\n      <Points>\n";
     std::vector<double> xyz;
     xyz.reserve(3 * grid.points.size());

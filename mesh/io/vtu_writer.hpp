@@ -1,6 +1,8 @@
 #pragma once
 /// @file vtu_writer.hpp
 /// VTK XML unstructured-grid (.vtu) and collection (.pvd) writers for ParaView.
+/// Points are Float64, connectivity and offsets Int64, types UInt8; the fields Float64 or
+/// Float32 (VtuPrecision).
 ///
 /// Format: docs.vtk.org "VTK XML file formats", header_type="UInt64". Two encodings of the data
 /// arrays, both read by ParaView and VTK's XMLUnstructuredGridReader:
@@ -75,11 +77,23 @@ UnstructuredGrid make_point_cloud(const std::vector<Eigen::Vector3d>& points);
 /// How write_vtu stores the data arrays (scene key export.compression).
 enum class VtuCompression { None, Zlib };
 
+/// Type of the stored point and cell fields (scene key export.precision); the points and the
+/// cells are always stored exactly (Float64 coordinates, Int64 indices).
+///   - Float64: the doubles as they are (lossless).
+///   - Float32: each value rounded to the nearest float (relative error <= 2^-24 = 6.0e-8); a
+///     finite value beyond the float range is stored as +-FLT_MAX (3.4e38), NaN and +-inf stay
+///     what they are, magnitudes below the smallest float subnormal (1.4e-45) become +-0.
+enum class VtuPrecision { Float64, Float32 };
+
+/// The value a Float32 field stores for `v` (see VtuPrecision::Float32).
+float to_vtu_float(double v);
+
 /// Writes `grid` as a .vtu file, atomically (see atomic_file.hpp); the one writer of .vtu files.
 /// @return the size of the file [bytes]
 /// @throws std::runtime_error on I/O failure, std::invalid_argument on inconsistent sizes
 std::uintmax_t write_vtu(const std::filesystem::path& path, const UnstructuredGrid& grid,
-                         VtuCompression compression = VtuCompression::Zlib);
+                         VtuCompression compression = VtuCompression::Zlib,
+                         VtuPrecision fields = VtuPrecision::Float64);
 
 /// A ParaView collection (.pvd) indexing one file per frame by its physical time [s].
 /// Each call to add() rewrites the .pvd atomically, so it always lists whole frames only.

@@ -34,10 +34,18 @@ void append_zlib_blocks(const unsigned char* data, std::size_t n, std::string& o
                         int level, std::size_t block_size) {
   const std::size_t full = n / block_size, last = n % block_size;
   const std::size_t nb = full + (last ? 1 : 0);
-  const int z_strategy = strategy == ZlibStrategy::Rle ? Z_RLE : Z_DEFAULT_STRATEGY;
+  const int z_strategy = strategy == ZlibStrategy::Default ? Z_DEFAULT_STRATEGY : Z_RLE;
+  auto size_of = [&](std::size_t b) { return b < full ? block_size : last; };
   std::vector<std::string> blocks(nb);
-  tbb::parallel_for(std::size_t{0}, nb, [&](std::size_t b) {
-    blocks[b] = deflate_block(data + b * block_size, b < full ? block_size : last, level, z_strategy);
+  std::size_t first = 0;  // blocks compressed before the others (the probe of RleOrStored)
+  if (strategy == ZlibStrategy::RleOrStored && nb > 1) {
+    blocks[0] = deflate_block(data, size_of(0), level, z_strategy);
+    first = 1;
+    if (static_cast<double>(blocks[0].size()) > (1.0 - kStoreBelowSaving) * static_cast<double>(size_of(0)))
+      level = 0;  // the bytes do not compress: store the other blocks
+  }
+  tbb::parallel_for(first, nb, [&](std::size_t b) {
+    blocks[b] = deflate_block(data + b * block_size, size_of(b), level, z_strategy);
   });
   std::vector<std::uint64_t> header = {nb, block_size, last};
   for (const auto& b : blocks) header.push_back(b.size());

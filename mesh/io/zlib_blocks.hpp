@@ -25,11 +25,20 @@ constexpr std::size_t kVtkBlockSize = 32768;
 constexpr int kVtuZlibLevel = 1;
 
 /// How deflate looks for repeats. `Rle` (Z_RLE: matches at distance 1 only, i.e. runs, then
-/// Huffman coding) suits floating-point arrays, whose 8-byte values almost never repeat further
-/// back but whose sign/exponent bytes and zero runs do: on the flagship fluid frame the float
-/// arrays come out 1.4% larger than with the full search, in half the time. `Default` (full LZ77
-/// search) suits index arrays (connectivity 0.29 of its bytes vs 0.33 with Rle).
-enum class ZlibStrategy { Default, Rle };
+/// Huffman coding) suits floating-point arrays, whose values almost never repeat further back but
+/// whose sign/exponent bytes and zero runs do: on the flagship fluid frame the float arrays come
+/// out 1.4% larger than with the full search, in half the time. `Default` (full LZ77 search)
+/// suits index arrays (connectivity 0.29 of its bytes vs 0.33 with Rle). `RleOrStored`: Rle,
+/// except that an array whose first block shrinks by less than kStoreBelowSaving is written with
+/// its other blocks stored (zlib level 0: the bytes inside a zlib stream, a copy instead of
+/// Huffman coding): fields whose bytes are mantissa noise (on a flagship fluid frame: velocity,
+/// smoke and pressure as Float32, 0.90-0.94 with Rle; the points) then cost a copy; fields with
+/// runs or shared exponents (zeros, temperature near ambient: 0.71) are still compressed.
+enum class ZlibStrategy { Default, Rle, RleOrStored };
+
+/// RleOrStored stores an array's blocks after the first when the first one shrank by less than
+/// this fraction.
+constexpr double kStoreBelowSaving = 0.10;
 
 /// Header (UInt64 words) + compressed blocks of `n` bytes at `data`, appended to `out`.
 /// Blocks are compressed in parallel (TBB); the result does not depend on the thread count.

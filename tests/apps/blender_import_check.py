@@ -20,6 +20,13 @@ session opens the .blend and reports what it holds. Checked:
 - a liquid surface, whose topology changes from frame to frame (data/scenes/dam_break_ci.json,
   Y-up): one `liquid_NNNNN` object per PLY frame with the PLY's vertex and triangle counts, and
   the last frame's positions and velocity equal to the PLY's turned to Z-up.
+- the same run's OpenVDB volumes (export.volumes "vdb"): one volume object `fluid_volume`, a
+  volume sequence over Blender frames 1..N; at each Blender frame k + 1 the evaluated volume has
+  loaded volumes/fluid_<k>.vdb with the grids density, temperature (FLOAT), velocity
+  (VECTOR_FLOAT) and surface (the liquid's level set), voxel size the run.log's, velocity grid
+  `velocity` in m/s, the object turned +90 degrees about x (Y-up run); and the script keeps one
+  volume object per file, each visible at its own frame only, when the numbers have gaps
+  (export.every_n_frames 2).
 
 Exit 77 (ctest SKIP_RETURN_CODE) when `blender` is not on PATH.
 Usage: blender_import_check.py --tetfsi BIN --script scripts/blender_import.py [--keep DIR]
@@ -29,6 +36,7 @@ import argparse
 import json
 import math
 import os
+import re
 import shutil
 import struct
 import subprocess
@@ -74,6 +82,32 @@ last = objs[-1].data
 print("LIQUID " + json.dumps({"counts": {o.name: [len(o.data.vertices), len(o.data.polygons)] for o in objs},
       "last": objs[-1].name, "co": [list(v.co) for v in last.vertices],
       "velocity": [list(d.vector) for d in last.attributes["velocity"].data]}))
+""" + r"""
+sc = bpy.context.scene
+vols = sorted(o.name for o in bpy.data.collections["fluid_volume"].objects)
+v = bpy.data.objects[vols[0]]
+out = {"objects": vols, "sequence": [v.data.is_sequence, v.data.frame_start, v.data.frame_duration, v.data.sequence_mode],
+       "velocity_grid": [v.data.velocity_grid, v.data.velocity_unit], "rotation": list(v.rotation_euler),
+       "range": [sc.frame_start, sc.frame_end], "frames": {}}
+for f in range(sc.frame_start, sc.frame_end + 1):
+    sc.frame_set(f)
+    g = v.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.grids
+    g.load()
+    out["frames"][f] = {"file": g.frame_filepath, "loaded": g.is_loaded, "error": g.error_message,
+                        "grids": sorted([x.name, x.data_type] for x in g),
+                        "voxel": [x.matrix_object[0][0] for x in g if x.name == "density"]}
+print("VOLUME " + json.dumps(out))
+"""
+
+# Second session on the every-second-frame volume run: visible volume objects per Blender frame.
+VOLUME_GAPS = r"""
+import bpy, json
+sc = bpy.context.scene
+vis = {}
+for f in range(sc.frame_start, sc.frame_end + 1):
+    sc.frame_set(f)
+    vis[f] = sorted(o.name for o in bpy.data.collections["fluid_volume"].objects if not o.hide_render and not o.hide_viewport)
+print("GAPS " + json.dumps({"visible": vis, "files": {o.name: o.data.filepath for o in bpy.data.collections["fluid_volume"].objects}}))
 """
 
 # Renders Blender frame 4 from above (orthographic) with the velocity attribute set to (u, 0, 0):
@@ -191,7 +225,13 @@ def main():
            "the Y-up run turned by the script equals the Z-up run")
 
     out, blend = os.path.join(work, "out_dam"), os.path.join(work, "dam.blend")
-    _, t_run = run([args.tetfsi, "run", args.dam_break, "--out", out, "--quiet"])
+    with open(args.dam_break) as f:
+        dam = json.load(f)
+    dam["export"]["volumes"] = "vdb"
+    dam_file = os.path.join(work, "dam_vdb.json")
+    with open(dam_file, "w") as f:
+        json.dump(dam, f)
+    _, t_run = run([args.tetfsi, "run", dam_file, "--out", out, "--quiet"])
     _, t_import = run([blender, "-b", "--factory-startup", "--python-exit-code", "1",
                        "--python", args.script, "--", out, blend])
     report, _ = run([blender, "-b", "--factory-startup", blend, "--python-exit-code", "1", "--python-expr", LIQUID])
@@ -206,6 +246,39 @@ def main():
            f"liquid: one object per PLY frame with its (changing) vertex and triangle counts: {got['counts']}")
     expect(got["last"] == plys[-1][:-4] and got["co"] == [turn(x) for x in p] and got["velocity"] == [turn(x) for x in v],
            f"liquid: {got['last']} positions and velocity equal the PLY's turned to Z-up")
+
+    vol = json.loads(tagged(report, "VOLUME")[0])
+    vdbs = sorted(n for n in os.listdir(os.path.join(out, "volumes")))
+    with open(os.path.join(out, "run.log")) as f:
+        voxel = float(re.search(r"voxel size of ([0-9.eE+-]+) m", f.read()).group(1))
+    n = len(vdbs)
+    print(f"dam_break_ci volumes: {n} files; Blender: {vol['objects']}, sequence {vol['sequence']}")
+    expect(vol["objects"] == ["fluid_volume"] and vol["sequence"] == [True, 1, n, "CLIP"] and vol["range"] == [1, n],
+           f"volumes: one object fluid_volume, a sequence over frames 1..{n}")
+    expect(vol["velocity_grid"] == ["velocity", "SECOND"], "volumes: velocity grid `velocity` in m/s")
+    expect(abs(vol["rotation"][0] - math.pi / 2) < 1e-6 and vol["rotation"][1:] == [0, 0],
+           f"volumes: Y-up files turned by the object (+90 degrees about x): {vol['rotation']}")
+    grids = [["density", "FLOAT"], ["surface", "FLOAT"], ["temperature", "FLOAT"], ["velocity", "VECTOR_FLOAT"]]
+    for f in range(1, n + 1):
+        got_f = vol["frames"][str(f)]
+        expect(os.path.basename(got_f["file"]) == f"fluid_{f - 1:05d}.vdb" and got_f["loaded"] and not got_f["error"],
+               f"volumes: Blender frame {f} loads {os.path.basename(got_f['file'])} {got_f['error']}")
+        expect(got_f["grids"] == grids and all(abs(h - voxel) <= 1e-5 * voxel for h in got_f["voxel"]),
+               f"volumes: frame {f} grids {got_f['grids']}, voxel {got_f['voxel']} (run.log: {voxel:g} m, 6 digits)")
+
+    dam["export"]["every_n_frames"] = 2
+    with open(dam_file, "w") as f:
+        json.dump(dam, f)
+    out2, blend2 = os.path.join(work, "out_dam2"), os.path.join(work, "dam2.blend")
+    run([args.tetfsi, "run", dam_file, "--out", out2, "--quiet"])
+    run([blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python", args.script, "--", out2, blend2])
+    gaps = json.loads(tagged(run([blender, "-b", "--factory-startup", blend2, "--python-exit-code", "1",
+                                  "--python-expr", VOLUME_GAPS])[0], "GAPS")[0])
+    numbers = sorted(int(n[6:11]) for n in os.listdir(os.path.join(out2, "volumes")))
+    expected = {str(i + 1): [f"fluid_volume_{k:05d}"] for i, k in enumerate(numbers)}
+    expect(numbers[1] - numbers[0] == 2 and gaps["visible"] == expected and
+           all(os.path.basename(p) == name[-5:].join(["fluid_", ".vdb"]) for name, p in gaps["files"].items()),
+           f"volumes every 2nd frame: one object per file, visible at its frame only: {gaps['visible']}")
 
     rendered, t_render = run([blender, "-b", os.path.join(work, "spin_z.blend"), "--python-exit-code", "1",
                               "--python-expr", RENDER % {"ortho": ORTHO, "pixels": PIXELS, "u": U, "dir": work}])

@@ -111,6 +111,12 @@ Field output() {
                          "blocks, raw appended data; ParaView and VTK read it); `none` writes them uncompressed "
                          "as inline base64.")
           .def("zlib"),
+      Field::enumeration("precision", {"float32", "float64"},
+                         "Type of the .vtu point and cell fields (pressure, velocity, smoke, displacement, stress, "
+                         "...): `float32` rounds each value to the nearest float (relative error <= 6e-8, about "
+                         "half the bytes); `float64` stores the computed doubles exactly. Points (Float64) and "
+                         "cells (Int64) are stored exactly either way.")
+          .def("float32"),
       Field::enumeration("surfaces", {"none", "ply", "obj"},
                          "Per-frame solid surfaces for Blender/Houdini (PLY carries per-vertex velocity).")
           .def("ply"),
