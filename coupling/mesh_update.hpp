@@ -94,7 +94,14 @@ class MeshUpdater {
   MeshUpdateResult update(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                           double start_min_dihedral_deg);
 
+  /// Checkpoints (coupled_stepper_state.cpp): the cached motion's reference positions and state.
+  /// read_state rebuilds it on `mesh` (the mesh update() returned last) at those positions.
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in, const mesh::TetMesh& mesh);
+
  private:
+  /// The motion of `reference`, factorized (moved every step until the next remesh).
+  std::unique_ptr<mesh::MeshMotion> make_motion(const mesh::TetMesh& reference) const;
   MeshUpdateOptions options_;
   std::unique_ptr<mesh::MeshMotion> motion_;
 };

@@ -283,6 +283,22 @@ class FluidRunner : public Simulation {
     }
   }
 
+  /// The fluid solver's state, the mesh with its rest positions and solid velocities, the
+  /// surface-refinement bookkeeping, the CFL cell size and the last step's kinetic energy.
+  void write_checkpoint(BinaryWriter& out) const override {
+    solver_->write_state(out);
+    out(complex_.vertices, complex_.tets, complex_.subdomain, rest_, vertex_solid_, solid_velocity_, remeshed_,
+        refined_node_, surface_left_refined_zone_, dx_, time_, max_solid_speed_, min_dihedral_, last_.kinetic_energy);
+  }
+  void read_checkpoint(BinaryReader& in) override {
+    solver_->read_state(in);
+    in(complex_.vertices, complex_.tets, complex_.subdomain, rest_, vertex_solid_, solid_velocity_, remeshed_,
+       refined_node_, surface_left_refined_zone_, dx_, time_, max_solid_speed_, min_dihedral_, last_.kinetic_energy);
+    const std::size_t n = complex_.vertices.size();
+    if (rest_.size() != n || vertex_solid_.size() != n || solid_velocity_.size() != n)
+      in.fail("a fluid-runner mesh whose vertex arrays differ in size");
+  }
+
   std::vector<double> probe(const scene::Json& p) const override {
     const auto kind = p.at("kind").get<std::string>();
     if (kind == "fluid_kinetic_energy") return {last_.kinetic_energy};
@@ -447,7 +463,8 @@ RunnerEntry fluid_runner() {
             return true;
           },
           [] { return std::make_unique<FluidRunner>(); },
-          {"fluid_point", "fluid_kinetic_energy", "fluid_volume"}};
+          {"fluid_point", "fluid_kinetic_energy", "fluid_volume"},
+          [](const scene::Scene&) { return true; }};
 }
 
 }  // namespace tetfsi::run
