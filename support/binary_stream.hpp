@@ -106,8 +106,18 @@ class BinaryWriter {
 class BinaryReader {
  public:
   /// Reads from `bytes` (kept by reference); `what` names the source in errors (a file path).
-  BinaryReader(const std::string& bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
-  std::size_t left() const { return bytes_.size() - pos_; }
+  BinaryReader(const std::string& bytes, std::string what)
+      : BinaryReader(bytes.data(), bytes.size(), std::move(what)) {}
+  /// Reads the `size` bytes at `data` (kept by pointer).
+  BinaryReader(const char* data, std::size_t size, std::string what) : data_(data), size_(size), what_(std::move(what)) {}
+  std::size_t left() const { return size_ - pos_; }
+  /// The bytes not read yet.
+  const char* here() const { return data_ + pos_; }
+  /// Skips n bytes (checked).
+  void skip(std::size_t n) {
+    if (n > left()) fail("fewer bytes than its content needs");
+    pos_ += n;
+  }
   std::size_t position() const { return pos_; }
 
   template <class... T>
@@ -131,7 +141,7 @@ class BinaryReader {
   }
   void get(std::string& s) {
     const std::size_t n = count(1);
-    s.assign(bytes_.data() + pos_, n);
+    s.assign(data_ + pos_, n);
     pos_ += n;
   }
   template <class T>
@@ -185,7 +195,7 @@ class BinaryReader {
   }
   void raw(void* p, std::size_t n) {
     if (n > left()) fail("fewer bytes than its content needs");
-    if (n > 0) std::memcpy(p, bytes_.data() + pos_, n);
+    if (n > 0) std::memcpy(p, data_ + pos_, n);
     pos_ += n;
   }
   /// A stored element count, checked against the bytes left at `bytes_each` bytes per element.
@@ -209,7 +219,8 @@ class BinaryReader {
   }
 
  private:
-  const std::string& bytes_;
+  const char* data_;
+  std::size_t size_;
   std::string what_;
   std::size_t pos_ = 0;
 };

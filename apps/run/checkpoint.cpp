@@ -55,11 +55,13 @@ void read_output_state(BinaryReader& r, Output::State& s) {
 
 }  // namespace
 
-std::uint64_t fnv1a(const std::string& text) {
+std::uint64_t fnv1a(const char* data, std::size_t size) {
   std::uint64_t hash = 1469598103934665603ull;
-  for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
+  for (std::size_t i = 0; i < size; ++i) hash = (hash ^ static_cast<unsigned char>(data[i])) * 1099511628211ull;
   return hash;
 }
+
+std::uint64_t fnv1a(const std::string& text) { return fnv1a(text.data(), text.size()); }
 
 std::uint64_t checkpoint_scene_hash(const scene::Json& resolved) {
   scene::Json j = resolved;
@@ -72,26 +74,33 @@ fs::path checkpoint_folder(const fs::path& out_dir) { return out_dir / "checkpoi
 
 fs::path write_checkpoint(const fs::path& out_dir, std::uint64_t scene_hash, const std::string& runner,
                           const DriverState& state, const Simulation& sim, std::uintmax_t& bytes) {
-  BinaryWriter runner_state;
-  sim.write_checkpoint(runner_state);
+  // The runner's state goes straight into the payload after its length, patched afterwards: one
+  // copy of the state in memory (the flagship's is 14 MB).
   BinaryWriter payload;
   payload(state.time, std::int64_t(state.step), state.frame, state.frames_written);
   write_output_state(payload, state.output);
-  payload(state.warned, runner_state.bytes());
-  BinaryWriter file;
-  file.raw(kMagic, sizeof kMagic);
-  file(kCheckpointVersion, scene_hash, runner, std::uint64_t(payload.bytes().size()), fnv1a(payload.bytes()));
-  file.raw(payload.bytes().data(), payload.bytes().size());
+  payload(state.warned);
+  const std::size_t at = payload.bytes().size();
+  payload(std::uint64_t(0));
+  sim.write_checkpoint(payload);
+  const std::uint64_t runner_size = payload.bytes().size() - at - sizeof(std::uint64_t);
+  std::memcpy(payload.bytes().data() + at, &runner_size, sizeof runner_size);
+  BinaryWriter header;
+  header.raw(kMagic, sizeof kMagic);
+  header(kCheckpointVersion, scene_hash, runner, std::uint64_t(payload.bytes().size()), fnv1a(payload.bytes()));
   const fs::path folder = checkpoint_folder(out_dir);
   std::error_code ec;
   fs::create_directories(folder, ec);
   const fs::path path = folder / fmt::format("checkpoint_{:05d}.bin", state.frame);
   try {
-    mesh::io::write_file_atomically(path, file.bytes());
+    mesh::io::write_file_atomically(path, [&](std::ostream& out) {
+      out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
+      out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
+    });
   } catch (const std::exception& e) {
     throw RunError(fmt::format("cannot write the checkpoint {}: {}", path.string(), e.what()));
   }
-  bytes = file.bytes().size();
+  bytes = header.bytes().size() + payload.bytes().size();
   std::vector<fs::path> files = checkpoint_files(out_dir);
   for (int k = 0; k + kKept < static_cast<int>(files.size()); ++k) fs::remove(files[k], ec);
   return path;
@@ -109,7 +118,7 @@ LoadedCheckpoint read_latest_checkpoint(const fs::path& out_dir, std::uint64_t s
   const std::string earlier = files.size() > 1 ? fmt::format(" (the earlier checkpoint {} is there too: remove this "
                                                              "one to resume from it)", files[files.size() - 2].string())
                                                : std::string();
-  std::string bytes;
+  std::string& bytes = c.bytes;
   {
     std::ifstream in(c.file, std::ios::binary);
     if (!in) throw InputError(fmt::format("--resume: cannot read {}", name));
@@ -140,14 +149,17 @@ LoadedCheckpoint read_latest_checkpoint(const fs::path& out_dir, std::uint64_t s
                                    written_by, runner));
     r(size, payload_hash);
     if (size != r.left()) r.fail(fmt::format("a payload of {} bytes where {} are left", size, r.left()));
-    const std::string payload = bytes.substr(r.position());
-    if (fnv1a(payload) != payload_hash) r.fail("a payload whose hash does not match");
-    BinaryReader p(payload, name);
+    if (fnv1a(r.here(), r.left()) != payload_hash) r.fail("a payload whose hash does not match");
+    BinaryReader p(r.here(), r.left(), name);
+    const std::size_t payload_offset = r.position();
     std::int64_t step = 0;
     p(c.driver.time, step, c.driver.frame, c.driver.frames_written);
     c.driver.step = step;
     read_output_state(p, c.driver.output);
-    p(c.driver.warned, c.runner_state);
+    p(c.driver.warned);
+    c.runner_size = p.count(1);
+    c.runner_offset = payload_offset + p.position();
+    p.skip(c.runner_size);
     if (p.left() != 0) p.fail("trailing bytes");
   } catch (const BinaryReadError& e) {
     throw InputError(std::string("--resume: ") + e.what() + earlier);

@@ -32,6 +32,7 @@ constexpr std::uint32_t kCheckpointVersion = 1;
 
 /// FNV-1a 64-bit hash of a text.
 std::uint64_t fnv1a(const std::string& text);
+std::uint64_t fnv1a(const char* data, std::size_t size);
 
 /// The hash a checkpoint is tied to: of the resolved scene (JSON dump, 2-space indent) without
 /// /simulation/end_time and /export/checkpoint_every.
@@ -57,11 +58,13 @@ std::filesystem::path write_checkpoint(const std::filesystem::path& out_dir, std
                                        std::uintmax_t& bytes);
 
 /// A checkpoint read back: the driver's state and the runner's, still to be read by
-/// Simulation::read_checkpoint (BinaryReader over runner_state, named by `file`).
+/// Simulation::read_checkpoint (runner_state(), named by `file`).
 struct LoadedCheckpoint {
   std::filesystem::path file;
   DriverState driver;
-  std::string runner_state;
+  std::string bytes;                     ///< the whole file
+  std::size_t runner_offset = 0, runner_size = 0;  ///< where the runner's state is in it
+  BinaryReader runner_state() const { return BinaryReader(bytes.data() + runner_offset, runner_size, file.string()); }
 };
 
 /// Reads the newest checkpoint of DIR.

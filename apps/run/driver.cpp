@@ -49,7 +49,7 @@ std::vector<std::string> probe_columns(const scene::Json& p) {
 class Driver {
  public:
   /// `resume`: the checkpoint to continue from (`run --resume`), or null.
-  Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log, const LoadedCheckpoint* resume)
+  Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log, LoadedCheckpoint* resume)
       : opt_(opt), scene_(std::move(scene)), log_(log), resume_(resume) {
     checkpoint_every_ = scene_["export"].value("checkpoint_every", 0);
     scene_hash_ = checkpoint_scene_hash(scene_.json);
@@ -145,15 +145,16 @@ class Driver {
   /// overwritten with the checkpoint's, and the loop goes on from there.
   void resume_run(Simulation& sim, Output& out, const std::vector<std::string>& header,
                   const std::vector<std::string>& probes_header, const std::string& runner, const Stopwatch& wall) {
-    const LoadedCheckpoint& c = *resume_;
+    LoadedCheckpoint& c = *resume_;
     Stopwatch clock;
     try {
-      BinaryReader in(c.runner_state, c.file.string());
+      BinaryReader in = c.runner_state();
       sim.read_checkpoint(in);
       if (in.left() != 0) in.fail("runner state with trailing bytes");
     } catch (const BinaryReadError& e) {
       throw InputError(std::string("--resume: ") + e.what());
     }
+    std::string().swap(c.bytes);
     out.resume(c.driver.output, header, probes_header);
     frames_written_ = c.driver.frames_written;
     for (auto i : c.driver.warned) warned_.insert(static_cast<std::size_t>(i));
@@ -322,7 +323,7 @@ class Driver {
   spdlog::logger& log_;
   std::set<std::size_t> warned_;
   int frames_written_ = 0;
-  const LoadedCheckpoint* resume_ = nullptr;
+  LoadedCheckpoint* resume_ = nullptr;  ///< its file's bytes are released once read
   int checkpoint_every_ = 0;      ///< export.checkpoint_every (0: none)
   int last_checkpoint_frame_ = -1;
   std::uint64_t scene_hash_ = 0;  ///< checkpoint_scene_hash of the resolved scene
