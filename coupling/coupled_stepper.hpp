@@ -169,6 +169,15 @@ class CoupledStepper {
   /// the step can still be undone.
   CoupledStepReport step(double h);
 
+  /// Checkpoints (coupled_stepper_state.cpp): everything the steps change — the shared mesh, the
+  /// solid-node maps, the fluid solver, the solids' integrators, the coupled solver's lagged
+  /// blocks, the mesh motion cached since the last remesh, the previous pressure, contact state,
+  /// time and step — bit for bit, so that the steps after read_state are those the saved run
+  /// would have taken. Read into a stepper set up from the same scene (materials, settings,
+  /// springs, obstacles, boundary patches are the set-up's). @throws BinaryReadError
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
+
  private:
   struct Solid {
     mesh::Submesh submesh;

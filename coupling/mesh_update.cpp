@@ -48,6 +48,12 @@ double fluid_edge_length_near_solids(const mesh::TetMesh& mesh) {
 MeshUpdater::MeshUpdater(MeshUpdateOptions options) : options_(std::move(options)) {}
 MeshUpdater::~MeshUpdater() = default;
 
+std::unique_ptr<mesh::MeshMotion> MeshUpdater::make_motion(const mesh::TetMesh& reference) const {
+  mesh::MeshMotionOptions o = options_.motion;
+  o.factorize = true;  // moved every step until the next remesh: factorize once
+  return std::make_unique<mesh::MeshMotion>(reference, o);
+}
+
 MeshUpdateResult update_mesh(const mesh::TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
                              const MeshUpdateOptions& options, double start_min_dihedral_deg) {
   return MeshUpdater(options).update(mesh, solid_positions, start_min_dihedral_deg);
@@ -57,12 +63,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
                                      double start_min_dihedral_deg) {
   const MeshUpdateOptions& options = options_;
   Stopwatch clock;
-  if (!motion_ || motion_->num_vertices() != mesh.num_vertices())
-    motion_ = std::make_unique<mesh::MeshMotion>(mesh, [&] {
-      mesh::MeshMotionOptions o = options.motion;
-      o.factorize = true;  // moved every step until the next remesh: factorize once
-      return o;
-    }());
+  if (!motion_ || motion_->num_vertices() != mesh.num_vertices()) motion_ = make_motion(mesh);
   MeshUpdateResult result;
   result.mesh = mesh;
   result.mesh.vertices = motion_->positions(solid_positions);

@@ -117,7 +117,14 @@ class MeshUpdater {
   /// Sizing for the next update (SizeFieldRequest).
   void set_size_field(SizeFieldRequest request) { size_request_ = std::move(request); }
 
+  /// Checkpoints (coupled_stepper_state.cpp): the cached motion's reference positions and state.
+  /// read_state rebuilds it on `mesh` (the mesh update() returned last) at those positions.
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in, const mesh::TetMesh& mesh);
+
  private:
+  /// The motion of `reference`, factorized (moved every step until the next remesh).
+  std::unique_ptr<mesh::MeshMotion> make_motion(const mesh::TetMesh& reference) const;
   MeshUpdateOptions options_;
   SizeFieldRequest size_request_;  ///< for the next update only
   std::unique_ptr<mesh::MeshMotion> motion_;

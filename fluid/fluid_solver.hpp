@@ -19,6 +19,11 @@
 #include "fluid/projection/projection.hpp"
 #include "mesh/tet_mesh.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::fluid {
 
 struct FluidParams {
@@ -122,6 +127,14 @@ class FluidSolver {
   /// Fills rep's energies for the current state: kinetic_energy and gravity_potential [J].
   void report_energies(StepReport& rep) const;
 
+  /// Checkpoints (apps/run/checkpoint.hpp; fluid_solver_state.cpp): everything a step changes —
+  /// the mesh and its topology record, the fields, the velocity before the last body forces, the
+  /// pressure, the classified boundary, the level set with its cut-tet geometry and the volume kept.
+  /// The parameters and liquid options are the set-up's: restore into a solver set up from the
+  /// same scene. read_state throws BinaryReadError on a truncated or corrupt state.
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
+
  private:
   void apply_sources(const BoundaryConditions& bc, double h);
   /// Steps 2-3 of level_set.hpp on the current mesh, then the cut-tet geometry; fills rep's
@@ -136,6 +149,9 @@ class FluidSolver {
   bool built_from(const mesh::TetMesh& mesh) const;
   /// mesh_ = fluid_mesh, remembering the topology of `mesh` unless it is the same as before.
   void set_mesh(const mesh::TetMesh& mesh, FluidMesh fluid_mesh, bool same_topology);
+  /// The members write_state / read_state write and read, in order (fluid_solver_state.cpp).
+  template <class Archive>
+  void state(Archive& a);
 
   FluidParams params_;
   FluidMesh mesh_;

@@ -1,5 +1,7 @@
 #include "mesh/mesh_motion.hpp"
 
+#include "support/binary_stream.hpp"
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
@@ -133,6 +135,21 @@ std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::ve
       for (int v : mesh.tets[t]) still = still && solid_positions[v] == mesh.vertices[v];
   if (still) return mesh.vertices;
   return MeshMotion(mesh, options).positions(solid_positions);
+}
+
+void MeshMotion::write_state(BinaryWriter& out) const { out(last_, calls_); }
+
+void MeshMotion::read_state(BinaryReader& in) {
+  Eigen::MatrixXd last;
+  int calls = 0;
+  in(last, calls);
+  if (last.rows() != last_.rows() || last.cols() != last_.cols()) in.fail("a mesh motion of another mesh");
+  last_ = std::move(last);
+  calls_ = calls;
+  if (factorize_ && calls_ >= 2 && K_ff_.rows() > 0) {
+    solver_->cholesky.compute(K_ff_);
+    solver_->factorized = solver_->cholesky.info() == Eigen::Success;
+  }
 }
 
 }  // namespace tetfsi::mesh

@@ -23,6 +23,11 @@
 
 #include "mesh/tet_mesh.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::mesh {
 
 struct MeshMotionOptions {
@@ -65,6 +70,14 @@ class MeshMotion {
   std::vector<Eigen::Vector3d> positions(const std::vector<Eigen::Vector3d>& solid_positions);
 
   int num_vertices() const { return static_cast<int>(reference_.size()); }
+  /// The reference positions the operator was assembled at [m].
+  const std::vector<Eigen::Vector3d>& reference_positions() const { return reference_; }
+
+  /// Checkpoints: the previous solution (CG's initial guess) and the call count that decides the
+  /// factorization. Restore into a MeshMotion built from the same reference mesh and options; it
+  /// factorizes again if the saved one had, so the next positions() is bit for bit the saved one's.
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
 
  private:
   struct Solver;

@@ -86,6 +86,9 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   auto* end_opt = run->add_option("--end-time", end_time, "Stop at this simulated time [s] (overrides the scene)");
   auto* thr_opt = run->add_option("--threads,-j", threads, "Worker threads; 0 = all cores (overrides the scene)");
   run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+  run->add_flag("--resume", opt.resume,
+                "Continue the run in the output folder from its newest checkpoint (export.checkpoint_every); the "
+                "scene may differ only in simulation.end_time / --end-time");
   double max_tets = 0;
   const std::string max_tets_help = fmt::format(
       "Refuse scenes whose mesh is estimated above this many tets (default: half of this machine's memory at {:.0f} "

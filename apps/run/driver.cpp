@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include "apps/run/checkpoint.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/preflight.hpp"
 #include "apps/run/progress.hpp"
@@ -24,8 +26,9 @@ namespace tetfsi::run {
 namespace fs = std::filesystem;
 namespace {
 
-std::shared_ptr<spdlog::logger> make_logger(const fs::path& dir) {
-  auto file = std::make_shared<spdlog::sinks::basic_file_sink_mt>((dir / "run.log").string(), true);
+/// run.log in `dir`, started afresh (`truncate`) or continued (a resumed run).
+std::shared_ptr<spdlog::logger> make_logger(const fs::path& dir, bool truncate) {
+  auto file = std::make_shared<spdlog::sinks::basic_file_sink_mt>((dir / "run.log").string(), truncate);
   file->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %v");
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
   console->set_level(spdlog::level::warn);
@@ -34,13 +37,6 @@ std::shared_ptr<spdlog::logger> make_logger(const fs::path& dir) {
   log->set_level(spdlog::level::info);
   log->flush_on(spdlog::level::info);
   return log;
-}
-
-/// FNV-1a 64-bit hash of a text (to tell runs of identical resolved scenes apart in run.log).
-std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t hash = 1469598103934665603ull;
-  for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
-  return hash;
 }
 
 /// probes.csv column names of one probe.
@@ -52,8 +48,12 @@ std::vector<std::string> probe_columns(const scene::Json& p) {
 
 class Driver {
  public:
-  Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log)
-      : opt_(opt), scene_(std::move(scene)), log_(log) {}
+  /// `resume`: the checkpoint to continue from (`run --resume`), or null.
+  Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log, LoadedCheckpoint* resume)
+      : opt_(opt), scene_(std::move(scene)), log_(log), resume_(resume) {
+    checkpoint_every_ = scene_["export"].value("checkpoint_every", 0);
+    scene_hash_ = checkpoint_scene_hash(scene_.json);
+  }
 
   /// Writes frame `frame` if it is due and logs the bytes it took (the state was checked, so
   /// writing it is safe).
@@ -93,14 +93,19 @@ class Driver {
     for (const auto& p : sim->phases()) header.push_back("t_" + p);
     header.push_back("t_output");
     for (const auto& c : sim->columns()) header.push_back(c);
-    out.begin_stats(header);
     const auto& probes = scene_["probes"];
+    std::vector<std::string> probes_header;
     if (!probes.empty()) {
-      std::vector<std::string> ph = {"time"};
+      probes_header = {"time"};
       for (const auto& p : probes)
-        for (const auto& c : probe_columns(p)) ph.push_back(c);
-      out.begin_probes(ph);
+        for (const auto& c : probe_columns(p)) probes_header.push_back(c);
     }
+    if (resume_) {
+      resume_run(*sim, out, header, probes_header, entry.name, wall);
+      return;
+    }
+    out.begin_stats(header);
+    if (!probes.empty()) out.begin_probes(probes_header);
 
     check_finite(*sim, 0, 0.0);
     check_probes_answer(*sim);
@@ -132,15 +137,61 @@ class Driver {
       return;
     }
 
+    step_loop(*sim, out, header, entry.name, wall, 0.0, 0, 0);
+  }
+
+ private:
+  /// `run --resume`: the set-up is done; the runner's state, the time loop's and the output's are
+  /// overwritten with the checkpoint's, and the loop goes on from there.
+  void resume_run(Simulation& sim, Output& out, const std::vector<std::string>& header,
+                  const std::vector<std::string>& probes_header, const std::string& runner, const Stopwatch& wall) {
+    LoadedCheckpoint& c = *resume_;
+    Stopwatch clock;
+    try {
+      BinaryReader in = c.runner_state();
+      sim.read_checkpoint(in);
+      if (in.left() != 0) in.fail("runner state with trailing bytes");
+    } catch (const BinaryReadError& e) {
+      throw InputError(std::string("--resume: ") + e.what());
+    }
+    std::string().swap(c.bytes);
+    out.resume(c.driver.output, header, probes_header);
+    frames_written_ = c.driver.frames_written;
+    for (auto i : c.driver.warned) warned_.insert(static_cast<std::size_t>(i));
+    last_checkpoint_frame_ = c.driver.frame;
+    log_.info("resumed from {} (frame {}, t = {:.6g} s, step {}) in {:.3f} s", c.file.string(), c.driver.frame,
+              c.driver.time, c.driver.step, clock.seconds());
+    if (!opt_.quiet) fmt::print("resumed from {} (frame {}, t = {:.6g} s)\n", c.file.string(), c.driver.frame, c.driver.time);
+    step_loop(sim, out, header, runner, wall, c.driver.time, c.driver.step, c.driver.frame);
+  }
+
+  /// Writes the checkpoint of frame `frame` (export.checkpoint_every; checkpoint.hpp) and logs
+  /// its size and write time.
+  void checkpoint(const Simulation& sim, const Output& out, const std::string& runner, double t, long step, int frame) {
+    Stopwatch clock;
+    DriverState state{t, step, frame, frames_written_, out.state(), {}};
+    for (auto i : warned_) state.warned.push_back(i);
+    std::uintmax_t bytes = 0;
+    const fs::path path = write_checkpoint(opt_.out_dir, scene_hash_, runner, state, sim, bytes);
+    last_checkpoint_frame_ = frame;
+    log_.info("checkpoint: frame {} (t = {:.6g} s, step {}): {} bytes written in {:.3f} s to {}", frame, t, step, bytes,
+              clock.seconds(), path.string());
+  }
+
+  /// The time loop from (t, step, frame) to the end time.
+  void step_loop(Simulation& sim_ref, Output& out, const std::vector<std::string>& header, const std::string& runner,
+                 const Stopwatch& wall, double t, long step, int frame) {
+    Simulation* sim = &sim_ref;
+    const auto& probes = scene_["probes"];
+    std::vector<double> probe_values;
+    Stopwatch io;
+    double t_output = 0;
     const double end = scene_["simulation"].at("end_time").get<double>();
     const double frame_dt = 1.0 / scene_["simulation"].at("frame_rate").get<double>();
     const double eps = 1e-12 * std::max(end, frame_dt);
     const long max_steps = scene_["simulation"].at("max_steps").get<long>();
     Progress progress(end, !opt_.quiet);
-    progress.start(0.0, wall.seconds());  // the ETA leaves out set-up and frame 0
-    double t = 0;
-    long step = 0;
-    int frame = 0;
+    progress.start(t, wall.seconds());  // the ETA leaves out set-up and frame 0
     try {
       while (t < end - eps) {
         const double next_frame = (frame + 1) * frame_dt;
@@ -173,10 +224,17 @@ class Driver {
         check_row_finite(header, stats_row(r, step, t, 0.0), step, t);
         probe_values = probe_row(*sim, step, t);
         io.restart();
-        if (t >= next_frame - eps) write_frame(*sim, out, ++frame, t);
+        const bool at_frame = t >= next_frame - eps;
+        if (at_frame) write_frame(*sim, out, ++frame, t);
         if (!probes.empty()) out.probes_row(probe_values);
         t_output = io.seconds();
         out.stats_row(stats_row(r, step, t, t_output));
+        // A checkpoint every checkpoint_every frames, and at the end when it lands on a frame (a
+        // later --resume with a longer end time then goes on from there).
+        const bool last = !(t < end - eps);
+        if (at_frame && checkpoint_every_ > 0 && frame != last_checkpoint_frame_ &&
+            (frame % checkpoint_every_ == 0 || last))
+          checkpoint(*sim, out, runner, t, step, frame);
         progress.update(t, step, wall.seconds());
       }
     } catch (...) {
@@ -189,7 +247,6 @@ class Driver {
               t, wall.seconds());
   }
 
- private:
   void check_finite(const Simulation& sim, long step, double t) {
     const std::string bad = sim.non_finite();
     if (bad.empty()) return;
@@ -266,6 +323,10 @@ class Driver {
   spdlog::logger& log_;
   std::set<std::size_t> warned_;
   int frames_written_ = 0;
+  LoadedCheckpoint* resume_ = nullptr;  ///< its file's bytes are released once read
+  int checkpoint_every_ = 0;      ///< export.checkpoint_every (0: none)
+  int last_checkpoint_frame_ = -1;
+  std::uint64_t scene_hash_ = 0;  ///< checkpoint_scene_hash of the resolved scene
 };
 
 }  // namespace
@@ -298,19 +359,35 @@ void run_scene(const RunOptions& opt) {
     throw InputError(fmt::format("cannot create the output folder {}: {}", opt.out_dir.string(),
                                  ec ? ec.message() : "not a folder"));
   const bool reused = fs::exists(opt.out_dir / "run.log");
+  // --resume: the checkpoint is read (and refused with exit 2) before anything in the folder changes.
+  std::optional<LoadedCheckpoint> resume;
+  if (opt.resume) {
+    const RunnerEntry& entry = choose_runner(scene);
+    if (!entry.checkpoints || !entry.checkpoints(scene))
+      throw InputError(fmt::format("--resume: the {} runner (which runs this scene) does not write checkpoints; the "
+                                   "coupled, fluid, solid (dynamic) and mpm runners do", entry.name));
+    resume = read_latest_checkpoint(opt.out_dir, checkpoint_scene_hash(scene.json), entry.name);
+    if (!(resume->driver.time < scene["simulation"].at("end_time").get<double>()))
+      throw InputError(fmt::format("--resume: {} is at t = {:.6g} s, not before /simulation/end_time = {:.6g} s: "
+                                   "nothing to continue (give a later --end-time)", resume->file.string(),
+                                   resume->driver.time, scene["simulation"].at("end_time").get<double>()));
+  }
   std::shared_ptr<spdlog::logger> log;
   try {
-    log = make_logger(opt.out_dir);
+    log = make_logger(opt.out_dir, !resume);
   } catch (const std::exception& e) {
     throw InputError(fmt::format("cannot write run.log in the output folder {}: {}", opt.out_dir.string(), e.what()));
   }
   log->info("tetfsi {}", TETFSI_VERSION);
   if (!opt.command_line.empty()) log->info("command: {}", opt.command_line);
   log->info("scene: {}", fs::absolute(opt.scene_file).string());
-  const OutputCleanup cleaned = clean_output_folder(opt.out_dir, reused);
-  if (reused)
-    log->warn("{} holds an earlier run: its frames, .pvd and CSV files ({} file(s)) were removed, other files are kept",
-              opt.out_dir.string(), cleaned.earlier_run_files);
+  const OutputCleanup cleaned = clean_output_folder(opt.out_dir, reused, resume ? resume->driver.frame : -1);
+  if (resume)
+    log->info("resuming the run of {} from {}: {} frame file(s) written after it removed", opt.out_dir.string(),
+              resume->file.string(), cleaned.earlier_run_files);
+  else if (reused)
+    log->warn("{} holds an earlier run: its frames, .pvd, CSV and checkpoint files ({} file(s)) were removed, other "
+              "files are kept", opt.out_dir.string(), cleaned.earlier_run_files);
   if (cleaned.temporary_files > 0)
     log->info("removed {} orphan temporary file(s) of an interrupted run", cleaned.temporary_files);
   for (const auto& w : report.warnings) log->warn("{}", w);
@@ -322,9 +399,10 @@ void run_scene(const RunOptions& opt) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);
   log->info("threads: {}", used);
   const std::string resolved = scene.json.dump(2);
-  log->info("resolved scene (defaults filled in; FNV-1a hash {:016x}):\n{}", fnv1a(resolved), resolved);
+  log->info("resolved scene (defaults filled in; FNV-1a hash {:016x}; checkpoints' scene hash {:016x}):\n{}",
+            fnv1a(resolved), checkpoint_scene_hash(scene.json), resolved);
   try {
-    Driver(opt, std::move(scene), *log).run();
+    Driver(opt, std::move(scene), *log, resume ? &*resume : nullptr).run();
   } catch (const std::exception& e) {
     log->sinks().back()->set_level(spdlog::level::off);  // main prints it on the console
     log->error("{}", e.what());

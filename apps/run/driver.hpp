@@ -19,6 +19,7 @@ struct RunOptions {
   bool quiet = false;              ///< no progress line
   std::string command_line;        ///< recorded in run.log
   std::optional<double> max_tets;  ///< --max-tets (default: from the machine's memory, preflight.hpp)
+  bool resume = false;             ///< --resume: continue from the newest checkpoint in out_dir (checkpoint.hpp)
 };
 
 /// Loads the scene and applies the command-line overrides (--end-time, --threads).
@@ -27,7 +28,9 @@ scene::Scene load_with_overrides(const RunOptions& options);
 
 /// Runs a scene: loads it, runs every check of preflight.hpp (the same as `tetfsi validate`),
 /// prepares the output folder (output.hpp: orphan temporary files and the frames of an earlier
-/// run are removed), then steps the runner. Returns normally on success.
+/// run are removed), then steps the runner. With options.resume, continues the run in out_dir
+/// from its newest checkpoint instead (checkpoint.hpp; its frames up to the checkpoint stay).
+/// Returns normally on success.
 /// @throws scene::SceneError / InputError (exit 2), RunError (exit 1)
 void run_scene(const RunOptions& options);
 

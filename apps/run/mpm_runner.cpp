@@ -148,6 +148,10 @@ class MpmRunner : public Simulation {
     out.write_surface("membrane", frame, s, mem.velocities());
   }
 
+  /// The coupled MPM-membrane model's state (CoupledModel::write_state).
+  void write_checkpoint(BinaryWriter& out) const override { model_->write_state(out); }
+  void read_checkpoint(BinaryReader& in) override { model_->read_state(in); }
+
   std::vector<double> probe(const scene::Json& p) const override {
     // The driver passes an element of /probes (apps/run/driver.cpp): find which.
     for (std::size_t i = 0; i < scene_probes_.size(); ++i)
@@ -170,7 +174,9 @@ class MpmRunner : public Simulation {
 RunnerEntry mpm_runner() {
   return {"mpm", "MPM particles + Belytschko-Tsay membranes with grid contact (Lian, Liu & Zhang 2014)",
           [](const scene::Scene& s) { return s.json.contains("mpm"); },
-          [] { return std::make_unique<MpmRunner>(); }};
+          [] { return std::make_unique<MpmRunner>(); },
+          {},
+          [](const scene::Scene&) { return true; }};
 }
 
 }  // namespace tetfsi::run

@@ -25,12 +25,51 @@ void write_obj(const fs::path& path, const mesh::SurfaceMesh& s) {
   });
 }
 
-void open_csv(std::ofstream& f, const fs::path& path, const std::vector<std::string>& header) {
-  f.open(path, std::ios::trunc);
-  if (!f) throw RunError("cannot create " + path.string());
+std::string csv_header(const std::vector<std::string>& header) {
   std::string line;
   for (const auto& h : header) line += (line.empty() ? "" : ",") + h;
-  f << line << '\n' << std::flush;
+  return line + '\n';
+}
+
+/// Creates the CSV file with its header line; returns the bytes written.
+std::uint64_t open_csv(std::ofstream& f, const fs::path& path, const std::vector<std::string>& header) {
+  f.open(path, std::ios::trunc);
+  if (!f) throw RunError("cannot create " + path.string());
+  const std::string line = csv_header(header);
+  f << line << std::flush;
+  return line.size();
+}
+
+/// Appends one row in a single write, flushed, and counts its bytes.
+void append_row(std::ofstream& f, std::uint64_t& bytes, const std::vector<double>& row) {
+  const std::string line = csv_row(row);
+  f << line << std::flush;
+  bytes += line.size();
+}
+
+/// Cuts the CSV file of a checkpointed run back to `length` bytes and opens it for appending.
+std::uint64_t reopen_csv(std::ofstream& f, const fs::path& path, const std::vector<std::string>& header,
+                         std::uint64_t length) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) throw InputError(fmt::format("--resume: {} is missing: cannot continue the run ({})", path.string(), ec.message()));
+  if (size < length)
+    throw InputError(fmt::format("--resume: {} has {} bytes, fewer than the {} of the checkpoint: it is not the file of "
+                                 "the checkpointed run", path.string(), size, length));
+  const std::string expected = csv_header(header);
+  std::string first(expected.size(), '\0');
+  {
+    std::ifstream in(path, std::ios::binary);
+    in.read(first.data(), static_cast<std::streamsize>(first.size()));
+  }
+  if (first != expected)
+    throw InputError(fmt::format("--resume: {} does not start with the columns of this run ({}): it is not the file of "
+                                 "the checkpointed run", path.string(), expected.substr(0, expected.size() - 1)));
+  fs::resize_file(path, length, ec);
+  if (ec) throw InputError(fmt::format("--resume: cannot cut {} back to the checkpoint: {}", path.string(), ec.message()));
+  f.open(path, std::ios::app);
+  if (!f) throw RunError("cannot open " + path.string());
+  return length;
 }
 
 }  // namespace
@@ -44,14 +83,23 @@ std::string csv_row(const std::vector<double>& row) {
   return line + "\n";
 }
 
-OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
+OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run, int resume_frame) {
   static const std::regex temporary(R"(.+\.tmp\.[0-9]+)");
-  static const std::regex surface_frame(R"(.+_[0-9]{5}\.(ply|obj))");
-  static const std::regex volume_frame(R"(.+_[0-9]{5}\.vdb)");
+  static const std::regex surface_frame(R"(.+_([0-9]{5})\.(ply|obj))");
+  static const std::regex volume_frame(R"(.+_([0-9]{5})\.vdb)");
+  static const std::regex checkpoint(R"(checkpoint_[0-9]{5}\.bin)");
+  const bool resume = resume_frame >= 0;
   OutputCleanup done;
   std::error_code ec;
   auto remove = [&](const fs::path& p, int& count) {
     if (fs::remove(p, ec)) ++count;
+  };
+  // A frame file of the earlier run goes, unless the run is resumed and the frame is one the
+  // checkpoint keeps. m[1] is the frame number.
+  auto stale = [&](const std::string& name, const std::regex& pattern) {
+    std::smatch m;
+    if (!std::regex_match(name, m, pattern)) return false;
+    return !resume || std::stoi(m[1].str()) > resume_frame;
   };
   std::vector<fs::path> folders;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
@@ -60,21 +108,22 @@ OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run) {
       folders.push_back(e.path());
     } else if (e.is_regular_file(ec)) {
       if (std::regex_match(name, temporary)) remove(e.path(), done.temporary_files);
-      else if (earlier_run && (e.path().extension() == ".pvd" || name == "stats.csv" || name == "probes.csv"))
+      else if (earlier_run && !resume && (e.path().extension() == ".pvd" || name == "stats.csv" || name == "probes.csv"))
         remove(e.path(), done.earlier_run_files);
     }
   }
   for (const auto& folder : folders) {
     const std::string object = folder.filename().string();
     const std::regex frame(std::regex_replace(object, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-                           R"(_[0-9]{5}\.vtu)");
+                           R"(_([0-9]{5})\.vtu)");
     const int before = done.earlier_run_files;
     for (const auto& e : fs::directory_iterator(folder, ec)) {
       if (!e.is_regular_file(ec)) continue;
       const std::string name = e.path().filename().string();
       if (std::regex_match(name, temporary)) remove(e.path(), done.temporary_files);
-      else if (earlier_run && (std::regex_match(name, frame) || (object == "surfaces" && std::regex_match(name, surface_frame)) ||
-                               (object == "volumes" && std::regex_match(name, volume_frame))))
+      else if (earlier_run && (stale(name, frame) || (object == "surfaces" && stale(name, surface_frame)) ||
+                               (object == "volumes" && stale(name, volume_frame)) ||
+                               (object == "checkpoint" && !resume && std::regex_match(name, checkpoint))))
         remove(e.path(), done.earlier_run_files);
     }
     if (done.earlier_run_files > before && fs::is_empty(folder, ec)) fs::remove(folder, ec);
@@ -123,6 +172,7 @@ void Output::write_grid(const std::string& object, int frame, double time,
   auto& pvd = pvds_[object];
   if (!pvd) pvd = std::make_unique<mesh::io::PvdCollection>(dir_ / (object + ".pvd"));
   pvd->add(time, rel);  // after the frame file is complete
+  pvd_entries_[object].emplace_back(time, rel);
 }
 
 void Output::write_surface(const std::string& object, int frame, const mesh::SurfaceMesh& surface,
@@ -169,9 +219,30 @@ void Output::write_volumes(const std::string& object, int frame, fluid::VoxelSam
   bytes_.volumes += fluid::write_vdb(path, samples, surface);
 }
 
-void Output::begin_stats(const std::vector<std::string>& header) { open_csv(stats_, dir_ / "stats.csv", header); }
-void Output::stats_row(const std::vector<double>& row) { stats_ << csv_row(row) << std::flush; }
-void Output::begin_probes(const std::vector<std::string>& header) { open_csv(probes_, dir_ / "probes.csv", header); }
-void Output::probes_row(const std::vector<double>& row) { probes_ << csv_row(row) << std::flush; }
+void Output::begin_stats(const std::vector<std::string>& header) {
+  stats_bytes_ = open_csv(stats_, dir_ / "stats.csv", header);
+}
+void Output::stats_row(const std::vector<double>& row) { append_row(stats_, stats_bytes_, row); }
+void Output::begin_probes(const std::vector<std::string>& header) {
+  probes_bytes_ = open_csv(probes_, dir_ / "probes.csv", header);
+}
+void Output::probes_row(const std::vector<double>& row) { append_row(probes_, probes_bytes_, row); }
+
+Output::State Output::state() const { return {pvd_entries_, bytes_, voxel_size_, stats_bytes_, probes_bytes_}; }
+
+void Output::resume(const State& state, const std::vector<std::string>& header,
+                    const std::vector<std::string>& probes_header) {
+  pvd_entries_ = state.pvd_entries;
+  pvds_.clear();
+  for (const auto& [object, entries] : pvd_entries_) {
+    auto& pvd = pvds_[object];
+    pvd = std::make_unique<mesh::io::PvdCollection>(dir_ / (object + ".pvd"));
+    for (const auto& [time, file] : entries) pvd->add(time, file);  // the last add writes the whole list
+  }
+  bytes_ = state.bytes;
+  voxel_size_ = state.voxel_size;
+  stats_bytes_ = reopen_csv(stats_, dir_ / "stats.csv", header, state.stats_bytes);
+  if (!probes_header.empty()) probes_bytes_ = reopen_csv(probes_, dir_ / "probes.csv", probes_header, state.probes_bytes);
+}
 
 }  // namespace tetfsi::run

@@ -70,10 +70,28 @@ class Output {
   };
   const Bytes& bytes_written() const { return bytes_; }
 
+  /// What a checkpoint keeps of the output (checkpoint.hpp): the frames each .pvd lists, the bytes
+  /// written, the voxel size fixed, and the length of stats.csv and probes.csv [bytes].
+  struct State {
+    std::map<std::string, std::vector<std::pair<double, std::string>>> pvd_entries;  ///< (time, file) per object
+    Bytes bytes;
+    double voxel_size = 0;
+    std::uint64_t stats_bytes = 0, probes_bytes = 0;
+  };
+  State state() const;
+  /// Continues the output of a checkpointed run (`tetfsi run --resume`): rewrites every .pvd with
+  /// the frames it listed then, and reopens stats.csv and probes.csv cut back to their length then
+  /// (rows written after the checkpoint are dropped), checking their header is `header` /
+  /// `probes_header` (empty: no probes.csv). @throws InputError naming the file if it is missing,
+  /// shorter than recorded or has another header
+  void resume(const State& state, const std::vector<std::string>& header, const std::vector<std::string>& probes_header);
+
  private:
   std::filesystem::path dir_;
   scene::Json cfg_;
   std::map<std::string, std::unique_ptr<mesh::io::PvdCollection>> pvds_;
+  std::map<std::string, std::vector<std::pair<double, std::string>>> pvd_entries_;  ///< what each .pvd lists
+  std::uint64_t stats_bytes_ = 0, probes_bytes_ = 0;  ///< bytes written to stats.csv, probes.csv
   std::ofstream stats_, probes_;
   mesh::io::VtuCompression compression_;
   mesh::io::VtuPrecision precision_;  ///< of the point and cell fields (export.precision)
@@ -88,13 +106,18 @@ struct OutputCleanup {
   int temporary_files = 0;    ///< *.tmp.<pid> files of interrupted atomic writes
   int earlier_run_files = 0;  ///< frames (<object>/<object>_NNNNN.vtu, surfaces/<object>_NNNNN.ply|obj,
                               ///< volumes/<object>_NNNNN.vdb),
-                              ///< *.pvd, stats.csv, probes.csv of an earlier run
+                              ///< *.pvd, stats.csv, probes.csv, checkpoints of an earlier run (with
+                              ///< resume_frame: the frames after the checkpoint)
 };
 
 /// Prepares an output folder: removes orphan temporary files (everywhere in `dir` and its
 /// sub-folders) and, if `earlier_run` (the folder holds a run.log), the files an earlier run wrote
-/// (the names listed in OutputCleanup), and sub-folders left empty by that. Other files stay.
-OutputCleanup clean_output_folder(const std::filesystem::path& dir, bool earlier_run);
+/// (the names listed in OutputCleanup, and its checkpoints checkpoint/checkpoint_NNNNN.bin), and
+/// sub-folders left empty by that. Other files stay. `resume_frame` >= 0 (`run --resume` from a
+/// checkpoint at that frame): the run is continued, so only its frames numbered above
+/// resume_frame (written after the checkpoint) go, with the temporary files; .pvd, CSV files and
+/// checkpoints stay (Output::resume cuts the CSV files back).
+OutputCleanup clean_output_folder(const std::filesystem::path& dir, bool earlier_run, int resume_frame = -1);
 
 /// One CSV row of numbers (17 significant digits, so values read back exactly); a non-finite
 /// value (a probe without a value) is an empty cell.

@@ -11,6 +11,7 @@
 
 #include "apps/run/output.hpp"
 #include "apps/scene/scene.hpp"
+#include "support/binary_stream.hpp"
 
 namespace tetfsi::run {
 
@@ -59,6 +60,14 @@ class Simulation {
   virtual void select_load_step(int /*k*/) {}
   /// Report for the first stats row of a runner that is not time dependent (setup statistics).
   virtual StepReport setup_report() const { return {}; }
+
+  /// Checkpoints (checkpoint.hpp), for runners whose RunnerEntry::checkpoints accepts the scene:
+  /// writes everything step() changes and later steps read (state, warm starts, lagged solver
+  /// blocks, cached operators, watchdog baselines), so that read_checkpoint() after setup() of
+  /// the same scene makes the following steps bit for bit those of the run that wrote it.
+  /// read_checkpoint throws BinaryReadError on a truncated or mismatching state.
+  virtual void write_checkpoint(BinaryWriter& /*out*/) const {}
+  virtual void read_checkpoint(BinaryReader& /*in*/) {}
 };
 
 /// One registered runner.
@@ -69,6 +78,8 @@ struct RunnerEntry {
   std::function<std::unique_ptr<Simulation>()> create;
   /// Probe kinds (/probes/i/kind) its probe() answers; empty: every kind the scene checks allow.
   std::vector<std::string> probe_kinds = {};
+  /// Whether it writes checkpoints for this scene (Simulation::write_checkpoint); empty: never.
+  std::function<bool(const scene::Scene&)> checkpoints = {};
 };
 
 /// Every runner, most specific first; the first that accepts a scene runs it (runners.cpp).

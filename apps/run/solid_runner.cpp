@@ -316,6 +316,22 @@ class SolidRunner : public Simulation {
     out.write_surface(b.name, frame, now, vel);
   }
 
+  /// Each dynamic body's integrator state (NewmarkIntegrator::write_state) and energy baselines.
+  void write_checkpoint(BinaryWriter& out) const override {
+    out(std::uint64_t(bodies_.size()));
+    for (const auto& b : bodies_) {
+      b.integrator->write_state(out);
+      const_cast<EnergyWatch&>(b.energy).state(out);
+    }
+  }
+  void read_checkpoint(BinaryReader& in) override {
+    in.expect_size(bodies_.size(), "solids");
+    for (auto& b : bodies_) {
+      b.integrator->read_state(in);
+      b.energy.state(in);
+    }
+  }
+
   std::vector<double> probe(const scene::Json& p) const override {
     const auto kind = p.at("kind").get<std::string>();
     if (kind == "total_energy" && !static_) {
@@ -406,7 +422,12 @@ RunnerEntry solid_runner() {
             return false;
           },
           [] { return std::make_unique<SolidRunner>(); },
-          {"point_displacement", "solid_volume", "total_energy"}};
+          {"point_displacement", "solid_volume", "total_energy"},
+          [](const scene::Scene& s) {  // a static analysis has no time loop to resume
+            for (const auto& solid : s["solids"])
+              if (is_static(solid)) return false;
+            return true;
+          }};
 }
 
 }  // namespace tetfsi::run

@@ -60,6 +60,11 @@ class EnergyWatch {
   /// "" or the diagnosis for tet solid `name` (/solids/`index`, integrator `scheme`).
   std::string check(const std::string& name, int index, const std::string& scheme,
                     const WatchdogSettings& settings) const;
+  /// The baselines in a checkpoint (support/binary_stream.hpp): E_0, the last energy, the scale.
+  template <class Archive>
+  void state(Archive& a) {
+    a(start_, last_, scale_);
+  }
 
  private:
   double start_ = 0, last_ = 0, scale_ = 0;

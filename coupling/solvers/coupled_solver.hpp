@@ -41,6 +41,11 @@
 
 #include "coupling/coupled_system.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::coupling {
 
 enum class CoupledSolverKind { Umfpack, BiCGSTAB, SchurCG };
@@ -87,6 +92,11 @@ class CoupledSolver {
   /// The next solve must not lean on anything kept from earlier solves (schur_cg's lagged
   /// factor): the caller changed A by more than a step's drift (contact penalty rows).
   virtual void request_fresh_solve() {}
+  /// Checkpoints (schur_state.cpp): what a solver keeps between solves and that changes its
+  /// answers (schur_cg's lagged factor and preconditioner, rebuilt from the matrices they were
+  /// made of, and its counters). The direct and BiCGSTAB solvers keep nothing.
+  virtual void write_state(BinaryWriter& /*out*/) const {}
+  virtual void read_state(BinaryReader& /*in*/) {}
 };
 
 std::unique_ptr<CoupledSolver> make_coupled_solver(CoupledSolverKind kind, CoupledSolverOptions options = {});

@@ -22,20 +22,18 @@ bool SchurCGSolver::refactor(const SparseMatrix& A) {
   return true;
 }
 
-bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
+bool SchurCGSolver::set_up_preconditioner() {
   Lag& lag = *lag_;
-  lag.precondition = nullptr;
-  lag.P_pattern.assign(SparseMatrix());
-  lag.H_pattern.assign(SparseMatrix());
-  if (s.num_pressures() > 0) {
-    const SparseMatrix S_hat = approximate_schur_complement(s);
-    if (options_.preconditioner_apply) {
-      if (options_.preconditioner_setup) options_.preconditioner_setup(S_hat);
-    } else {
-      lag.ic.compute(S_hat);
-      if (lag.ic.info() != Eigen::Success) return false;
-    }
+  if (options_.preconditioner_apply) {
+    if (options_.preconditioner_setup) options_.preconditioner_setup(lag.S_hat);
+    return true;
   }
+  lag.ic.compute(lag.S_hat);
+  return lag.ic.info() == Eigen::Success;
+}
+
+void SchurCGSolver::set_preconditioner() {
+  Lag& lag = *lag_;
   if (options_.preconditioner_apply) {
     lag.precondition = options_.preconditioner_apply;
     lag.preconditioner_name = options_.preconditioner_name.empty() ? "custom" : options_.preconditioner_name;
@@ -43,6 +41,20 @@ bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
     lag.precondition = [&ic = lag.ic](const Eigen::VectorXd& r, Eigen::VectorXd& z) { z = ic.solve(r); };
     lag.preconditioner_name = "ic";
   }
+}
+
+bool SchurCGSolver::build_schur_preconditioner(const CoupledSystem& s) {
+  Lag& lag = *lag_;
+  lag.precondition = nullptr;
+  lag.P_pattern.assign(SparseMatrix());
+  lag.H_pattern.assign(SparseMatrix());
+  if (s.num_pressures() > 0) {
+    lag.S_hat = approximate_schur_complement(s);
+    if (!set_up_preconditioner()) return false;
+  } else {
+    lag.S_hat = SparseMatrix();
+  }
+  set_preconditioner();
   lag.P_pattern.assign(s.P);
   lag.H_pattern.assign(s.H);
   return true;

@@ -45,9 +45,11 @@ struct SchurCGSolver::Factor {
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
   SparsityPattern pattern;  // of the A the analysis was made for
   bool valid = false;       // llt holds the factor of an SPD matrix with that pattern
+  SparseMatrix matrix;      // the A of the last factorize(), for checkpoints (schur_checkpoint.cpp)
 
   /// Factorizes A, re-analysing only when its pattern changed. Returns false if A is not SPD.
   bool factorize(const SparseMatrix& A) {
+    matrix = A;
     if (!pattern.matches(A)) {
       llt.analyzePattern(A);
       pattern.assign(A);
@@ -66,6 +68,7 @@ struct SchurCGSolver::Lag {
   std::function<void(const Eigen::VectorXd&, Eigen::VectorXd&)> precondition;     // z ≈ Ŝ⁻¹ r
   std::string preconditioner_name;
   SparsityPattern P_pattern, H_pattern;
+  SparseMatrix S_hat;        // the Ŝ the preconditioner was set up on, for checkpoints
   int fresh_iterations = 0;  // CG iterations of the last fresh solve
   int age = 0;               // solves since the last fresh one
   int extra_iterations = 0;  // iterations of those solves beyond fresh_iterations, summed

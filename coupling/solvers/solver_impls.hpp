@@ -57,6 +57,8 @@ class SchurCGSolver final : public CoupledSolver {
   ~SchurCGSolver() override;
   CoupledSolveReport solve(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p) override;
   void request_fresh_solve() override;
+  void write_state(BinaryWriter& out) const override;
+  void read_state(BinaryReader& in) override;
 
  private:
   struct Factor;  // CHOLMOD factor of A, its symbolic analysis kept while A's pattern stays
@@ -68,6 +70,10 @@ class SchurCGSolver final : public CoupledSolver {
   /// the patterns of P and H it was built for; false if the incomplete Cholesky failed (lag_ is
   /// then left without a preconditioner).
   bool build_schur_preconditioner(const CoupledSystem& s);
+  /// Sets up Ŝ's preconditioner (the caller's or IC) on lag_->S_hat; false if IC failed.
+  bool set_up_preconditioner();
+  /// Points lag_->precondition at the caller's preconditioner or lag_'s IC, and names it.
+  void set_preconditioner();
   /// Fresh Schur-complement CG with factor_ (A's factor, or none for n = 0); sets up Ŝ's
   /// preconditioner for this system.
   CoupledSolveReport solve_fresh(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p);

@@ -44,6 +44,10 @@ class CoupledModel {
   /// One coupled step of section 6, then the particles the sources owe by the new time.
   /// @throws std::runtime_error on non-finite states or a particle leaving the grid
   ContactReport step(double dt);
+  /// Checkpoints (coupled_model_state.cpp): particles, grid, membrane, contact and the sources'
+  /// bookkeeping, bit for bit; read into a model made from the same scene. @throws BinaryReadError
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
   /// Energy carried in by the sources so far (internal E m / rho0 + kinetic) [J].
   double injected_energy() const { return injected_; }
   /// Kinetic + internal + gravity of the particles, kinetic + strain + hourglass of the membrane [J].

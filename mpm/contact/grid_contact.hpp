@@ -46,6 +46,11 @@
 #include "mpm/particles/mpm_solver.hpp"
 #include "mpm/membrane/membrane.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::mpm {
 
 using Vec3 = Eigen::Vector3d;
@@ -94,6 +99,10 @@ class MpmMembraneCoupling {
   double critical_time_step() const;
   /// One coupled step of section 6.
   /// @throws std::runtime_error on non-finite states (from either body)
+  /// Checkpoints (coupled_model_state.cpp): the state the steps change, bit for bit; read into an object set up
+  /// from the same scene. @throws BinaryReadError
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
   ContactReport step(double h);
 
   CoupledEnergies energies() const;

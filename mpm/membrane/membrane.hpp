@@ -21,6 +21,11 @@
 
 #include "mpm/membrane/quad_frame.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::mpm {
 
 struct MembraneMaterial {
@@ -79,6 +84,11 @@ class Membrane {
   /// @throws std::runtime_error if a node becomes non-finite
   void update_positions(double h);
   void step(double h);
+  /// Checkpoints (membrane_state.cpp): positions, velocities, forces, stresses, hourglass forces,
+  /// work bookkeeping and step lengths, bit for bit; read into a membrane made from the same scene
+  /// (mesh, material, fixed components). @throws BinaryReadError
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
 
   int num_nodes() const { return static_cast<int>(x_.size()); }
   int num_elements() const { return static_cast<int>(quads_.size()); }

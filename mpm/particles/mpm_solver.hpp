@@ -35,6 +35,11 @@
 #include "mpm/particles/material.hpp"
 #include "mpm/particles/particles.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::mpm {
 
 struct MpmOptions {
@@ -90,6 +95,10 @@ class MpmSolver {
   ///         std::invalid_argument if h is not the step passed to trial_step
   void finish_step(double h);
   /// trial_step + finish_step.
+  /// Checkpoints (mpm_solver_state.cpp): the state the steps change, bit for bit; read into an object set up
+  /// from the same scene. @throws BinaryReadError
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
   void step(double h);
 
   // Grid state of the current step (valid after trial_step; zero outside the occupied box).

@@ -39,6 +39,11 @@
 #include "solid/elastic_model.hpp"
 #include "solid/integrator/spd_solver.hpp"
 
+namespace tetfsi {
+class BinaryWriter;
+class BinaryReader;
+}  // namespace tetfsi
+
 namespace tetfsi::solid {
 
 enum class NewmarkScheme {
@@ -198,6 +203,11 @@ class NewmarkIntegrator {
     d_ = s.d, u_ = s.u, time_ = s.time, step_ = s.step, stats_ = s.stats, last_contact_nodes_ = s.last_contact_nodes;
     active_.clear();
   }
+  /// Checkpoints (newmark_state.cpp): save_state()'s State, the prescribed velocities, the external
+  /// forces and the self-contact's touching nodes, bit for bit. The model, settings, fixed dofs,
+  /// springs and obstacles are the set-up's: read into an integrator set up from the same scene.
+  void write_state(BinaryWriter& out) const;
+  void read_state(BinaryReader& in);
 
  private:
   const ElasticModel& model_;

@@ -139,6 +139,14 @@ Field output() {
                     "fluid mesh's mean edge length at the first frame.")
           .greater(0),
       Field::integer("every_n_frames", "Write every n-th frame only.").at_least(1).def(1),
+      Field::integer("checkpoint_every",
+                     "Write a checkpoint (the whole state: fluid mesh and fields, solids, liquid surface, MPM "
+                     "particles and membrane, step, time-step state) after every n-th frame, and at the end when it "
+                     "is a frame, to checkpoint/checkpoint_NNNNN.bin (atomically; the newest two are kept), so that "
+                     "`tetfsi run SCENE --out DIR --resume` continues a stopped or killed run, bit for bit as if "
+                     "uninterrupted. 0: none (a checkpoint is a full state, tens of MB on large meshes). The "
+                     "coupled, fluid, solid (dynamic) and mpm runners write them; other scenes must leave it 0.")
+          .at_least(0).def(0),
       Field::number("max_output_gb", "GB",
                     "Largest estimated size of the output folder (frames x frame size + stats rows); a scene "
                     "that would write more is refused before it starts.").greater(0).def(20),

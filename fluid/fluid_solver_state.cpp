@@ -1,0 +1,44 @@
+/// @file fluid_solver_state.cpp
+/// FluidSolver::write_state / read_state: the solver's changing state as a binary block of a
+/// checkpoint (support/binary_stream.hpp), bit for bit.
+#include "fluid/fluid_solver.hpp"
+#include "support/binary_stream.hpp"
+
+namespace tetfsi::fluid {
+
+template <class A>
+void serialize(A& a, BoundaryFace& f) {
+  a(f.tet, f.local_face, f.nodes, f.normal, f.area, f.other_subdomain);
+}
+
+template <class A>
+void serialize(A& a, FluidMesh& m) {
+  a(m.nodes, m.node_to_mesh_vertex, m.mesh_vertex_to_node, m.tets, m.tet_to_mesh_tet, m.volume, m.grad, m.centroids,
+    m.neighbor, m.boundary_faces, m.dual_volume, m.node_tets);
+}
+
+template <class A>
+void serialize(A& a, ClassifiedBoundary& b) {
+  a(b.face_kind, b.face_patch, b.node_kind, b.flux_faces, b.flux_velocity, b.flux, b.closed, b.flux_imbalance);
+}
+
+template <class A>
+void serialize(A& a, LiquidGeometry& g) {
+  a(g.liquid_volume, g.wet_moment, g.first_moment, g.is_liquid, g.num_air_nodes);
+}
+
+template <class Archive>
+void FluidSolver::state(Archive& a) {
+  a(mesh_, source_tets_, source_subdomain_, fields_.velocity, fields_.smoke, fields_.temperature, advected_velocity_,
+    pressure_, boundary_, initialized_, free_surface_, level_set_, liquid_, target_volume_);
+}
+
+void FluidSolver::write_state(BinaryWriter& out) const { const_cast<FluidSolver*>(this)->state(out); }
+
+void FluidSolver::read_state(BinaryReader& in) {
+  const bool liquid = free_surface_;
+  state(in);
+  if (free_surface_ != liquid) in.fail("a fluid state with another kind of fluid (smoke or liquid)");
+}
+
+}  // namespace tetfsi::fluid
