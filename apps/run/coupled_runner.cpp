@@ -39,6 +39,7 @@
 #include "apps/run/fluid_probe.hpp"
 #include "apps/run/watchdog.hpp"
 #include "apps/run/container.hpp"
+#include "apps/run/coupled_energy.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -285,7 +286,7 @@ class CoupledRunner : public Simulation {
 
   std::string unphysical() const override {
     // Energy first: a coupling instability that has begun to invert the solid is named as such.
-    if (energy_source_.empty() && energy_.exceeded(watchdog_)) return energy_diagnosis();
+    if (energy_source_.empty() && energy_.exceeded(watchdog_)) return coupled_energy_diagnosis(*stepper_, energy_, names_, scheme_, watchdog_);
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       auto what = inverted_tets(stepper_->solid_model(i), stepper_->solid(i).displacement(), names_[i], i, watchdog_);
       if (!what.empty()) return what;
@@ -412,53 +413,9 @@ class CoupledRunner : public Simulation {
       log.info("watchdog: the energy balance is not watched: {}", energy_source_);
       return;
     }
-    fluid::StepReport f;
-    stepper_->fluid().report_energies(f);
-    double total = f.kinetic_energy + f.gravity_potential, mechanical = f.kinetic_energy, floor = 0;
-    const double g = vec3(js.at("simulation").at("gravity")).norm();
-    for (int i = 0; i < stepper_->num_solids(); ++i) {
-      const solid::StepStats e = stepper_->solid(i).energies();
-      total += e.total();
-      mechanical += e.kinetic + e.strain + e.spring;
-      const auto& model = stepper_->solid_model(i);
-      floor += energy_floor(model.reference_positions(), model.lumped_masses().sum() * g);
-    }
-    // A free surface is resolved to about a cell: the level set may move it by up to an edge
-    // length h, changing the liquid's potential by up to rho V |g| h (measured on dam_break_ci:
-    // +10 J of its 289 J in the first 0.1 s, with rho V |g| h = 75 J).
-    if (stepper_->fluid().has_free_surface())
-      floor += stepper_->fluid().params().density * stepper_->fluid().liquid().total_volume() * g *
-               js.at("mesh").at("edge_length").get<double>();
-    energy_ = EnergyWatch(total, mechanical, floor);
-    log.info("watchdog: energy balance of the closed container, E_0 = {:.6g} J, scale at least {:.3g} J", total, floor);
-  }
-
-  /// The energy watchdog's diagnosis, naming the solid that moves most (largest kinetic energy).
-  std::string energy_diagnosis() const {
-    int fastest = 0;
-    double most = -1;
-    for (int i = 0; i < stepper_->num_solids(); ++i) {
-      const Eigen::VectorXd& u = stepper_->solid(i).velocity();
-      const Eigen::VectorXd& m = stepper_->solid_model(i).lumped_masses();
-      double k = 0;
-      for (int a = 0; a < m.size(); ++a) k += 0.5 * m[a] * u.segment<3>(3 * a).squaredNorm();
-      if (k > most) most = k, fastest = i;
-    }
-    const auto& mat = stepper_->solid_model(fastest).material();
-    const double rho_f = stepper_->fluid().params().density;
-    std::string advice = "Lower /simulation/dt";
-    if (scheme_ == "time_splitting")
-      advice += fmt::format(", use /coupling/scheme \"simultaneous\" (time splitting is unstable when the fluid a "
-                            "solid moves outweighs it, the added-mass instability: solid '{}' has {:g} kg/m^3 in a "
-                            "fluid of {:g} kg/m^3)", names_[fastest], mat.density, rho_f);
-    advice += fmt::format(" or change the material of solid '{}' (/solids/{}/material: density {:g} kg/m^3, "
-                          "youngs_modulus {:g} Pa; a stiff body needs a short step)",
-                          names_[fastest], fastest, mat.density, mat.youngs_modulus);
-    return energy_.diagnosis(fmt::format("fluid and solids ({} coupling)", scheme_),
-                             "fluid kinetic + fluid gravitational + solid kinetic, strain, springs and gravitational",
-                             "the container is closed and every load is conservative (walls, gravity; no inflow, "
-                             "open face or emitter)",
-                             advice, watchdog_);
+    energy_ = coupled_energy_watch(*stepper_, js);
+    log.info("watchdog: energy balance of the closed container, E_0 = {:.6g} J, scale {:.3g} J",
+             energy_.start(), energy_.scale());
   }
 
   int solid_index(const std::string& name) const {

@@ -57,7 +57,7 @@ class Checker {
     read_liquid_regions();
     check_placements();
     check_runner();
-    check_checkpoints();
+    for (auto& issue : checkpoint_issues(scene_, *runner_)) issues_.push_back(std::move(issue));
     check_load_boxes();
     check_probes();
     check_emitters();
@@ -252,15 +252,6 @@ class Checker {
     for (auto& issue : model_mix_issues(js_, runner_->name, meshes_fluid())) issues_.push_back(std::move(issue));
   }
 
-  /// export.checkpoint_every > 0 needs a runner that writes checkpoints (checkpoint.hpp).
-  void check_checkpoints() {
-    if (js_.at("export").value("checkpoint_every", 0) <= 0) return;
-    if (runner_->checkpoints && runner_->checkpoints(scene_)) return;
-    add("/export/checkpoint_every",
-        fmt::format("the {} runner (which runs this scene{}) does not write checkpoints (the coupled, fluid, solid "
-                    "(dynamic) and mpm runners do, without fluid.surface_edge_length): set it to 0", runner_->name,
-                    runner_->name == "solid" ? " as a static analysis" : ""));
-  }
 
   /// A boundary-condition box that misses the solid's bounding box selects no node: the run would
   /// stop on it after meshing, so validate says so too.

@@ -102,4 +102,13 @@ std::vector<scene::Issue> model_mix_issues(const scene::Json& js, const std::str
   return issues;
 }
 
+std::vector<scene::Issue> checkpoint_issues(const scene::Scene& scene, const RunnerEntry& runner) {
+  if (scene.json.at("export").value("checkpoint_every", 0) <= 0) return {};
+  if (runner.checkpoints && runner.checkpoints(scene)) return {};
+  return {{"/export/checkpoint_every",
+           fmt::format("the {} runner (which runs this scene{}) does not write checkpoints (the coupled, fluid, solid "
+                       "(dynamic) and mpm runners do, without fluid.surface_edge_length): set it to 0", runner.name,
+                       runner.name == "solid" ? " as a static analysis" : "")}};
+}
+
 }  // namespace tetfsi::run

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/run/simulation.hpp"
 #include "apps/scene/schema.hpp"
 
 namespace tetfsi::run {
@@ -15,5 +16,9 @@ namespace tetfsi::run {
 /// @param runner        the name of the runner the scene goes to (choose_runner)
 /// @param meshes_fluid  the scene has a fluid on a tet mesh
 std::vector<scene::Issue> model_mix_issues(const scene::Json& js, const std::string& runner, bool meshes_fluid);
+
+/// export.checkpoint_every > 0 with a runner that does not write checkpoints for this scene
+/// (RunnerEntry::checkpoints; checkpoint.hpp): the issue naming the key, or none.
+std::vector<scene::Issue> checkpoint_issues(const scene::Scene& scene, const RunnerEntry& runner);
 
 }  // namespace tetfsi::run

@@ -51,6 +51,8 @@ class EnergyWatch {
     last_ = total;
     scale_ = std::max(scale_, mechanical);
   }
+  double start() const { return start_; }  ///< E_0 [J]
+  double scale() const { return scale_; }  ///< the energy scale so far [J]
   /// Whether the last recorded energy rose past the limit.
   bool exceeded(const WatchdogSettings& settings) const { return last_ - start_ > settings.max_energy_growth * scale_; }
   /// "" or "<subject>: the total energy (<terms>) rose by ... J above its start ..., <why>. <advice>,
