@@ -203,6 +203,34 @@ CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledS
   return rows;
 }
 
+void CoupledStepper::add_viscous_drag(SolidRows& rows) {
+  const fluid::FluidMesh& fm = fluid_.mesh();
+  const std::vector<Eigen::Vector3d>& force = fluid_.viscous_node_force();
+  const std::vector<Eigen::Matrix3d>& stiffness = fluid_.viscous_node_stiffness();
+  if (force.empty()) return;
+  std::vector<int> solid_dof(mesh_.num_vertices(), -1);  // mesh vertex -> first dof of its solid node
+  for (const Solid& s : solids_)
+    for (int a = 0; a < s.model->num_nodes(); ++a) solid_dof[s.submesh.to_parent_vertex[a]] = s.dof_offset + 3 * a;
+  const Eigen::VectorXd u = solid_velocities();
+  viscous_force_.assign(solids_.size(), Eigen::Vector3d::Zero());
+  for (int i = 0; i < fm.num_nodes(); ++i) {
+    const int d = solid_dof[fm.node_to_mesh_vertex[i]];
+    if (d < 0 || force[i].isZero(0.0)) continue;
+    for (std::size_t k = 0; k < solids_.size(); ++k)
+      if (d >= solids_[k].dof_offset && d < solids_[k].dof_offset + 3 * solids_[k].model->num_nodes())
+        viscous_force_[k] += force[i];
+    // F(u^{n+1}) ~ F(uⁿ) - C (u^{n+1} - uⁿ): A += C, b += F(uⁿ) + C uⁿ on the free dofs (A and b
+    // are eq. (18)'s, forces per unit time: A = M/h + ..., b = (M/h) uⁿ + ... + f).
+    const Eigen::Vector3d b = force[i] + stiffness[i] * u.segment<3>(d);
+    for (int a = 0; a < 3; ++a) {
+      if (rows.fixed[d + a]) continue;
+      rows.b[d + a] += b[a];
+      for (int c = 0; c < 3; ++c)
+        if (!rows.fixed[d + c] && stiffness[i](a, c) != 0) rows.A.coeffRef(d + a, d + c) += stiffness[i](a, c);
+    }
+  }
+}
+
 CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const SolidRows& solid,
                                                              CoupledStepReport& report) const {
   const fluid::FluidMesh& fm = fluid_.mesh();
@@ -372,8 +400,11 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   CoupledStepReport report;
   report.min_substep = h;
   if (settings_.before_step) settings_.before_step(time_, h);  // kinematic solids' velocities
-  report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection and body forces
+  // A viscous fluid sticks to the solids at their velocity uⁿ (fluid/viscosity/viscous_boundary.hpp).
+  if (fluid_.viscous()) boundary_.no_slip_velocity = mesh_vertices_at(solid_velocities());
+  report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection, viscosity, body forces
   SolidRows solid = assemble_solid_rows(h, report);    // eq. (4): A, b
+  if (fluid_.viscous()) add_viscous_drag(solid);
   const Stopwatch clock;
   Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
   FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r

@@ -150,6 +150,12 @@ class CoupledStepper {
   Eigen::Vector3d pressure_force(int i) const {
     return i < static_cast<int>(pressure_force_.size()) ? pressure_force_[i] : Eigen::Vector3d::Zero();
   }
+  /// The viscous force of the fluid on solid i in the last step [N] (0 for an inviscid fluid): the
+  /// sum over its no-slip interface nodes of the reaction -(K U^{n+1})_i of the viscous step
+  /// (fluid/viscosity/implicit_viscosity.hpp) at the solid's velocity uⁿ.
+  Eigen::Vector3d viscous_force(int i) const {
+    return i < static_cast<int>(viscous_force_.size()) ? viscous_force_[i] : Eigen::Vector3d::Zero();
+  }
   /// Walls, open patches, inflows and sources of the fluid (solid interfaces are handled here).
   fluid::BoundaryConditions& fluid_boundary() { return boundary_; }
   const mesh::TetMesh& mesh() const { return mesh_; }
@@ -229,6 +235,16 @@ class CoupledStepper {
   /// Volume [m³] and first moment ∫ x dV [m⁴] of the fluid tets of mesh_ with vertices at x.
   std::pair<double, Eigen::Vector3d> fluid_moments(const std::vector<Eigen::Vector3d>& x) const;
   static constexpr int kMaxContactRounds = 8;
+  /// The viscous traction of a viscous fluid on the solids' rows, linearized about uⁿ: the fluid's
+  /// viscous step held the solid interface nodes at uⁿ and found the reaction F(uⁿ) with its
+  /// diagonal 3x3 blocks C (FluidSolver::viscous_node_stiffness); the impulse over the step is taken
+  /// as h F(uⁿ) - h C (u^{n+1} - uⁿ), so A += C (symmetric positive semi-definite: eq. 7 stays
+  /// symmetric) and b += F(uⁿ) + C uⁿ (eq. 18's rows are forces: A = M/h + ...). The drag is thus implicit in the solid's own velocity
+  /// (a light solid in a viscous fluid does not overshoot), lagged in the fluid's (the fluid's
+  /// velocity near the solid is the viscous step's, before the pressure). C is K_ii, the fluid
+  /// around the node held: it over-estimates the drag's derivative for large h, which damps but
+  /// does not change a steady state (there u^{n+1} = uⁿ).
+  void add_viscous_drag(SolidRows& rows);
   /// Eqs. (8) and (5): the fluid takes the pressure p, the solids the velocity u.
   void update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p, const std::vector<int>& unknown,
               CoupledStepReport& report);
@@ -260,6 +276,7 @@ class CoupledStepper {
   std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes
   std::unique_ptr<solid::SurfaceContact> surface_contact_;  // solid-solid and self contact, or none
   std::vector<Eigen::Vector3d> pressure_force_;  // per solid, of the last step [N]
+  std::vector<Eigen::Vector3d> viscous_force_;   // per solid, of the last step [N]
   // The vertices of the mesh fluid_ last stepped on, moved to the solids at t^{n+1}
   // (MeshUpdateResult::moved_vertices); empty before the first step.
   std::vector<Eigen::Vector3d> fluid_mesh_moved_vertices_;

@@ -207,12 +207,65 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   rep.assemble_seconds += now() - t0;
   t0 = now();
   apply_sources(bc, h);
+  rep.forces_seconds = now() - t0;
+  // Viscosity acts on the advected (divergence-free up to the advection's error) field, before the
+  // body forces: a force that the pressure balances (still water) never meets the no-slip walls.
+  if (viscous()) apply_viscosity_step(bc, h, rep);
+  t0 = now();
   if (params_.apply_gravity)
     for (auto& u : fields_.velocity) u += h * params_.gravity;
   add_buoyancy(mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, h, fields_.velocity);
   add_vorticity_confinement(mesh_, params_.vorticity_epsilon, h, fields_.velocity);
-  rep.forces_seconds = now() - t0;
+  rep.forces_seconds += now() - t0;
   return rep;
+}
+
+bool FluidSolver::viscous() const {
+  if (params_.viscosity > 0) return true;
+  for (const auto& r : params_.viscosity_regions)
+    if (r.second > 0) return true;
+  return false;
+}
+
+void FluidSolver::apply_viscosity_step(const BoundaryConditions& bc, double h, StepReport& rep) {
+  const double t0 = now();
+  std::vector<double> mu(mesh_.num_tets(), params_.viscosity);
+  if (!params_.viscosity_regions.empty())
+    for (int t = 0; t < mesh_.num_tets(); ++t)
+      for (const auto& [region, value] : params_.viscosity_regions)
+        if (region.contains(mesh_.centroid(t))) {
+          mu[t] = value;
+          break;
+        }
+  // The fluid in each tet: all of it, or a liquid's part (the air is void and carries no stress).
+  const std::vector<double>& weight = free_surface_ ? liquid_.liquid_volume : mesh_.volume;
+  const ViscousNodes nodes = viscous_nodes(mesh_, boundary_, bc, params_.walls);
+  ViscosityReport vr =
+      apply_viscosity(mesh_, mu, weight, params_.density, nodes, h, params_.viscous_solver, fields_.velocity);
+  viscous_force_.assign(mesh_.num_nodes(), Eigen::Vector3d::Zero());
+  viscous_stiffness_.assign(mesh_.num_nodes(), Eigen::Matrix3d::Zero());
+  for (const BoundaryFace& bf : mesh_.boundary_faces)
+    if (bf.other_subdomain >= mesh::solid_subdomain(0))
+      for (int i : bf.nodes) {
+        viscous_force_[i] = vr.wall_force[i];
+        viscous_stiffness_[i] = vr.wall_stiffness[i];
+      }
+  rep.viscous_iterations = vr.iterations;
+  rep.viscosity_seconds = now() - t0;
+}
+
+Eigen::Vector3d FluidSolver::viscous_force(int subdomain) const {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  if (viscous_force_.empty()) return f;
+  std::vector<char> seen(mesh_.num_nodes(), 0);
+  for (const BoundaryFace& bf : mesh_.boundary_faces)
+    if (bf.other_subdomain == subdomain)
+      for (int i : bf.nodes)
+        if (!seen[i]) {
+          seen[i] = 1;
+          f += viscous_force_[i];
+        }
+  return f;
 }
 
 StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepReport rep) {

@@ -6,6 +6,7 @@
 ///   2. sources: emitter volumes and inflow patches set smoke and temperature; with a free
 ///      surface both add liquid (an inflow patch keeps the layer one edge deep in front of it full
 ///      of liquid at its velocity),
+///   2b. viscosity, if any (implicit_viscosity.hpp), on the advected field,
 ///   3. body forces: gravity, buoyancy, optional vorticity confinement (body_forces.hpp),
 ///   4. projection with the boundary conditions of this step (projection.hpp).
 /// Kinematic solids enter through BoundaryConditions::solid_vertex_velocity.
@@ -17,6 +18,7 @@
 #include "fluid/liquid/free_surface_projection.hpp"
 #include "fluid/operators/fluid_mesh.hpp"
 #include "fluid/projection/projection.hpp"
+#include "fluid/viscosity/implicit_viscosity.hpp"
 #include "mesh/tet_mesh.hpp"
 
 namespace tetfsi {
@@ -34,6 +36,15 @@ struct FluidParams {
   double vorticity_epsilon = 0.0;
   AdvectionScheme advection = AdvectionScheme::kLinear;  ///< see semi_lagrangian.hpp and the TG test
   SolverOptions solver;
+  /// Dynamic viscosity mu [Pa s]; > 0: the implicit viscous step of implicit_viscosity.hpp before
+  /// the body forces; 0: inviscid (no viscous step, bit-identical to a solver without one).
+  double viscosity = 0.0;
+  /// Boxes of other viscosity: a tet whose centroid lies in one takes its viscosity (first match).
+  std::vector<std::pair<Region, double>> viscosity_regions;
+  WallCondition walls = WallCondition::kNoSlip;  ///< tangential condition of walls and solids (viscous only)
+  /// Tolerance and iteration limit of the viscous step's CG (Jacobi-preconditioned, matrix-free:
+  /// implicit_viscosity.hpp; the backend is not read).
+  SolverOptions viscous_solver{SolverBackend::kEigenIcCg, 1e-8, 2000};
 };
 
 /// Free-surface liquid (liquid/level_set.hpp): how the level set is kept.
@@ -58,6 +69,8 @@ struct StepReport {
   double assemble_seconds = 0.0;  ///< fluid mesh geometry, boundary classification, L and rhs
   double solve_seconds = 0.0;     ///< pressure solve (set-up + iterations)
   double forces_seconds = 0.0;
+  double viscosity_seconds = 0.0; ///< the implicit viscous step (0 when inviscid)
+  int viscous_iterations = 0;     ///< CG iterations of the viscous step
   int iterations = 0;
   double residual = 0.0;          ///< true relative residual of the pressure solve
   double max_divergence = 0.0;    ///< max |weak div| / dual volume after projection [1/s]
@@ -111,6 +124,8 @@ class FluidSolver {
   StepReport apply_pressure(Eigen::VectorXd pressure, double h, StepReport rep);
 
   const FluidParams& params() const { return params_; }
+  /// True if some tet has a viscosity > 0 (FluidParams::viscosity, viscosity_regions).
+  bool viscous() const;
   const FluidMesh& mesh() const { return mesh_; }
   const FluidFields& fields() const { return fields_; }
   FluidFields& fields() { return fields_; }
@@ -123,6 +138,14 @@ class FluidSolver {
   /// Pressure force on solid `subdomain` [N]: sum over its interface faces of int p n dA, with n the
   /// fluid's outward normal (pointing into the solid) and p linear on each face (exact quadrature).
   Eigen::Vector3d pressure_force(int subdomain) const;
+  /// Viscous force on solid `subdomain` [N] in the last step: the sum over its no-slip interface
+  /// nodes of -(K U^{n+1})_i (implicit_viscosity.hpp), the reaction that kept those nodes at the
+  /// solid's velocity; 0 for an inviscid fluid or slip solids.
+  Eigen::Vector3d viscous_force(int subdomain) const;
+  /// The last viscous step's force on every fluid node held at a solid's velocity [N] (0 elsewhere).
+  const std::vector<Eigen::Vector3d>& viscous_node_force() const { return viscous_force_; }
+  /// Its 3x3 derivative block per fluid node, -d(force)/d(node velocity) (ViscosityReport::wall_stiffness).
+  const std::vector<Eigen::Matrix3d>& viscous_node_stiffness() const { return viscous_stiffness_; }
 
   /// Fills rep's energies for the current state: kinetic_energy and gravity_potential [J].
   void report_energies(StepReport& rep) const;
@@ -137,6 +160,9 @@ class FluidSolver {
 
  private:
   void apply_sources(const BoundaryConditions& bc, double h);
+  /// The implicit viscous step (implicit_viscosity.hpp) on fields_.velocity with the Dirichlet
+  /// nodes of `bc` (viscous_boundary.hpp); fills rep's viscosity columns and viscous_force_.
+  void apply_viscosity_step(const BoundaryConditions& bc, double h, StepReport& rep);
   /// Steps 2-3 of level_set.hpp on the current mesh, then the cut-tet geometry; fills rep's
   /// liquid columns. `phi` is the advected level set.
   void update_liquid(Eigen::VectorXd phi, StepReport& rep);
@@ -167,6 +193,8 @@ class FluidSolver {
   Eigen::VectorXd level_set_;
   LiquidGeometry liquid_;
   double target_volume_ = 0.0;
+  std::vector<Eigen::Vector3d> viscous_force_;      // per fluid node, see viscous_node_force()
+  std::vector<Eigen::Matrix3d> viscous_stiffness_;  // per fluid node, see viscous_node_stiffness()
 };
 
 }  // namespace tetfsi::fluid

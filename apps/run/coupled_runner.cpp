@@ -208,8 +208,10 @@ class CoupledRunner : public Simulation {
   }
 
   std::vector<std::string> phases() const override {
-    if (stepper_->fluid().has_free_surface()) return {"remesh", "surface", "advect", "solid_assemble", "interface", "solve"};
-    return {"remesh", "advect", "solid_assemble", "interface", "solve"};
+    std::vector<std::string> p = {"remesh", "advect", "solid_assemble", "interface", "solve"};
+    if (stepper_->fluid().has_free_surface()) p.insert(p.begin() + 1, "surface");
+    if (stepper_->fluid().viscous()) p.push_back("viscosity");
+    return p;
   }
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
@@ -217,6 +219,7 @@ class CoupledRunner : public Simulation {
                                   "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential",
                                   "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps"};
     if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
+    if (stepper_->fluid().viscous()) c.push_back("viscous_iterations");
     return c;
   }
   /// The scene's `dt`, or the CFL step cfl dx / u_max with dx the fluid edge length next to the
@@ -280,6 +283,10 @@ class CoupledRunner : public Simulation {
     if (stepper_->fluid().has_free_surface()) {
       out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
       out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});
+    }
+    if (stepper_->fluid().viscous()) {
+      out.phase_seconds.push_back(r.fluid.viscosity_seconds);
+      out.values.push_back(double(r.fluid.viscous_iterations));
     }
     return out;
   }
@@ -359,7 +366,10 @@ class CoupledRunner : public Simulation {
     const auto& model = stepper_->solid_model(i);
     const Eigen::VectorXd x = stepper_->solid(i).positions();
     if (kind == "fluid_force") {
-      const Eigen::Vector3d f = stepper_->pressure_force(i);
+      const std::string part = p.value("part", "total");
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      if (part != "viscous") f += stepper_->pressure_force(i);
+      if (part != "pressure") f += stepper_->viscous_force(i);
       return {f.x(), f.y(), f.z()};
     }
     if (kind == "solid_volume") {

@@ -154,14 +154,17 @@ class FluidRunner : public Simulation {
   }
 
   std::vector<std::string> phases() const override {
-    if (solver_->has_free_surface()) return {"remesh", "surface", "advect", "forces", "assemble", "solve"};
-    return {"remesh", "advect", "forces", "assemble", "solve"};
+    std::vector<std::string> p = {"remesh", "advect", "forces", "assemble", "solve"};
+    if (solver_->has_free_surface()) p.insert(p.begin() + 1, "surface");
+    if (solver_->viscous()) p.push_back("viscosity");
+    return p;
   }
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence",
                                   "kinetic_energy", "gravity_potential", "min_dihedral", "clamped_traces", "remeshed",
                                   "remeshed_tets"};
     if (solver_->has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
+    if (solver_->viscous()) c.push_back("viscous_iterations");
     return c;
   }
 
@@ -268,6 +271,10 @@ class FluidRunner : public Simulation {
       rep.phase_seconds.insert(rep.phase_seconds.begin() + 1, s.surface_seconds);
       rep.values.insert(rep.values.end(), {s.liquid_volume, s.volume_drift});
     }
+    if (solver_->viscous()) {
+      rep.phase_seconds.push_back(s.viscosity_seconds);
+      rep.values.push_back(double(s.viscous_iterations));
+    }
     return rep;
   }
 
@@ -318,6 +325,16 @@ class FluidRunner : public Simulation {
       double v = 0;
       for (double x : solver_->mesh().volume) v += x;
       return {v};
+    }
+    if (kind == "fluid_force") {
+      const auto solid = std::find(names_.begin(), names_.end(), p.at("solid").get<std::string>());
+      if (solid == names_.end()) return {};
+      const int subdomain = mesh::solid_subdomain(static_cast<int>(solid - names_.begin()));
+      const std::string part = p.value("part", "total");
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      if (part != "viscous") f += solver_->pressure_force(subdomain);
+      if (part != "pressure") f += solver_->viscous_force(subdomain);
+      return {f.x(), f.y(), f.z()};
     }
     if (kind != "fluid_point") return {};
     return {fluid_point_value(*solver_, p)};
@@ -455,7 +472,7 @@ RunnerEntry fluid_runner() {
             return true;
           },
           [] { return std::make_unique<FluidRunner>(); },
-          {"fluid_point", "fluid_kinetic_energy", "fluid_volume"},
+          {"fluid_point", "fluid_kinetic_energy", "fluid_volume", "fluid_force"},
           // Not yet with a free surface's refinement, whose last fit (a copy of that mesh and
           // level set) a checkpoint does not hold.
           [](const scene::Scene& s) { return !surface_refinement(s.json).on(); }};

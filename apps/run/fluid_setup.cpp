@@ -40,8 +40,13 @@ fluid::FluidParams fluid_params(const scene::Json& js, spdlog::logger& log) {
   params.solver.backend = fluid::parse_solver_backend(f.at("solver").at("type").get<std::string>());
   params.solver.tolerance = f.at("solver").at("tolerance").get<double>();
   params.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();
-  if (f.at("viscosity").get<double>() > 0)
-    log.info("/fluid/viscosity = {} is not used: the fluid model is inviscid", f.at("viscosity").get<double>());
+  params.viscosity = f.at("viscosity").get<double>();
+  for (const auto& r : f.at("viscosity_regions"))
+    params.viscosity_regions.push_back({{vec3(r.at("lo")), vec3(r.at("hi"))}, r.at("viscosity").get<double>()});
+  params.walls = fluid::parse_wall_condition(f.at("walls").get<std::string>());
+  // The viscous step's CG stops where the pressure solve does (its increment is what it solves for).
+  params.viscous_solver.tolerance = params.solver.tolerance;
+  if (params.viscosity > 0) log.info("viscosity {} Pa s, walls {}", params.viscosity, f.at("walls").get<std::string>());
   return params;
 }
 
@@ -78,6 +83,13 @@ std::vector<fluid::BoundaryPatch> boundary_patches(const scene::Json& js, double
     p.temperature = T > 0 ? T : ambient;
     patches.push_back(p);
   }
+  for (const auto& wall : js["domain"].at("moving_walls")) {
+    fluid::BoundaryPatch p;
+    p.kind = fluid::FaceKind::kWall;
+    p.region = {vec3(wall.at("lo")), vec3(wall.at("hi"))};
+    p.velocity = vec3(wall.at("velocity"));
+    patches.push_back(p);
+  }
   for (const auto& open : js["domain"].at("open_patches")) {
     fluid::BoundaryPatch p;
     p.kind = fluid::FaceKind::kOpen;
@@ -90,6 +102,17 @@ std::vector<fluid::BoundaryPatch> boundary_patches(const scene::Json& js, double
     const int axis = name[0] - 'x';
     fluid::BoundaryPatch p;
     p.kind = fluid::FaceKind::kOpen;
+    p.region = {lo, hi};
+    if (name[1] == '+') p.region.lo[axis] = hi[axis] - eps;
+    else p.region.hi[axis] = lo[axis] + eps;
+    patches.push_back(p);
+  }
+  for (const auto& face : js["domain"].at("slip_faces")) {
+    const auto name = face.get<std::string>();
+    const int axis = name[0] - 'x';
+    fluid::BoundaryPatch p;
+    p.kind = fluid::FaceKind::kWall;
+    p.slip = true;
     p.region = {lo, hi};
     if (name[1] == '+') p.region.lo[axis] = hi[axis] - eps;
     else p.region.hi[axis] = lo[axis] + eps;

@@ -16,7 +16,7 @@
 namespace tetfsi::run {
 
 /// FluidParams from /fluid and /simulation (density, gravity, buoyancy, vorticity confinement,
-/// advection scheme, pressure solver). Logs that /fluid/viscosity is unused (inviscid model).
+/// advection scheme, pressure solver, viscosity and wall condition).
 fluid::FluidParams fluid_params(const scene::Json& scene, spdlog::logger& log);
 
 /// The pipe (Poiseuille) inflow profile of /domain/inflows/i/profile "parabolic":

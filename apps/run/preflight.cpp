@@ -61,7 +61,6 @@ class Checker {
     check_load_boxes();
     check_probes();
     check_emitters();
-    check_viscosity();
     if (issues_.empty()) estimate();
     if (!issues_.empty()) fail();
     return report_;
@@ -293,15 +292,6 @@ class Checker {
                         any_static ? "point_displacement, solid_volume (tet_fem) in a static analysis" : list));
       }
     }
-  }
-
-  /// The tet fluid is inviscid: a viscosity the scene sets would silently do nothing.
-  void check_viscosity() {
-    if (!js_.contains("fluid") || js_["fluid"].value("type", "none") == "none" || !meshes_fluid()) return;
-    const double mu = js_["fluid"].value("viscosity", 0.0);
-    if (mu > 0)
-      report_.warnings.push_back(fmt::format("/fluid/viscosity: {} Pa s is not used: the fluid model is inviscid "
-                                             "(set 0 to silence this warning)", mu));
   }
 
   /// The coupled runner keeps free solids a film of /coupling/contact_gap off the walls of a box

@@ -42,6 +42,9 @@ struct BoundaryPatch {
   std::function<Eigen::Vector3d(const Eigen::Vector3d&)> velocity_field;
   double smoke = 0.0;                             ///< inflow smoke density [-]
   double temperature = 0.0;                       ///< inflow temperature [K]
+  /// kWall only: no tangential stress on these faces even when the fluid's walls are no-slip (a
+  /// symmetry plane; fluid/viscosity/viscous_boundary.hpp).
+  bool slip = false;
 };
 
 /// A small source volume: tets whose centroid lies in `region` get this smoke and temperature
@@ -60,6 +63,11 @@ struct BoundaryConditions {
   /// Velocity of every TetMesh vertex on a solid interface [m/s], indexed by TetMesh vertex id;
   /// empty: solids at rest.
   std::vector<Eigen::Vector3d> solid_vertex_velocity;
+  /// For a viscous fluid only (fluid/viscosity/viscous_boundary.hpp), when solid_vertex_velocity is
+  /// empty: the velocity the fluid takes at solid interface vertices, indexed by TetMesh vertex id,
+  /// without prescribing any flux (the coupled step passes the solids' uⁿ here; their flux is the
+  /// coupled system's unknown). Empty: solids at rest.
+  std::vector<Eigen::Vector3d> no_slip_velocity;
   /// Closed domains only: if the prescribed fluxes do not sum to zero (the P1 quadrature of a
   /// non-linear far field such as BoundaryPatch::velocity_field is not exactly conservative),
   /// subtract the net flux from the INFLOW-patch nodes in proportion to |f_i| there. Off: a net

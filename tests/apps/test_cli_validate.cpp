@@ -248,17 +248,18 @@ TEST(CliValidate, HelpVersionAndBadOptions) {
   EXPECT_NE(out.find("cannot read the scene file"), std::string::npos) << out;
 }
 
-TEST(CliValidate, UnusedViscosityIsWarnedOnTheConsole) {
-  // The tet fluid is inviscid: validate and run warn when the scene sets a viscosity > 0, and are
-  // silent at 0.
+TEST(CliValidate, ViscosityIsUsedAndRangeChecked) {
+  // The tet fluid is viscous (fluid/viscosity/): a viscosity > 0 is accepted without a warning;
+  // negative or beyond 1e9 Pa s is refused naming the key.
   tetfsi::test::TempDir dir("validate");
-  for (const double mu : {0.0, 1.0}) {
+  for (const double mu : {0.0, 1.0, -1.0, 1e12}) {
     json s = base_scene();
     s["fluid"] = json::parse(R"({"type": "liquid", "density": 1000})");
     s["fluid"]["viscosity"] = mu;
     int status = -1;
     const std::string out = run_tetfsi("validate " + write(dir.path(), "mu", s.dump()), &status);
-    EXPECT_EQ(status, 0) << out;
-    EXPECT_EQ(out.find("warning: /fluid/viscosity") != std::string::npos, mu > 0) << out;
+    const bool valid = mu >= 0 && mu <= 1e9;
+    EXPECT_EQ(status, valid ? 0 : 2) << out;
+    EXPECT_EQ(out.find("/fluid/viscosity") != std::string::npos, !valid) << out;
   }
 }

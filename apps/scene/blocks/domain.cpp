@@ -44,6 +44,23 @@ Field container() {
         Field::vector("translation", 3, "m", "Translation, applied last.").def({0, 0, 0})});
 }
 
+/// A moving wall moves in its own plane: its velocity has no component along the thinnest extent
+/// of its patch (the normal of the box face it covers).
+void tangential_wall_velocity(const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+  if (!o.contains("lo") || !o.contains("hi") || !o.contains("velocity")) return;
+  int thin = 0;
+  for (int k = 1; k < 3; ++k)
+    if (o["hi"][k].get<double>() - o["lo"][k].get<double>() < o["hi"][thin].get<double>() - o["lo"][thin].get<double>())
+      thin = k;
+  const double normal = o["velocity"][thin].get<double>();
+  if (normal != 0)
+    issues.push_back({pointer_append(ptr, "velocity"),
+                      fmt::format("a moving wall moves in its own plane, but its velocity has {} m/s along {}, the "
+                                  "patch's thinnest extent (the wall normal); set it to 0 (use an inflow patch for "
+                                  "flow through the wall)",
+                                  normal, char('x' + thin))});
+}
+
 /// The container (if a sphere or cylinder) inside the domain box, and no open faces with it.
 void check_container(const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
   if (!o.contains("container") || !o["container"].is_object()) return;
@@ -93,6 +110,14 @@ Field domain() {
       Field::vector("lo", 3, "m", "Lower corner of the patch region.").req(),
       Field::vector("hi", 3, "m", "Upper corner of the patch region.").req()});
   open_patch.checks.push_back(lo_below_hi());
+  Field moving_wall = Field::object("", "", {
+      Field::vector("lo", 3, "m", "Lower corner of the patch region.").req(),
+      Field::vector("hi", 3, "m", "Upper corner of the patch region.").req(),
+      Field::vector("velocity", 3, "m/s",
+                    "Velocity of the wall, tangential to it (its component along the patch's thinnest extent, "
+                    "the wall normal of a box face, must be 0).").req()});
+  moving_wall.checks.push_back(lo_below_hi());
+  moving_wall.checks.push_back(tangential_wall_velocity);
   return Field::object("domain",
                        "The fluid box [m]. Required when `fluid.type` is not `none`; every solid must lie "
                        "strictly inside it (and inside `container`). Box faces are walls (no flux) unless "
@@ -104,6 +129,11 @@ Field domain() {
       Field::array("open_faces", "Box faces with pressure 0 (flow leaves or enters freely).",
                    Field::enumeration("", {"x-", "x+", "y-", "y+", "z-", "z+"}, "A box face."))
           .def(Json::array()),
+      Field::array("slip_faces",
+                   "Box faces on which a viscous fluid slips although `fluid.walls` is `no_slip` (symmetry "
+                   "planes: a thin slab with slip faces front and back is a 2D flow).",
+                   Field::enumeration("", {"x-", "x+", "y-", "y+", "z-", "z+"}, "A box face."))
+          .def(Json::array()),
       Field::array("inflows",
                    "Inflow patches: boundary faces of the container whose centroid lies in [lo, hi] get "
                    "the prescribed velocity, smoke and temperature (first match wins, before open patches "
@@ -111,6 +141,12 @@ Field domain() {
                    "liquid: the layer one edge length deep in front of it is kept full of liquid moving "
                    "at its velocity, and what it adds is added to the volume the run keeps.",
                    std::move(inflow))
+          .def(Json::array()),
+      Field::array("moving_walls",
+                   "Walls that move in their own plane (the lid of a driven cavity, the plate of Couette "
+                   "flow): boundary faces whose centroid lies in [lo, hi] are walls (no flux) whose velocity a "
+                   "viscous fluid takes (`fluid.viscosity` > 0); after the inflows, before open patches.",
+                   std::move(moving_wall))
           .def(Json::array()),
       Field::array("open_patches",
                    "Open patches of any container: boundary faces whose centroid lies in [lo, hi] have "

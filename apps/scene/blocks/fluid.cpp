@@ -20,7 +20,33 @@ Field density(double def) {
 }
 
 Field viscosity(double def) {
-  return Field::number("viscosity", "Pa s", "Dynamic viscosity. Not used yet: the tet fluid is inviscid, and validate and run warn on a value > 0.").at_least(0).def(def);
+  return Field::number("viscosity", "Pa s",
+                       "Dynamic viscosity mu; > 0: an implicit viscous step each step (backward Euler, stable "
+                       "for any value and step; fluid/README.md, \"Viscosity\"); 0: inviscid.")
+      .at_least(0).at_most(1e9).def(def);
+}
+
+/// Boxes of other viscosity (a paint stripe in water, a honey layer).
+Field viscosity_regions() {
+  Field region = Field::object("", "", {
+      Field::vector("lo", 3, "m", "Lower corner.").req(),
+      Field::vector("hi", 3, "m", "Upper corner.").req(),
+      Field::number("viscosity", "Pa s", "Dynamic viscosity of the fluid in the box.").req().at_least(0).at_most(1e9)})
+      .check(lo_below_hi());
+  return Field::array("viscosity_regions",
+                      "Regions of other viscosity: a tet whose centroid lies in [lo, hi] has this viscosity "
+                      "instead of `viscosity` (first match wins; the boxes stay fixed in space).",
+                      std::move(region))
+      .def(Json::array());
+}
+
+Field walls() {
+  return Field::enumeration("walls", {"no_slip", "slip"},
+                            "Tangential condition of the container walls and solid surfaces when the fluid is "
+                            "viscous: `no_slip` (the fluid sticks: velocity of the wall or solid) or `slip` (no "
+                            "tangential stress). Inflow patches and `domain.moving_walls` always prescribe their "
+                            "velocity; open faces carry no viscous stress. Inviscid fluids slip either way.")
+      .def("no_slip");
 }
 
 Field advection() {
@@ -88,7 +114,7 @@ Field fluid() {
   }).tagged_by("type")
     .variant("none", {})
     .variant("smoke", {
-        density(1.2), viscosity(0.0),
+        density(1.2), viscosity(0.0), viscosity_regions(), walls(),
         Field::number("buoyancy_alpha", "m/s^2",
                       "Downward force per unit smoke concentration (f = (-alpha s + beta (T - T_amb)) up).")
             .at_least(0).def(0.08),
@@ -98,7 +124,7 @@ Field fluid() {
         Field::number("vorticity_confinement", "", "Strength of vorticity confinement; 0: off.")
             .at_least(0).def(0),
         advection(), apply_gravity(false), remesh_band(), solver()})
-    .variant("liquid", {density(1000), viscosity(1e-3), advection(), apply_gravity(true), remesh_band(),
+    .variant("liquid", {density(1000), viscosity(1e-3), viscosity_regions(), walls(), advection(), apply_gravity(true), remesh_band(),
                         solver(),
                         Field::enumeration("fill", {"domain", "cavities", "regions"},
                                            "`domain`: the liquid fills the domain box around the solids "

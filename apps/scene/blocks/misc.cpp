@@ -62,15 +62,22 @@ Field probes() {
                          "tet for a free surface); `fluid_volume`: volume of the fluid [m^3]: the liquid's "
                          "for a free surface (fluid.fill `regions`), else the fluid mesh's; in the coupled "
                          "runner with the solids at their current position (the cavity volume when the "
-                         "fluid fills only a shell's cavity). Coupled runner: `fluid_force`: the fluid's "
-                         "pressure force [N] on a solid in the last step (columns _x, _y, _z; the sum of J p over "
-                         "its nodes, Chentanez et al. 2006 sec. 3.4; no viscous part).").req()})
+                         "fluid fills only a shell's cavity). Fluid and coupled runners: `fluid_force`: the "
+                         "fluid's force [N] on a solid in the last step (columns _x, _y, _z): the pressure part "
+                         "(int p n dA over its interface; coupled: the sum of J p over its nodes, Chentanez et "
+                         "al. 2006 sec. 3.4) and the viscous part (the no-slip reaction of the viscous step, "
+                         "fluid/README.md \"Viscosity\").").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
           Field::vector("point", 3, "m", "Rest position of the tracked point.").req()})
       .variant("solid_volume", {Field::string("solid", "Name of the solid.").req()})
-      .variant("fluid_force", {Field::string("solid", "Name of the solid.").req()})
+      .variant("fluid_force", {Field::string("solid", "Name of the solid.").req(),
+                               Field::enumeration("part", {"total", "pressure", "viscous"},
+                                                  "`pressure`: the pressure force; `viscous`: the viscous "
+                                                  "(no-slip) traction, 0 for an inviscid fluid; `total`: both "
+                                                  "(drag and lift are its components).")
+                                   .def("total")})
       .variant("total_energy", {})
       .variant("fluid_point", {
           Field::vector("point", 3, "m", "Where to sample (world coordinates).").req(),

@@ -1,0 +1,96 @@
+#include "fluid/viscosity/node_fit.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+namespace tetfsi::fluid {
+namespace {
+
+using Monomials = Eigen::Matrix<double, 10, 1>;
+
+/// Smallest eigenvalue of the normal matrix divided by its (0,0) entry (the total weight) for a fit
+/// to count as determined, with d scaled by the largest distance over the tets around the node's
+/// neighbours. Looser thresholds let near-degenerate quadratic fits of boundary nodes extrapolate
+/// wildly (1e-5: the random-field energy test gains energy; 1e-4: none, test_viscosity.cpp).
+const double kMinEigenvalue = 1e-4;
+
+/// 1, d, and the six products d_a d_b / 2 (a <= b; the squares halved) of d = (x - x_i) / scale.
+Monomials monomials(const Eigen::Vector3d& d) {
+  Monomials m;
+  m << 1.0, d.x(), d.y(), d.z(), 0.5 * d.x() * d.x(), 0.5 * d.y() * d.y(), 0.5 * d.z() * d.z(), d.x() * d.y(),
+      d.x() * d.z(), d.y() * d.z();
+  return m;
+}
+
+/// Least-squares fit of the first `Terms` monomials over `tets`; false if they do not determine it
+/// (kMinEigenvalue).
+template <int Terms>
+bool fit(const FluidMesh& mesh, int i, const std::vector<int>& tets, const std::vector<double>& weight,
+         const TetVectors& u, double scale, Eigen::Matrix<double, 3, 10>& out) {
+  Eigen::Matrix<double, Terms, Terms> normal = Eigen::Matrix<double, Terms, Terms>::Zero();
+  Eigen::Matrix<double, Terms, 3> rhs = Eigen::Matrix<double, Terms, 3>::Zero();
+  int used = 0;
+  for (int t : tets) {
+    if (!(weight[t] > 0)) continue;
+    const Eigen::Matrix<double, Terms, 1> m = monomials((mesh.centroid(t) - mesh.nodes[i]) / scale).head<Terms>();
+    normal.template selfadjointView<Eigen::Lower>().rankUpdate(m, weight[t]);
+    rhs += weight[t] * m * u[t].transpose();
+    ++used;
+  }
+  if (used < Terms || !(normal(0, 0) > 0)) return false;
+  normal.template triangularView<Eigen::StrictlyUpper>() = normal.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, Terms, Terms>> eig(normal / normal(0, 0),
+                                                                               Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues().minCoeff() > kMinEigenvalue)) return false;
+  const Eigen::LDLT<Eigen::Matrix<double, Terms, Terms>> ldlt(normal);
+  out.setZero();
+  out.template leftCols<Terms>() = ldlt.solve(rhs).transpose();
+  return true;
+}
+
+}  // namespace
+
+Eigen::Vector3d NodeFits::at(const FluidMesh& mesh, int i, const Eigen::Vector3d& x) const {
+  return coefficient[i] * monomials((x - mesh.nodes[i]) / scale[i]);
+}
+
+NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, const TetVectors& u) {
+  NodeFits fits;
+  fits.coefficient.assign(mesh.num_nodes(), Eigen::Matrix<double, 3, 10>::Zero());
+  fits.scale.assign(mesh.num_nodes(), 1.0);
+  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
+    std::vector<int> ring;  // the tets around i's neighbours, built only if needed
+    auto wide = [&]() -> const std::vector<int>& {
+      if (ring.empty()) {
+        for (int t : mesh.node_tets[i])
+          for (int j : mesh.tets[t]) ring.insert(ring.end(), mesh.node_tets[j].begin(), mesh.node_tets[j].end());
+        std::sort(ring.begin(), ring.end());
+        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      }
+      return ring;
+    };
+    double scale = 0;
+    for (int t : wide()) scale = std::max(scale, (mesh.centroid(t) - mesh.nodes[i]).norm());
+    if (!(scale > 0)) return;
+    fits.scale[i] = scale;
+    Eigen::Matrix<double, 3, 10>& c = fits.coefficient[i];
+    if (fit<10>(mesh, i, mesh.node_tets[i], weight, u, scale, c) || fit<10>(mesh, i, wide(), weight, u, scale, c) ||
+        fit<4>(mesh, i, mesh.node_tets[i], weight, u, scale, c) || fit<4>(mesh, i, wide(), weight, u, scale, c))
+      return;
+    // The weighted average over the tets around i (no fluid around i: 0).
+    double total = 0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int t : mesh.node_tets[i]) {
+      total += weight[t];
+      sum += weight[t] * u[t];
+    }
+    c.setZero();
+    if (total > 0) c.col(0) = sum / total;
+  });
+  return fits;
+}
+
+}  // namespace tetfsi::fluid
