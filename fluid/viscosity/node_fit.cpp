@@ -1,7 +1,7 @@
 #include "fluid/viscosity/node_fit.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -42,9 +42,11 @@ bool fit(const FluidMesh& mesh, int i, const std::vector<int>& tets, const std::
   }
   if (used < Terms || !(normal(0, 0) > 0)) return false;
   normal.template triangularView<Eigen::StrictlyUpper>() = normal.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, Terms, Terms>> eig(normal / normal(0, 0),
-                                                                               Eigen::EigenvaluesOnly);
-  if (!(eig.eigenvalues().minCoeff() > kMinEigenvalue)) return false;
+  // Smallest eigenvalue of normal / normal(0,0) above kMinEigenvalue <=> this shifted matrix is
+  // positive definite, which its Cholesky factorization tells (cheaper than the eigenvalues).
+  const Eigen::Matrix<double, Terms, Terms> shifted =
+      normal / normal(0, 0) - kMinEigenvalue * Eigen::Matrix<double, Terms, Terms>::Identity();
+  if (Eigen::LLT<Eigen::Matrix<double, Terms, Terms>>(shifted).info() != Eigen::Success) return false;
   const Eigen::LDLT<Eigen::Matrix<double, Terms, Terms>> ldlt(normal);
   out.setZero();
   out.template leftCols<Terms>() = ldlt.solve(rhs).transpose();
@@ -61,24 +63,30 @@ NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, 
   NodeFits fits;
   fits.coefficient.assign(mesh.num_nodes(), Eigen::Matrix<double, 3, 10>::Zero());
   fits.scale.assign(mesh.num_nodes(), 1.0);
+  // Per thread, the last node whose ring listed each tet (a ring is gathered without sorting, in
+  // the order of discovery: deterministic).
+  tbb::enumerable_thread_specific<std::vector<int>> listed_for(std::vector<int>(mesh.num_tets(), -1));
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    std::vector<int> ring;  // the tets around i's neighbours, built only if needed
-    auto wide = [&]() -> const std::vector<int>& {
-      if (ring.empty()) {
-        for (int t : mesh.node_tets[i])
-          for (int j : mesh.tets[t]) ring.insert(ring.end(), mesh.node_tets[j].begin(), mesh.node_tets[j].end());
-        std::sort(ring.begin(), ring.end());
-        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-      }
-      return ring;
-    };
+    std::vector<int>& listed = listed_for.local();
+    std::vector<int> ring;  // the tets around i's neighbours
+    for (int t : mesh.node_tets[i])
+      for (int j : mesh.tets[t])
+        for (int s : mesh.node_tets[j])
+          if (listed[s] != i) {
+            listed[s] = i;
+            ring.push_back(s);
+          }
+    // The scale of d: the largest centroid distance over the ring (every monomial at most 1).
     double scale = 0;
-    for (int t : wide()) scale = std::max(scale, (mesh.centroid(t) - mesh.nodes[i]).norm());
+    for (int t : ring) scale = std::max(scale, (mesh.centroid(t) - mesh.nodes[i]).norm());
     if (!(scale > 0)) return;
     fits.scale[i] = scale;
     Eigen::Matrix<double, 3, 10>& c = fits.coefficient[i];
-    if (fit<10>(mesh, i, mesh.node_tets[i], weight, u, scale, c) || fit<10>(mesh, i, wide(), weight, u, scale, c) ||
-        fit<4>(mesh, i, mesh.node_tets[i], weight, u, scale, c) || fit<4>(mesh, i, wide(), weight, u, scale, c))
+    // The tets around i alone almost never determine a quadratic (their centroids lie at about one
+    // distance from x_i, so |d|^2 is nearly the constant monomial): the quadratic is fitted over the
+    // ring, the linear fall-backs over the tets around i first.
+    if (fit<10>(mesh, i, ring, weight, u, scale, c) || fit<4>(mesh, i, mesh.node_tets[i], weight, u, scale, c) ||
+        fit<4>(mesh, i, ring, weight, u, scale, c))
       return;
     // The weighted average over the tets around i (no fluid around i: 0).
     double total = 0;

@@ -8,9 +8,10 @@
 ///   min sum_t w_t |q_i(c_t) - u_t|^2  over the tets around i,
 /// exact for any quadratic field on any mesh (the weighted average sum_t w_t u_t / sum_t w_t is not
 /// even exact for linear fields on unstructured meshes: sum_t w_t c_t / sum_t w_t is not x_i).
-/// Where the tets around i do not determine a quadratic (fewer than ten, or degenerate: boundary
-/// nodes), the tets around i's neighbours are added; failing that, a linear fit, and last the
-/// weighted average.
+/// The quadratic is fitted over the tets around i and its neighbours (those around i alone have
+/// their centroids at about one distance from x_i and do not determine it); where even these do
+/// not (boundary corners), a linear fit over the tets around i, then around its neighbours, and
+/// last the weighted average.
 #include <Eigen/Core>
 #include <vector>
 
