@@ -5,6 +5,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -28,23 +29,30 @@ namespace viscous_detail {
 /// Tets in ascending order per node (node_tets), nodes in parallel: deterministic.
 void gather_stress(const FluidMesh& mesh, const std::vector<double>& coefficient, const Eigen::VectorXd& x,
                    Eigen::VectorXd& out) {
+  // Chunks of kGrain tets or nodes per task: the per-item work is a few dozen flops, so TBB's
+  // default splitting down to single items cost more than the work.
+  constexpr int kGrain = 1024;
   std::vector<Eigen::Matrix3d> stress(mesh.num_tets());
-  tbb::parallel_for(0, mesh.num_tets(), [&](int t) {
-    if (coefficient[t] == 0.0) return;
-    Eigen::Matrix3d G = Eigen::Matrix3d::Zero();  // G_ab = sum_k x_{k,a} (grad phi_k)_b
-    for (int k = 0; k < 4; ++k) G += x.segment<3>(3 * mesh.tets[t][k]) * mesh.grad[t][k].transpose();
-    stress[t] = coefficient[t] * (G + G.transpose());
-  });
-  out.setZero(3 * mesh.num_nodes());
-  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int t : mesh.node_tets[i]) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_tets(), kGrain), [&](const tbb::blocked_range<int>& r) {
+    for (int t = r.begin(); t < r.end(); ++t) {
       if (coefficient[t] == 0.0) continue;
-      int k = 0;
-      while (mesh.tets[t][k] != i) ++k;
-      sum += stress[t] * mesh.grad[t][k];
+      Eigen::Matrix3d G = Eigen::Matrix3d::Zero();  // G_ab = sum_k x_{k,a} (grad phi_k)_b
+      for (int k = 0; k < 4; ++k) G.noalias() += x.segment<3>(3 * mesh.tets[t][k]) * mesh.grad[t][k].transpose();
+      stress[t] = coefficient[t] * (G + G.transpose());
     }
-    out.segment<3>(3 * i) = sum;
+  });
+  out.resize(3 * mesh.num_nodes());
+  tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_nodes(), kGrain), [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i < r.end(); ++i) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int t : mesh.node_tets[i]) {
+        if (coefficient[t] == 0.0) continue;
+        int k = 0;
+        while (mesh.tets[t][k] != i) ++k;
+        sum.noalias() += stress[t] * mesh.grad[t][k];
+      }
+      out.segment<3>(3 * i) = sum;
+    }
   });
 }
 

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace tetfsi::fluid {
 namespace {
@@ -30,26 +31,33 @@ Monomials monomials(const Eigen::Vector3d& d) {
 template <int Terms>
 bool fit(const FluidMesh& mesh, int i, const std::vector<int>& tets, const std::vector<double>& weight,
          const TetVectors& u, double scale, Eigen::Matrix<double, 3, 10>& out) {
-  Eigen::Matrix<double, Terms, Terms> normal = Eigen::Matrix<double, Terms, Terms>::Zero();
-  Eigen::Matrix<double, Terms, 3> rhs = Eigen::Matrix<double, Terms, 3>::Zero();
+  // The weighted design matrix D (rows sqrt(w_t) monomials(d_t)) and data R (rows sqrt(w_t) u_t):
+  // normal = D^T D, rhs = D^T R, as matrix products (rings hold up to a few hundred tets).
+  constexpr int kMaxRows = 512;
+  Eigen::Matrix<double, Eigen::Dynamic, Terms, Eigen::ColMajor, kMaxRows, Terms> D;
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::ColMajor, kMaxRows, 3> R;
+  const int rows = static_cast<int>(std::min<std::size_t>(tets.size(), kMaxRows));
+  D.resize(rows, Terms);
+  R.resize(rows, 3);
   int used = 0;
   for (int t : tets) {
-    if (!(weight[t] > 0)) continue;
-    const Eigen::Matrix<double, Terms, 1> m = monomials((mesh.centroid(t) - mesh.nodes[i]) / scale).head<Terms>();
-    normal.template selfadjointView<Eigen::Lower>().rankUpdate(m, weight[t]);
-    rhs += weight[t] * m * u[t].transpose();
+    if (!(weight[t] > 0) || used == kMaxRows) continue;
+    const double root = std::sqrt(weight[t]);
+    D.row(used) = root * monomials((mesh.centroid(t) - mesh.nodes[i]) / scale).head<Terms>().transpose();
+    R.row(used) = root * u[t].transpose();
     ++used;
   }
-  if (used < Terms || !(normal(0, 0) > 0)) return false;
-  normal.template triangularView<Eigen::StrictlyUpper>() = normal.transpose();
+  if (used < Terms) return false;
+  const Eigen::Matrix<double, Terms, Terms> normal = D.topRows(used).transpose() * D.topRows(used);
+  if (!(normal(0, 0) > 0)) return false;
   // Smallest eigenvalue of normal / normal(0,0) above kMinEigenvalue <=> this shifted matrix is
   // positive definite, which its Cholesky factorization tells (cheaper than the eigenvalues).
   const Eigen::Matrix<double, Terms, Terms> shifted =
       normal / normal(0, 0) - kMinEigenvalue * Eigen::Matrix<double, Terms, Terms>::Identity();
   if (Eigen::LLT<Eigen::Matrix<double, Terms, Terms>>(shifted).info() != Eigen::Success) return false;
-  const Eigen::LDLT<Eigen::Matrix<double, Terms, Terms>> ldlt(normal);
+  const Eigen::Matrix<double, Terms, 3> rhs = D.topRows(used).transpose() * R.topRows(used);
   out.setZero();
-  out.template leftCols<Terms>() = ldlt.solve(rhs).transpose();
+  out.template leftCols<Terms>() = Eigen::LLT<Eigen::Matrix<double, Terms, Terms>>(normal).solve(rhs).transpose();
   return true;
 }
 

@@ -1,5 +1,6 @@
 #include "fluid/viscosity/viscous_boundary.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -10,6 +11,19 @@ WallCondition parse_wall_condition(const std::string& name) {
   if (name == "slip") return WallCondition::kSlip;
   throw std::invalid_argument("unknown wall condition '" + name + "' (expected no_slip or slip)");
 }
+
+namespace {
+
+/// True if face `bf` faces across the thinnest extent of the patch's region (its normal within 60
+/// degrees of that axis): a moving lid's region, thin across the lid, also holds the centroids of
+/// the neighbouring walls' faces along its rim, which must not slide with it.
+bool faces_across(const BoundaryPatch& patch, const BoundaryFace& bf) {
+  int thin = 0;
+  (patch.region.hi - patch.region.lo).minCoeff(&thin);
+  return std::abs(bf.normal[thin]) > 0.5;
+}
+
+}  // namespace
 
 ViscousNodes viscous_nodes(const FluidMesh& mesh, const ClassifiedBoundary& cb, const BoundaryConditions& bc,
                            WallCondition walls) {
@@ -23,7 +37,7 @@ ViscousNodes viscous_nodes(const FluidMesh& mesh, const ClassifiedBoundary& cb, 
       const BoundaryFace& bf = mesh.boundary_faces[f];
       const FaceKind kind = cb.face_kind[f];
       const BoundaryPatch* patch = cb.face_patch[f] >= 0 ? &bc.patches[cb.face_patch[f]] : nullptr;
-      const bool moving = kind == FaceKind::kWall && patch && patch->velocity.squaredNorm() > 0;
+      const bool moving = kind == FaceKind::kWall && patch && patch->velocity.squaredNorm() > 0 && faces_across(*patch, bf);
       const bool slip = walls == WallCondition::kSlip || (patch && patch->slip);
       const bool take = (pass == kRestingWall && kind == FaceKind::kWall && !moving && !slip) ||
                         (pass == kMovingWall && moving) || (pass == kInflowPatch && kind == FaceKind::kInflow) ||

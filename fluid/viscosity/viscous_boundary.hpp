@@ -3,7 +3,9 @@
 /// Which fluid nodes the viscous step holds at a prescribed velocity (Dirichlet), from the
 /// classified boundary of this step:
 ///  - no-slip walls: u = 0, or the patch velocity of a moving wall (BoundaryPatch of kind kWall
-///    with a tangential `velocity`: the lid of a driven cavity, the moving plate of Couette flow);
+///    with a tangential `velocity`: the lid of a driven cavity, the moving plate of Couette flow;
+///    only the patch's faces whose normal lies along its region's thinnest extent, not the faces of
+///    the walls it meets whose centroids fall inside the region along its rim);
 ///  - solid interfaces (no-slip): u = the solid's vertex velocity (BoundaryConditions::
 ///    solid_vertex_velocity, else BoundaryConditions::no_slip_velocity; 0 if both are empty);
 ///  - inflow patches: u = the patch velocity (its profile, if any) — the full vector, tangential
