@@ -48,14 +48,15 @@ bool fit(const FluidMesh& mesh, int i, const std::vector<int>& tets, const std::
     ++used;
   }
   if (used < Terms) return false;
-  const Eigen::Matrix<double, Terms, Terms> normal = D.topRows(used).transpose() * D.topRows(used);
+  // lazyProduct: coefficient-wise (10 x 10 x rows flops), no GEMM packing for these small sizes.
+  const Eigen::Matrix<double, Terms, Terms> normal = D.topRows(used).transpose().lazyProduct(D.topRows(used));
   if (!(normal(0, 0) > 0)) return false;
   // Smallest eigenvalue of normal / normal(0,0) above kMinEigenvalue <=> this shifted matrix is
   // positive definite, which its Cholesky factorization tells (cheaper than the eigenvalues).
   const Eigen::Matrix<double, Terms, Terms> shifted =
       normal / normal(0, 0) - kMinEigenvalue * Eigen::Matrix<double, Terms, Terms>::Identity();
   if (Eigen::LLT<Eigen::Matrix<double, Terms, Terms>>(shifted).info() != Eigen::Success) return false;
-  const Eigen::Matrix<double, Terms, 3> rhs = D.topRows(used).transpose() * R.topRows(used);
+  const Eigen::Matrix<double, Terms, 3> rhs = D.topRows(used).transpose().lazyProduct(R.topRows(used));
   out.setZero();
   out.template leftCols<Terms>() = Eigen::LLT<Eigen::Matrix<double, Terms, Terms>>(normal).solve(rhs).transpose();
   return true;
@@ -71,19 +72,30 @@ NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, 
   NodeFits fits;
   fits.coefficient.assign(mesh.num_nodes(), Eigen::Matrix<double, 3, 10>::Zero());
   fits.scale.assign(mesh.num_nodes(), 1.0);
-  // Per thread, the last node whose ring listed each tet (a ring is gathered without sorting, in
-  // the order of discovery: deterministic).
-  tbb::enumerable_thread_specific<std::vector<int>> listed_for(std::vector<int>(mesh.num_tets(), -1));
+  // Per thread, the last node whose ring listed each tet and each node (a ring is gathered without
+  // sorting, in the order of discovery: deterministic).
+  struct Listed {
+    std::vector<int> tet, node;
+  };
+  tbb::enumerable_thread_specific<Listed> listed_for(
+      Listed{std::vector<int>(mesh.num_tets(), -1), std::vector<int>(mesh.num_nodes(), -1)});
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
-    std::vector<int>& listed = listed_for.local();
-    std::vector<int> ring;  // the tets around i's neighbours
+    Listed& listed = listed_for.local();
+    std::vector<int> around;  // i and its neighbours
     for (int t : mesh.node_tets[i])
       for (int j : mesh.tets[t])
-        for (int s : mesh.node_tets[j])
-          if (listed[s] != i) {
-            listed[s] = i;
-            ring.push_back(s);
-          }
+        if (listed.node[j] != i) {
+          listed.node[j] = i;
+          around.push_back(j);
+        }
+    std::vector<int> ring;  // the tets around i and its neighbours
+    ring.reserve(8 * mesh.node_tets[i].size());
+    for (int j : around)
+      for (int s : mesh.node_tets[j])
+        if (listed.tet[s] != i) {
+          listed.tet[s] = i;
+          ring.push_back(s);
+        }
     // The scale of d: the largest centroid distance over the ring (every monomial at most 1).
     double scale = 0;
     for (int t : ring) scale = std::max(scale, (mesh.centroid(t) - mesh.nodes[i]).norm());
