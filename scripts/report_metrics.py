@@ -126,6 +126,25 @@ def gas_radius(run):
                   unknowns(run, "mpm"), steps, sim)
 
 
+def floating_draft(run):
+    """Mean of the midpoints of consecutive heave extrema against the Archimedes floating position
+    (tests/apps/test_liquid_run.cpp, FloatingBlockHeavesAboutTheArchimedesDraft)."""
+    p = run.params
+    rows = read_csv(os.path.join(run.out, "probes.csv"))
+    y = [float(r["centre_y"]) for r in rows]
+    ext = [y[i] for i in range(1, len(y) - 1) if (y[i] - y[i - 1]) * (y[i + 1] - y[i]) < 0]
+    if len(ext) < 2:
+        raise ValueError(f"{len(ext)} heave extrema: fewer than 2")
+    mean = sum(0.5 * (a + b) for a, b in zip(ext, ext[1:])) / (len(ext) - 1)
+    ratio = run.scene["solids"][0]["material"]["density"] / run.scene["fluid"]["density"]
+    draft = ratio * p["height"]
+    level = (float(rows[0]["liquid_volume"]) + p["block_area"] * draft) / p["tank_area"]
+    floating = level - draft + 0.5 * p["height"] - p["release_y"]
+    steps, sim = steps_and_time(run)
+    return Result((mean - floating) / draft, f"heave about {1e3 * mean:.2f} mm (Archimedes {1e3 * floating:.2f} mm), "
+                  f"{len(ext)} extrema", unknowns(run, "coupled"), steps, sim)
+
+
 def bench_row(run, case_prefix):
     """Cells of the benchmark table row whose case starts with `case_prefix`."""
     for line in run.stdout.splitlines():
@@ -161,4 +180,4 @@ def standing_wave_period(run):
 
 
 METRICS = {f.__name__: f for f in (pipe_axis, tet_cantilever_tip, ring_castigliano, ball_rise, rod_frequency,
-                                   gas_radius, potential_flow_cp, standing_wave_period)}
+                                   gas_radius, floating_draft, potential_flow_cp, standing_wave_period)}
