@@ -150,7 +150,7 @@ def main():
     work = args.work or tempfile.mkdtemp(prefix="tetfsi_report_")
     os.makedirs(work, exist_ok=True)
     os.makedirs(args.out, exist_ok=True)
-    rows, start = [], time.monotonic()
+    rows, start, load = [], time.monotonic(), os.getloadavg()[0]
     try:
         for case in cases:
             for level in case["levels"]:
@@ -166,7 +166,7 @@ def main():
         if not args.work:
             shutil.rmtree(work, ignore_errors=True)
     total = time.monotonic() - start
-    report_output.write(args.out, cases, rows, total, " ".join(["scripts/report.py"] + sys.argv[1:]), args.quick)
+    report_output.write(args.out, cases, rows, total, " ".join(["scripts/report.py"] + sys.argv[1:]), args.quick, load)
     bad = [r for r in rows if not r["ok"]]
     print(f"{len(rows)} runs in {total:.0f} s; report in {os.path.join(args.out, 'README.md')}")
     print(f"{len(rows) - len(bad)} passed, {len(bad)} failed")

@@ -105,7 +105,7 @@ def plot(path, cases, rows, order):
     plt.close(fig)
 
 
-def machine():
+def machine(load_at_start):
     load = os.getloadavg()
     try:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
@@ -117,15 +117,15 @@ def machine():
         if line.startswith("model name"):
             cpu = line.split(":", 1)[1].strip()
             break
-    return (f"{cpu}, {os.cpu_count()} cores, load average {load[0]:.1f} at the end, "
+    return (f"{cpu}, {os.cpu_count()} cores, load average {load_at_start:.1f} at the start and {load[0]:.1f} at the end, "
             f"commit {commit or 'unknown'}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
 
 
-def page(cases, rows, order, total, command, quick):
+def page(cases, rows, order, total, command, quick, load):
     bad = [r for r in rows if not r["ok"]]
     lines = ["# Speed against error", "",
              f"Made by `{command}` in {total:.0f} s ({len(rows)} runs{', --quick' if quick else ''}; "
-             f"{machine()}). {len(rows) - len(bad)} of {len(rows)} runs within their bands.", "",
+             f"{machine(load)}). {len(rows) - len(bad)} of {len(rows)} runs within their bands.", "",
              "- [table.md](table.md) (and [table.csv](table.csv)): every run: case, model, resolution, unknowns, "
              "error against the named reference, its band, wall time per step and per simulated second, peak memory",
              "- [error_vs_time.png](error_vs_time.png): |error| against wall time, one panel per case, log axes, with "
@@ -149,11 +149,11 @@ def page(cases, rows, order, total, command, quick):
     return "\n".join(lines) + "\n"
 
 
-def write(out, cases, rows, total, command, quick):
+def write(out, cases, rows, total, command, quick, load):
     order = orders(rows)
     write_csv(os.path.join(out, "table.csv"), rows)
     with open(os.path.join(out, "table.md"), "w") as f:
         f.write("# Speed against error: every run\n\n" + markdown_table(rows))
     plot(os.path.join(out, "error_vs_time.png"), cases, rows, order)
     with open(os.path.join(out, "README.md"), "w") as f:
-        f.write(page(cases, rows, order, total, command, quick))
+        f.write(page(cases, rows, order, total, command, quick, load))
