@@ -131,8 +131,11 @@ def page(cases, rows, order, total, command, quick, load):
              "- [error_vs_time.png](error_vs_time.png): |error| against wall time, one panel per case, log axes, with "
              "the observed order of convergence; the last panel: every case's |error| against its resolution h", "",
              "Wall time and peak resident memory are those of the whole process (meshing, set-up and output "
-             "included; frames are not written). The cases, their scenes and bands: `data/report/cases.json`; "
-             "the error measures: `scripts/report_metrics.py`.", "",
+             "included; frames are not written). Unknowns: fluid pressure unknowns (fluid runner, bench_fluid's "
+             "potential flow), pressure unknowns + solid dofs (coupled runner, largest step), 3 x nodes (tet and "
+             "hex8 static runs), particles (mpm runner), the tank's mesh nodes (standing wave). The cases, their "
+             "scenes and bands: `data/report/cases.json`; the error measures: `scripts/report_metrics.py`; WORK in "
+             "table.csv's commands is the runs' folder (`--work`).", "",
              "## Cases", "",
              "| case | model | what | reference | error | observed order p (\\|error\\| ~ h^p) | q (\\|error\\| ~ wall^q) |",
              "|---|---|---|---|---|---|---|"]
