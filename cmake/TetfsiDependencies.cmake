@@ -40,8 +40,9 @@ add_library(tetfsi_openvdb INTERFACE)
 target_include_directories(tetfsi_openvdb SYSTEM INTERFACE ${OPENVDB_INCLUDE_DIR})
 target_link_libraries(tetfsi_openvdb INTERFACE ${OPENVDB_LIBRARY} ${IMATH_LIBRARY} TBB::tbb)
 
+# Debian's python3-vtk9 and python3-matplotlib install into the system interpreter, not into any
+# other python3 on PATH (the tests' scripts and `tetfsi report` use it).
+find_program(TETFSI_SYSTEM_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH REQUIRED)
 if(TETFSI_BUILD_TESTS)
   find_package(GTest REQUIRED)
-  # Debian's python3-vtk9 installs into the system interpreter, not into any other python3 on PATH.
-  find_program(TETFSI_SYSTEM_PYTHON python3 PATHS /usr/bin NO_DEFAULT_PATH REQUIRED)
 endif()

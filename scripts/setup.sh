@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev libcgal-dev libsuitesparse-dev libopenblas0-pthread
   libassimp-dev libtbb-dev libhypre-dev zlib1g-dev
   libopenvdb-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
-  libgtest-dev python3 python3-vtk9
+  libgtest-dev python3 python3-vtk9 python3-matplotlib
 )
 
 missing=()

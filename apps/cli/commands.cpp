@@ -1,7 +1,12 @@
 #include "apps/cli/commands.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -65,6 +70,28 @@ int mesh_command(const std::string& in, const std::string& out, double edge, dou
   return 0;
 }
 
+/// `tetfsi report [ARGS]`: the speed-against-error report, scripts/report.py of the source tree
+/// this binary was built from (TETFSI_SOURCE_DIR), run by the system Python (TETFSI_PYTHON) with
+/// this binary and its build folder; ARGS (--quick, --out DIR, --cases a,b, ...) are passed on.
+/// The process becomes the script's, so its exit code is the report's (1: a case outside its band).
+int report_command(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  const fs::path script = fs::path(TETFSI_SOURCE_DIR) / "scripts" / "report.py";
+  if (!fs::exists(script))
+    throw run::InputError(fmt::format("report: {} is missing (the source tree this tetfsi was built from)",
+                                      script.string()));
+  std::vector<std::string> words = {TETFSI_PYTHON, script.string(), "--tetfsi", self.string(),
+                                    "--build", self.parent_path().parent_path().string()};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  std::cout.flush();
+  execv(TETFSI_PYTHON, argv.data());
+  throw run::RunError(fmt::format("report: cannot start {}: {}", TETFSI_PYTHON, std::strerror(errno)));
+}
+
 }  // namespace
 
 int dispatch(int argc, char** argv, const std::string& command_line) {
@@ -118,6 +145,11 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   auto* msh_tets = msh->add_option("--max-tets", mmax_tets, max_tets_help)->check(CLI::PositiveNumber);
 
   auto* sch = app.add_subcommand("schema", "Print the scene key reference (Markdown; docs/scene_format.md)");
+  auto* rep = app.add_subcommand("report", "The speed-against-error report (scripts/report.py): every model's "
+                                           "validation cases at several resolutions; options go to the script "
+                                           "(--quick, --out DIR, --cases a,b; `tetfsi report --help` lists them)");
+  rep->set_help_flag();  // --help goes to the script
+  rep->allow_extras();
 
   try {
     app.parse(argc, argv);
@@ -141,6 +173,7 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
     return validate(vopt, print_resolved);
   }
   if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale, *msh_tets ? mmax_tets : run::default_max_tets());
+  if (*rep) return report_command(rep->remaining());
   if (*sch) {
     std::cout << scene::schema_markdown(scene::scene_schema());
     return 0;

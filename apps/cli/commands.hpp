@@ -1,6 +1,6 @@
 #pragma once
 /// @file commands.hpp
-/// Sub-commands of `tetfsi`: run, validate, mesh, schema.
+/// Sub-commands of `tetfsi`: run, validate, mesh, schema, report.
 #include <string>
 
 namespace tetfsi::cli {

@@ -1,11 +1,14 @@
 // bench_fluid: seconds per phase of a fluid step (advect, assemble, solve) at ~25k, 100k and 400k
 // tets, and the validation errors of tests/fluid at finer resolutions.
-//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only] [--standing-wave] [--liquid]
-//   (max tets default 450000; --liquid: the free-surface step at about 25k, 100k and 400k tets)
+//   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only] [--standing-wave] [--liquid] [--sizes A,B,..]
+//   (max tets default 450000; --liquid: the free-surface step at about 25k, 100k and 400k tets;
+//   --sizes: the resolutions of --standing-wave (cells per tank length, default 16,32,64) and of
+//   --sphere-only (edge at the sphere [m], default 0.12,0.08,0.055), as scripts/report.py runs them)
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -184,7 +187,7 @@ void sphere_cases(double h_near, double h_far, int steps) {
     tetfsi::bench::Stopwatch w;
     const auto r = fluid::validation::potential_flow(m, a, L);
     tetfsi::bench::print_row("potential flow past a sphere, surface Cp vs 1 - 9/4 sin^2",
-                             fmt::format("{} tets, h_surface/a = {:.3f}", r.tets, r.h_surface / a),
+                             fmt::format("{} tets, {} nodes, h_surface/a = {:.3f}", r.tets, r.nodes, r.h_surface / a),
                              fmt::format("rms {:.4f}, max {:.4f}; Cp stagnation {:.3f} (1), equator {:.3f} (-1.25)",
                                          r.surface_rms, r.surface_max, r.cp_stagnation, r.cp_equator),
                              w.seconds());
@@ -213,18 +216,31 @@ void standing_wave_case(int n) {
       w.seconds());
 }
 
+/// The comma-separated numbers of `--sizes`.
+std::vector<double> parse_sizes(const std::string& list) {
+  std::vector<double> sizes;
+  std::stringstream items(list);
+  for (std::string item; std::getline(items, item, ',');) sizes.push_back(std::stod(item));
+  return sizes;
+}
+
 int main(int argc, char** argv) {
   long max_tets = 450000;
-  bool sphere_only = false, scaling_only = false;
+  bool sphere_only = false, scaling_only = false, standing_wave = false;
+  std::vector<double> sizes;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--sizes") == 0 && i + 1 < argc) sizes = parse_sizes(argv[i + 1]);
+    if (std::strcmp(argv[i], "--standing-wave") == 0) standing_wave = true;
+  }
+  if (standing_wave) {
+    tetfsi::bench::print_header();
+    for (double n : sizes.empty() ? std::vector<double>{16, 32, 64} : sizes) standing_wave_case(static_cast<int>(n));
+    return 0;
+  }
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--max-tets") == 0 && i + 1 < argc) max_tets = std::atol(argv[i + 1]);
     if (std::strcmp(argv[i], "--sphere-only") == 0) sphere_only = true;
     if (std::strcmp(argv[i], "--scaling-only") == 0) scaling_only = true;
-    if (std::strcmp(argv[i], "--standing-wave") == 0) {
-      tetfsi::bench::print_header();
-      for (int n : {16, 32, 64}) standing_wave_case(n);
-      return 0;
-    }
     if (std::strcmp(argv[i], "--liquid") == 0) {
       tetfsi::bench::print_header();
       std::vector<std::pair<long, double>> cost;
@@ -243,7 +259,8 @@ int main(int argc, char** argv) {
   }
   tetfsi::bench::print_header();
   if (!scaling_only)
-    for (double hn : {0.12, 0.08, 0.055}) sphere_cases(hn, 2.0 * hn, sphere_only ? 0 : 40);
+    for (double hn : sizes.empty() ? std::vector<double>{0.12, 0.08, 0.055} : sizes)
+      sphere_cases(hn, 2.0 * hn, sphere_only ? 0 : 40);
   if (sphere_only) return 0;
   for (int n : {16, 26, 41}) {
     if (6L * n * n * n > max_tets) continue;

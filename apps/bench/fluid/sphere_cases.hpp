@@ -34,6 +34,7 @@ inline Eigen::Vector3d potential_flow_velocity(const Eigen::Vector3d& r, double 
 
 struct PotentialFlowResult {
   int tets = 0;
+  int nodes = 0;              ///< fluid nodes: the pressure unknowns
   double h_surface = 0;       ///< mean edge of the interface triangles [m]
   double surface_rms = 0;     ///< area-weighted rms of C_p(face) - (1 - 9/4 sin^2 theta)
   double surface_max = 0;
@@ -67,6 +68,7 @@ inline PotentialFlowResult potential_flow(const mesh::TetMesh& m, double a, doub
   const StepReport rep = s.project_only(bc, 1.0);
   PotentialFlowResult r;
   r.tets = m.num_tets();
+  r.nodes = static_cast<int>(s.mesh().nodes.size());
   r.seconds = rep.assemble_seconds + rep.solve_seconds;
   const FluidMesh& fm = s.mesh();
   double area = 0, sum2 = 0, csum2 = 0, eq = 0, edge = 0, upstream = 1e300;

@@ -1,0 +1,183 @@
+"""The error measures of scripts/report.py, one function per `metric` of data/report/cases.json.
+
+Each takes a `Run` (the scene as run, its output folder, the process's stdout, the case's
+`params`) and returns a `Result`: the signed error against the case's reference, a short text with
+the measured and reference values, the number of unknowns, the steps taken and the simulated time
+(None for static and one-shot cases). The unknowns are those of the solve the case times: fluid
+pressure unknowns (fluid runner), pressure unknowns + solid dofs (coupled runner, the largest
+step), 3 x nodes (solid and hex8 static runners), particles (mpm runner), fluid nodes
+(bench_fluid's potential flow) and the tank's mesh nodes (bench_fluid's standing wave; about 2/3
+of them liquid).
+"""
+
+import csv
+import math
+import os
+import re
+import sys
+from dataclasses import dataclass, field
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_coaxial_rod  # noqa: E402  (reference and zero-crossing frequency of the coaxial rod)
+
+G = 9.81
+
+
+@dataclass
+class Run:
+    scene: dict          # the scene file as run (None for a bench case)
+    out: str             # tetfsi's output folder (scene cases)
+    stdout: str          # what the process printed
+    params: dict = field(default_factory=dict)
+
+
+@dataclass
+class Result:
+    error: float
+    detail: str
+    unknowns: int
+    steps: int
+    simulated: float = None  # simulated time [s]; None: static or a single solve
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def last_probe(run, name):
+    return float(read_csv(os.path.join(run.out, "probes.csv"))[-1][name])
+
+
+def steps_and_time(run):
+    """Steps taken and simulated time from stats.csv (mpm rows each cover `substeps` steps)."""
+    rows = [r for r in read_csv(os.path.join(run.out, "stats.csv")) if float(r["step"]) > 0]
+    if rows and "substeps" in rows[0] and "particles" in rows[0]:
+        return int(sum(float(r["substeps"]) for r in rows)), float(rows[-1]["time"])
+    return len(rows), float(rows[-1]["time"]) if rows else 0.0
+
+
+def unknowns(run, kind):
+    """The unknowns of the case's solve (module docstring)."""
+    if kind in ("fluid", "coupled", "mpm"):
+        rows = read_csv(os.path.join(run.out, "stats.csv"))
+        if kind == "fluid":
+            return int(max(float(r["unknowns"]) for r in rows))
+        if kind == "coupled":
+            return int(max(float(r["pressure_unknowns"]) + float(r["solid_dofs"]) for r in rows))
+        return int(max(float(r["particles"]) for r in rows))
+    log = open(os.path.join(run.out, "run.log")).read()
+    pattern = r"mesh: solid '[^']*': (\d+) vertices" if kind == "solid_log" else r"hex solid '[^']*': .*?(\d+) nodes"
+    return 3 * sum(int(n) for n in re.findall(pattern, log))
+
+
+def pipe_axis(run):
+    u = last_probe(run, "u_axis")
+    half = last_probe(run, "u_half_radius")
+    steps, t = steps_and_time(run)
+    return Result(u - 1.0, f"u(0) = {u:.4f} m/s (exact 1), u(R/2) = {half:.4f} m/s (exact 0.75)",
+                  unknowns(run, "fluid"), steps, t)
+
+
+def tet_cantilever_tip(run):
+    p = run.params
+    side = p["side"]
+    exact = p["traction"] * side * side * p["length"] ** 3 / (3 * p["youngs_modulus"] * side ** 4 / 12)
+    tip = -last_probe(run, "tip_y")
+    rows = read_csv(os.path.join(run.out, "stats.csv"))
+    return Result(tip / exact - 1, f"tip {1e3 * tip:.4f} mm (Euler-Bernoulli {1e3 * exact:.4f} mm)",
+                  unknowns(run, "solid_log"), int(float(rows[-1]["load_steps"])))
+
+
+def ring_castigliano(run):
+    p = run.params
+    inertia = p["width"] * p["thickness"] ** 3 / 12
+    exact = math.pi * p["force"] * p["radius"] ** 3 / (4 * p["youngs_modulus"] * inertia)
+    tip = last_probe(run, "tip_y")
+    rows = read_csv(os.path.join(run.out, "stats.csv"))
+    return Result(tip / exact - 1, f"tip_y {1e3 * tip:.5f} mm (Castigliano {1e3 * exact:.5f} mm)",
+                  unknowns(run, "hex_log"), int(float(rows[-1]["load_steps"])))
+
+
+def ball_rise(run):
+    fluid = run.scene["fluid"]["density"]
+    solid = run.scene["solids"][0]["material"]["density"]
+    exact = G * (fluid - solid) / (solid + fluid / 2)
+    rows = read_csv(os.path.join(run.out, "probes.csv"))
+    t, y = float(rows[-1]["time"]), float(rows[-1]["centre_y"])
+    a = 2 * y / (t * t)
+    steps, sim = steps_and_time(run)
+    return Result(a / exact - 1, f"a = {a:.4f} m/s^2 (exact {exact:.4f})", unknowns(run, "coupled"), steps, sim)
+
+
+def rod_frequency(run):
+    exact, _, ratio = bench_coaxial_rod.reference(run.scene)
+    f = bench_coaxial_rod.crossing_frequency(os.path.join(run.out, "probes.csv"))
+    steps, sim = steps_and_time(run)
+    return Result(f / exact - 1, f"f = {f:.4f} Hz (exact {exact:.4f} Hz, m_a/m = {ratio:.3f})",
+                  unknowns(run, "coupled"), steps, sim)
+
+
+def gas_radius(run):
+    r0, r90 = last_probe(run, "r_0deg"), last_probe(run, "r_90deg")
+    e0, e90 = r0 / 0.96 - 1, r90 / 0.96 - 1
+    steps, sim = steps_and_time(run)
+    return Result(e0 if abs(e0) >= abs(e90) else e90, f"r_0deg {r0:.4f}, r_90deg {r90:.4f} (paper 0.96)",
+                  unknowns(run, "mpm"), steps, sim)
+
+
+def floating_draft(run):
+    """Mean of the midpoints of consecutive heave extrema against the Archimedes floating position
+    (tests/apps/test_liquid_run.cpp, FloatingBlockHeavesAboutTheArchimedesDraft)."""
+    p = run.params
+    rows = read_csv(os.path.join(run.out, "probes.csv"))
+    y = [float(r["centre_y"]) for r in rows]
+    ext = [y[i] for i in range(1, len(y) - 1) if (y[i] - y[i - 1]) * (y[i + 1] - y[i]) < 0]
+    if len(ext) < 2:
+        raise ValueError(f"{len(ext)} heave extrema: fewer than 2")
+    mean = sum(0.5 * (a + b) for a, b in zip(ext, ext[1:])) / (len(ext) - 1)
+    ratio = run.scene["solids"][0]["material"]["density"] / run.scene["fluid"]["density"]
+    draft = ratio * p["height"]
+    level = (float(rows[0]["liquid_volume"]) + p["block_area"] * draft) / p["tank_area"]
+    floating = level - draft + 0.5 * p["height"] - p["release_y"]
+    steps, sim = steps_and_time(run)
+    return Result((mean - floating) / draft, f"heave about {1e3 * mean:.2f} mm (Archimedes {1e3 * floating:.2f} mm), "
+                  f"{len(ext)} extrema", unknowns(run, "coupled"), steps, sim)
+
+
+def bench_row(run, case_prefix):
+    """Cells of the benchmark table row whose case starts with `case_prefix`."""
+    for line in run.stdout.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if line.startswith("|") and cells[0].startswith(case_prefix):
+            return cells
+    raise ValueError(f"no row '{case_prefix}...' in the benchmark's output:\n{run.stdout}")
+
+
+def number(pattern, text):
+    m = re.search(pattern, text)
+    if not m:
+        raise ValueError(f"'{pattern}' not found in '{text}'")
+    return float(m.group(1).replace(",", ""))
+
+
+def potential_flow_cp(run):
+    cells = bench_row(run, "potential flow past a sphere")
+    rms = number(r"rms ([0-9.eE+-]+)", cells[2])
+    return Result(rms, cells[2].split(";")[0], int(number(r"(\d+) nodes", cells[1])), 1)
+
+
+def standing_wave_period(run):
+    cells = bench_row(run, "standing wave")
+    err = number(r"period ([+-]?[0-9.]+)%", cells[2]) / 100
+    steps = int(number(r"(\d+) steps", cells[1]))
+    # standing_wave.hpp: L = 1 m, H = 0.5 m, 2.25 periods of 2 pi / omega, omega^2 = g k tanh(k H).
+    k = math.pi
+    period = 2 * math.pi / math.sqrt(G * k * math.tanh(k * 0.5))
+    # Unknowns: the nodes of the n x 2 x (3n/4) Kuhn box (the liquid's are about 2/3 of them).
+    n = int(number(r"(\d+) cells/L", cells[1]))
+    return Result(err, cells[2].split(";")[0], (n + 1) * 3 * ((3 * n) // 4 + 1), steps, 2.25 * period)
+
+
+METRICS = {f.__name__: f for f in (pipe_axis, tet_cantilever_tip, ring_castigliano, ball_rise, rod_frequency,
+                                   gas_radius, floating_draft, potential_flow_cp, standing_wave_period)}
