@@ -14,6 +14,7 @@ import csv
 import math
 import os
 import re
+import subprocess
 import sys
 from dataclasses import dataclass, field
 
@@ -179,5 +180,31 @@ def standing_wave_period(run):
     return Result(err, cells[2].split(";")[0], (n + 1) * 3 * ((3 * n) // 4 + 1), steps, 2.25 * period)
 
 
+def cavity_ghia(run):
+    """Largest abs(u - u_Ghia) / U over Ghia, Ghia & Shin's 30 interior centre-line points (bench_viscous.py)."""
+    frames = sorted(f for f in os.listdir(os.path.join(run.out, "fluid")) if f.endswith(".vtu"))
+    # In a child process: importing VTK here would raise this process's resident memory, which the
+    # later runs' peak (ru_maxrss, kept across fork and exec) would then report as their own.
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); import bench_viscous; "
+            "print(bench_viscous.fitted_error(sys.argv[2], float(sys.argv[3])))")
+    error = float(subprocess.run([sys.executable, "-c", code, os.path.dirname(os.path.abspath(__file__)),
+                                  os.path.join(run.out, "fluid", frames[-1]), str(run.scene["mesh"]["edge_length"])],
+                                 check=True, capture_output=True, text=True).stdout)
+    steps, sim = steps_and_time(run)
+    return Result(error, f"max abs(u - u_Ghia) = {error:.4f} U over 30 points", unknowns(run, "fluid"), steps, sim)
+
+
+def settling_speed(run):
+    """Settling speed (the last two frames) against Stokes' with Haberman & Sayre's wall factor."""
+    p = run.params
+    reference = 2 / 9 * (p["solid_density"] - p["fluid_density"]) * G * p["radius"] ** 2 / p["viscosity"] / p["wall_factor"]
+    rows = read_csv(os.path.join(run.out, "probes.csv"))
+    v = -(float(rows[-1]["centre_z"]) - float(rows[-2]["centre_z"])) / (float(rows[-1]["time"]) - float(rows[-2]["time"]))
+    steps, sim = steps_and_time(run)
+    return Result(v / reference - 1, f"v = {100 * v:.3f} cm/s (Stokes / wall factor {100 * reference:.3f} cm/s)",
+                  unknowns(run, "coupled"), steps, sim)
+
+
 METRICS = {f.__name__: f for f in (pipe_axis, tet_cantilever_tip, ring_castigliano, ball_rise, rod_frequency,
-                                   gas_radius, floating_draft, potential_flow_cp, standing_wave_period)}
+                                   gas_radius, floating_draft, potential_flow_cp, standing_wave_period, cavity_ghia,
+                                   settling_speed)}
