@@ -1,6 +1,6 @@
 #pragma once
 /// @file fluid_solver.hpp
-/// One time step of the inviscid incompressible fluid on a (possibly new) tetrahedral mesh:
+/// One time step of the incompressible fluid (inviscid or viscous) on a (possibly new) tetrahedral mesh:
 ///   1. advect velocity, smoke and temperature from the previous mesh to this one
 ///      (semi_lagrangian.hpp; skipped on the first step),
 ///   2. sources: emitter volumes and inflow patches set smoke and temperature; with a free
