@@ -3,6 +3,7 @@
 #include "fluid/advection/point_locator.hpp"
 #include "fluid/liquid/level_set.hpp"
 #include "fluid/liquid/velocity_extension.hpp"
+#include "fluid/viscosity/node_fit.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -29,6 +30,7 @@ bool FluidSolver::built_from(const mesh::TetMesh& mesh) const {
 void FluidSolver::set_mesh(const mesh::TetMesh& mesh, FluidMesh fluid_mesh, bool same_topology) {
   mesh_ = std::move(fluid_mesh);
   if (same_topology) return;
+  viscous_rings_.clear();
   source_tets_ = mesh.tets;
   source_subdomain_ = mesh.subdomain;
 }
@@ -240,8 +242,9 @@ void FluidSolver::apply_viscosity_step(const BoundaryConditions& bc, double h, S
   // The fluid in each tet: all of it, or a liquid's part (the air is void and carries no stress).
   const std::vector<double>& weight = free_surface_ ? liquid_.liquid_volume : mesh_.volume;
   const ViscousNodes nodes = viscous_nodes(mesh_, boundary_, bc, params_.walls);
-  ViscosityReport vr =
-      apply_viscosity(mesh_, mu, weight, params_.density, nodes, h, params_.viscous_solver, fields_.velocity);
+  if (viscous_rings_.empty()) viscous_rings_ = node_rings(mesh_);
+  ViscosityReport vr = apply_viscosity(mesh_, mu, weight, params_.density, nodes, h, params_.viscous_solver,
+                                       fields_.velocity, &viscous_rings_);
   viscous_force_.assign(mesh_.num_nodes(), Eigen::Vector3d::Zero());
   viscous_stiffness_.assign(mesh_.num_nodes(), Eigen::Matrix3d::Zero());
   for (const BoundaryFace& bf : mesh_.boundary_faces)

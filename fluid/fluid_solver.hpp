@@ -195,6 +195,8 @@ class FluidSolver {
   double target_volume_ = 0.0;
   std::vector<Eigen::Vector3d> viscous_force_;      // per fluid node, see viscous_node_force()
   std::vector<Eigen::Matrix3d> viscous_stiffness_;  // per fluid node, see viscous_node_stiffness()
+  // The viscous step's fit rings (viscosity/node_fit.hpp) of mesh_, kept while its topology holds.
+  std::vector<std::vector<int>> viscous_rings_;
 };
 
 }  // namespace tetfsi::fluid

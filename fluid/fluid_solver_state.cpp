@@ -38,6 +38,7 @@ void FluidSolver::write_state(BinaryWriter& out) const { const_cast<FluidSolver*
 void FluidSolver::read_state(BinaryReader& in) {
   const bool liquid = free_surface_;
   state(in);
+  viscous_rings_.clear();  // of the mesh before the read; remade from the restored one
   if (free_surface_ != liquid) in.fail("a fluid state with another kind of fluid (smoke or liquid)");
 }
 

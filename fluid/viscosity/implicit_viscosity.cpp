@@ -151,14 +151,15 @@ namespace tetfsi::fluid {
 
 ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>& viscosity,
                                 const std::vector<double>& weight, double density, const ViscousNodes& nodes,
-                                double h, const SolverOptions& options, TetVectors& u) {
+                                double h, const SolverOptions& options, TetVectors& u,
+                                const std::vector<std::vector<int>>* rings) {
   const auto start = std::chrono::steady_clock::now();
   const int N = mesh.num_nodes(), T = mesh.num_tets();
   // U: the weighted node average of u, the prescribed velocity at the Dirichlet nodes.
   Eigen::VectorXd W = Eigen::VectorXd::Zero(N);
   for (int t = 0; t < T; ++t)
     for (int k = 0; k < 4; ++k) W[mesh.tets[t][k]] += weight[t];
-  const NodeFits fits = fit_at_nodes(mesh, weight, u);
+  const NodeFits fits = fit_at_nodes(mesh, weight, u, rings ? *rings : node_rings(mesh));
   Eigen::VectorXd U(3 * N);
   for (int i = 0; i < N; ++i) U.segment<3>(3 * i) = fits.at_node(i);
   std::vector<char> free(N);
@@ -193,21 +194,23 @@ ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>
             << " iterations (tolerance " << options.tolerance << ", limit " << options.max_iterations << ")";
     throw SolverError(message.str());
   }
-  // The reaction at the Dirichlet nodes from the new nodal field U + dU.
-  std::vector<double> coefficient(T);
-  for (int t = 0; t < T; ++t) coefficient[t] = weight[t] * viscosity[t];
-  Eigen::VectorXd KU;
-  viscous_detail::gather_stress(mesh, coefficient, U + dU, KU);
+  // The reaction -(K U^{n+1})_i at the Dirichlet nodes, from the tets around each (not a gather
+  // over the whole mesh: the Dirichlet nodes are the boundary's).
+  const Eigen::VectorXd U_next = U + dU;
   rep.wall_force.assign(N, Eigen::Vector3d::Zero());
   rep.wall_stiffness.assign(N, Eigen::Matrix3d::Zero());
   for (int i = 0; i < N; ++i) {
     if (!nodes.fixed[i]) continue;
-    rep.wall_force[i] = -KU.segment<3>(3 * i);
     for (int t : mesh.node_tets[i]) {
+      const double c = weight[t] * viscosity[t];
+      if (c == 0.0) continue;
       int k = 0;
       while (mesh.tets[t][k] != i) ++k;
       const Eigen::Vector3d& g = mesh.grad[t][k];
-      rep.wall_stiffness[i] += coefficient[t] * (g.squaredNorm() * Eigen::Matrix3d::Identity() + g * g.transpose());
+      Eigen::Matrix3d G = Eigen::Matrix3d::Zero();
+      for (int j = 0; j < 4; ++j) G.noalias() += U_next.segment<3>(3 * mesh.tets[t][j]) * mesh.grad[t][j].transpose();
+      rep.wall_force[i] -= c * (G + G.transpose()) * g;
+      rep.wall_stiffness[i] += c * (g.squaredNorm() * Eigen::Matrix3d::Identity() + g * g.transpose());
     }
   }
   // u_t <- u_t + (P dU)_t - (1 - beta_t) (u_t - r_t): the nodal increment, and the tet's sub-cell

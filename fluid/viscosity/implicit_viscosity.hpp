@@ -73,10 +73,12 @@ struct ViscosityReport {
 /// @param density   rho [kg/m^3]
 /// @param nodes     Dirichlet nodes and their velocity (viscous_nodes())
 /// @param h         time step [s]
+/// @param rings     node_rings(mesh) if the caller keeps it (node_fit.hpp); nullptr: made here
 /// @throws SolverError if CG does not reach options.tolerance within options.max_iterations
 ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>& viscosity,
                                 const std::vector<double>& weight, double density, const ViscousNodes& nodes,
-                                double h, const SolverOptions& options, TetVectors& u);
+                                double h, const SolverOptions& options, TetVectors& u,
+                                const std::vector<std::vector<int>>* rings = nullptr);
 
 /// The nodal viscous force -K U [N] of the stress form (above) for nodal velocities U [m/s]: the
 /// force the fluid's viscous stress puts on each node (at a no-slip node, minus the wall's

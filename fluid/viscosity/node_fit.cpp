@@ -48,8 +48,10 @@ bool fit(const FluidMesh& mesh, int i, const std::vector<int>& tets, const std::
     ++used;
   }
   if (used < Terms) return false;
-  // lazyProduct: coefficient-wise (10 x 10 x rows flops), no GEMM packing for these small sizes.
-  const Eigen::Matrix<double, Terms, Terms> normal = D.topRows(used).transpose().lazyProduct(D.topRows(used));
+  // The lower triangle by a symmetric rank update (half the products of D^T D).
+  Eigen::Matrix<double, Terms, Terms> normal = Eigen::Matrix<double, Terms, Terms>::Zero();
+  normal.template selfadjointView<Eigen::Lower>().rankUpdate(D.topRows(used).transpose());
+  normal.template triangularView<Eigen::StrictlyUpper>() = normal.transpose();
   if (!(normal(0, 0) > 0)) return false;
   // Smallest eigenvalue of normal / normal(0,0) above kMinEigenvalue <=> this shifted matrix is
   // positive definite, which its Cholesky factorization tells (cheaper than the eigenvalues).
@@ -68,12 +70,9 @@ Eigen::Vector3d NodeFits::at(const FluidMesh& mesh, int i, const Eigen::Vector3d
   return coefficient[i] * monomials((x - mesh.nodes[i]) / scale[i]);
 }
 
-NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, const TetVectors& u) {
-  NodeFits fits;
-  fits.coefficient.assign(mesh.num_nodes(), Eigen::Matrix<double, 3, 10>::Zero());
-  fits.scale.assign(mesh.num_nodes(), 1.0);
-  // Per thread, the last node whose ring listed each tet and each node (a ring is gathered without
-  // sorting, in the order of discovery: deterministic).
+NodeRings node_rings(const FluidMesh& mesh) {
+  NodeRings rings(mesh.num_nodes());
+  // Per thread, the last node whose ring listed each tet and each node.
   struct Listed {
     std::vector<int> tet, node;
   };
@@ -88,7 +87,7 @@ NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, 
           listed.node[j] = i;
           around.push_back(j);
         }
-    std::vector<int> ring;  // the tets around i and its neighbours
+    std::vector<int>& ring = rings[i];
     ring.reserve(8 * mesh.node_tets[i].size());
     for (int j : around)
       for (int s : mesh.node_tets[j])
@@ -96,6 +95,17 @@ NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, 
           listed.tet[s] = i;
           ring.push_back(s);
         }
+  });
+  return rings;
+}
+
+NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, const TetVectors& u,
+                      const NodeRings& rings) {
+  NodeFits fits;
+  fits.coefficient.assign(mesh.num_nodes(), Eigen::Matrix<double, 3, 10>::Zero());
+  fits.scale.assign(mesh.num_nodes(), 1.0);
+  tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
+    const std::vector<int>& ring = rings[i];
     // The scale of d: the largest centroid distance over the ring (every monomial at most 1).
     double scale = 0;
     for (int t : ring) scale = std::max(scale, (mesh.centroid(t) - mesh.nodes[i]).norm());

@@ -30,8 +30,15 @@ struct NodeFits {
   Eigen::Vector3d at(const FluidMesh& mesh, int i, const Eigen::Vector3d& x) const;
 };
 
-/// The fits of `u` around every node, weights w_t = `weight` (0: the tet is left out).
-/// Nodes in parallel: deterministic.
-NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, const TetVectors& u);
+/// Per node, the tets around it and its neighbours (the quadratic fit's ring), in the order of
+/// discovery: a function of the mesh's topology only, so a caller may keep it while the mesh moves
+/// without remeshing (FluidSolver does). Nodes in parallel: deterministic.
+using NodeRings = std::vector<std::vector<int>>;
+NodeRings node_rings(const FluidMesh& mesh);
+
+/// The fits of `u` around every node, weights w_t = `weight` (0: the tet is left out), over
+/// `rings` (node_rings(mesh)). Nodes in parallel: deterministic.
+NodeFits fit_at_nodes(const FluidMesh& mesh, const std::vector<double>& weight, const TetVectors& u,
+                      const NodeRings& rings);
 
 }  // namespace tetfsi::fluid
