@@ -9,8 +9,6 @@ import csv
 import math
 import os
 import platform
-import subprocess
-import time
 
 import matplotlib
 
@@ -106,19 +104,15 @@ def plot(path, cases, rows, order):
 
 
 def machine(load_at_start):
+    """The machine and its load during the run: the conditions the wall times were measured in (the
+    commit and date of a committed page are git's)."""
     load = os.getloadavg()
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                                cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
-    except OSError:
-        commit = ""
     cpu = platform.processor() or platform.machine()
     for line in open("/proc/cpuinfo") if os.path.exists("/proc/cpuinfo") else []:
         if line.startswith("model name"):
             cpu = line.split(":", 1)[1].strip()
             break
-    return (f"{cpu}, {os.cpu_count()} cores, load average {load_at_start:.1f} at the start and {load[0]:.1f} at the end, "
-            f"commit {commit or 'unknown'}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    return f"{cpu}, {os.cpu_count()} cores, load average {load_at_start:.1f} at the start and {load[0]:.1f} at the end"
 
 
 def page(cases, rows, order, total, command, quick, load):
