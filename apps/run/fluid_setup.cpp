@@ -96,26 +96,27 @@ std::vector<fluid::BoundaryPatch> boundary_patches(const scene::Json& js, double
     p.region = {vec3(open.at("lo")), vec3(open.at("hi"))};
     patches.push_back(p);
   }
+  // A box face ("x-" ... "z+") as a patch region: the slab of the box within a millionth of its
+  // diagonal of that face.
   const double eps = 1e-6 * (hi - lo).norm();
-  for (const auto& face : js["domain"].at("open_faces")) {
-    const auto name = face.get<std::string>();
+  auto box_face = [&](const std::string& name) {
     const int axis = name[0] - 'x';
+    fluid::Region r{lo, hi};
+    if (name[1] == '+') r.lo[axis] = hi[axis] - eps;
+    else r.hi[axis] = lo[axis] + eps;
+    return r;
+  };
+  for (const auto& face : js["domain"].at("open_faces")) {
     fluid::BoundaryPatch p;
     p.kind = fluid::FaceKind::kOpen;
-    p.region = {lo, hi};
-    if (name[1] == '+') p.region.lo[axis] = hi[axis] - eps;
-    else p.region.hi[axis] = lo[axis] + eps;
+    p.region = box_face(face.get<std::string>());
     patches.push_back(p);
   }
   for (const auto& face : js["domain"].at("slip_faces")) {
-    const auto name = face.get<std::string>();
-    const int axis = name[0] - 'x';
     fluid::BoundaryPatch p;
     p.kind = fluid::FaceKind::kWall;
     p.slip = true;
-    p.region = {lo, hi};
-    if (name[1] == '+') p.region.lo[axis] = hi[axis] - eps;
-    else p.region.hi[axis] = lo[axis] + eps;
+    p.region = box_face(face.get<std::string>());
     patches.push_back(p);
   }
   return patches;

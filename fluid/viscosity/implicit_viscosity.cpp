@@ -27,12 +27,13 @@ namespace viscous_detail {
 /// Per tet, the coefficient c_t of the stress (c_t (G_t + G_t^T) = c_t 2 eps_t for G_t the gradient
 /// of the nodal field on t), gathered per node: out_i = sum_{t ni i} c_t (G_t + G_t^T) grad(phi_i)|_t.
 /// Tets in ascending order per node (node_tets), nodes in parallel: deterministic.
+/// `stress` is scratch, one matrix per tet (kept by the caller: CG applies this every iteration).
 void gather_stress(const FluidMesh& mesh, const std::vector<double>& coefficient, const Eigen::VectorXd& x,
-                   Eigen::VectorXd& out) {
+                   Eigen::VectorXd& out, std::vector<Eigen::Matrix3d>& stress) {
   // Chunks of kGrain tets or nodes per task: the per-item work is a few dozen flops, so TBB's
   // default splitting down to single items cost more than the work.
   constexpr int kGrain = 1024;
-  std::vector<Eigen::Matrix3d> stress(mesh.num_tets());
+  stress.resize(mesh.num_tets());
   tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_tets(), kGrain), [&](const tbb::blocked_range<int>& r) {
     for (int t = r.begin(); t < r.end(); ++t) {
       if (coefficient[t] == 0.0) continue;
@@ -65,8 +66,10 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
   using StorageIndex = int;
   enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic, IsRowMajor = false };
 
-  ViscousOperator(const FluidMesh& mesh, std::vector<double> h_coefficient, Eigen::VectorXd mass, std::vector<char> free)
-      : mesh_(&mesh), h_coefficient_(std::move(h_coefficient)), mass_(std::move(mass)), free_(std::move(free)) {}
+  ViscousOperator(const FluidMesh& mesh, std::vector<double> h_coefficient, Eigen::VectorXd mass, std::vector<char> free,
+                  std::vector<Eigen::Matrix3d> scratch)
+      : mesh_(&mesh), h_coefficient_(std::move(h_coefficient)), mass_(std::move(mass)), free_(std::move(free)),
+        stress_(std::move(scratch)) {}
   Eigen::Index rows() const { return 3 * mesh_->num_nodes(); }
   Eigen::Index cols() const { return rows(); }
 
@@ -76,7 +79,7 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
   }
 
   void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-    gather_stress(*mesh_, h_coefficient_, x, y);
+    gather_stress(*mesh_, h_coefficient_, x, y, stress_);
     for (int i = 0; i < mesh_->num_nodes(); ++i) {
       if (free_[i]) y.segment<3>(3 * i) += mass_[i] * x.segment<3>(3 * i);
       else y.segment<3>(3 * i) = x.segment<3>(3 * i);
@@ -105,6 +108,7 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
   std::vector<double> h_coefficient_;  ///< h w_t mu_t
   Eigen::VectorXd mass_;               ///< rho M_i
   std::vector<char> free_;
+  mutable std::vector<Eigen::Matrix3d> stress_;  ///< gather_stress's scratch
 };
 
 /// Jacobi preconditioner for the matrix-free operator (Eigen's DiagonalPreconditioner reads matrix
@@ -155,7 +159,8 @@ ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>
                                 const std::vector<std::vector<int>>* rings) {
   const auto start = std::chrono::steady_clock::now();
   const int N = mesh.num_nodes(), T = mesh.num_tets();
-  // U: the weighted node average of u, the prescribed velocity at the Dirichlet nodes.
+  // W: the fluid volume around each node (M_i = W_i / 4); U: the fits' value at the free nodes, the
+  // prescribed velocity at the Dirichlet nodes.
   Eigen::VectorXd W = Eigen::VectorXd::Zero(N);
   for (int t = 0; t < T; ++t)
     for (int k = 0; k < 4; ++k) W[mesh.tets[t][k]] += weight[t];
@@ -171,11 +176,12 @@ ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>
   for (int t = 0; t < T; ++t) h_coefficient[t] = h * weight[t] * viscosity[t];
   // b = -h K U on the free nodes, 0 elsewhere.
   Eigen::VectorXd b;
-  viscous_detail::gather_stress(mesh, h_coefficient, U, b);
+  std::vector<Eigen::Matrix3d> stress;
+  viscous_detail::gather_stress(mesh, h_coefficient, U, b, stress);
   b = -b;
   for (int i = 0; i < N; ++i)
     if (!free[i]) b.segment<3>(3 * i).setZero();
-  const viscous_detail::ViscousOperator A(mesh, std::move(h_coefficient), density * 0.25 * W, free);
+  const viscous_detail::ViscousOperator A(mesh, std::move(h_coefficient), density * 0.25 * W, free, std::move(stress));
   Eigen::ConjugateGradient<viscous_detail::ViscousOperator, Eigen::Lower | Eigen::Upper,
                            viscous_detail::JacobiPreconditioner>
       cg;
@@ -234,19 +240,6 @@ ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>
   });
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return rep;
-}
-
-std::vector<Eigen::Vector3d> viscous_nodal_force(const FluidMesh& mesh, const std::vector<double>& viscosity,
-                                                 const std::vector<double>& weight,
-                                                 const std::vector<Eigen::Vector3d>& U) {
-  std::vector<double> c(mesh.num_tets());
-  for (int t = 0; t < mesh.num_tets(); ++t) c[t] = weight[t] * viscosity[t];
-  Eigen::VectorXd x(3 * mesh.num_nodes()), y;
-  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = U[i];
-  viscous_detail::gather_stress(mesh, c, x, y);
-  std::vector<Eigen::Vector3d> f(mesh.num_nodes());
-  for (int i = 0; i < mesh.num_nodes(); ++i) f[i] = -y.segment<3>(3 * i);
-  return f;
 }
 
 }  // namespace tetfsi::fluid

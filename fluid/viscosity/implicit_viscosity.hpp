@@ -1,7 +1,7 @@
 #pragma once
 /// @file implicit_viscosity.hpp
 /// Implicit (backward Euler) viscosity of the nodal-pressure / tet-velocity fluid, solved after the
-/// body forces and before the projection, unconditionally stable for any viscosity and step, as
+/// advection and before the body forces and the projection, unconditionally stable for any viscosity and step, as
 /// Batty & Bridson (2008, "Accurate viscous free surfaces for buckling, coiling, and rotating
 /// liquids", eq. 3) solve it for liquids:
 ///
@@ -79,12 +79,5 @@ ViscosityReport apply_viscosity(const FluidMesh& mesh, const std::vector<double>
                                 const std::vector<double>& weight, double density, const ViscousNodes& nodes,
                                 double h, const SolverOptions& options, TetVectors& u,
                                 const std::vector<std::vector<int>>* rings = nullptr);
-
-/// The nodal viscous force -K U [N] of the stress form (above) for nodal velocities U [m/s]: the
-/// force the fluid's viscous stress puts on each node (at a no-slip node, minus the wall's
-/// reaction). For tests and the drag of solids.
-std::vector<Eigen::Vector3d> viscous_nodal_force(const FluidMesh& mesh, const std::vector<double>& viscosity,
-                                                 const std::vector<double>& weight,
-                                                 const std::vector<Eigen::Vector3d>& U);
 
 }  // namespace tetfsi::fluid
