@@ -8,6 +8,7 @@
 #include "fluid/liquid/cut_tet.hpp"
 #include "fluid/operators/p1_operators.hpp"
 #include "fluid/projection/amg_preconditioner.hpp"
+#include "parallel/distributed_solve.hpp"
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/quality.hpp"
 #include "support/stopwatch.hpp"
@@ -85,13 +86,21 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
   num_solid_dofs_ = offset;
   fluid_.initialize(mesh_);
   CoupledSolverOptions options = settings_.solver_options;
-  if (settings_.solver == CoupledSolverKind::SchurCG && fluid_.params().solver.backend == fluid::SolverBackend::kHypreAmgCg &&
-      !options.preconditioner_apply) {
-    // BoomerAMG of Ŝ = P + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change).
-    auto amg = std::make_shared<fluid::AmgPreconditioner>();
-    options.preconditioner_setup = [amg](const SparseMatrix& S_hat) { amg->setup(S_hat); };
-    options.preconditioner_apply = [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
-    options.preconditioner_name = "boomeramg";
+  const fluid::SolverBackend pressure_backend = fluid_.params().solver.backend;
+  if (settings_.solver == CoupledSolverKind::SchurCG && !options.preconditioner_apply) {
+    // BoomerAMG of Ŝ = P + H diag(A)⁻¹ Hᵀ, rebuilt each step (the mesh and A change): hypre's on
+    // this process, or PETSc's over the MPI processes of the run (parallel/distributed_solve.hpp).
+    if (pressure_backend == fluid::SolverBackend::kHypreAmgCg) {
+      auto amg = std::make_shared<fluid::AmgPreconditioner>();
+      options.preconditioner_setup = [amg](const SparseMatrix& S_hat) { amg->setup(S_hat); };
+      options.preconditioner_apply = [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
+      options.preconditioner_name = "boomeramg";
+    } else if (pressure_backend == fluid::SolverBackend::kPetscAmgCg) {
+      auto amg = std::make_shared<parallel::DistributedAmg>();
+      options.preconditioner_setup = [amg](const SparseMatrix& S_hat) { amg->setup(S_hat); };
+      options.preconditioner_apply = [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
+      options.preconditioner_name = "petsc_boomeramg";
+    }
   }
   solver_ = make_coupled_solver(settings_.solver, std::move(options));
   previous_vertex_pressure_.assign(mesh_.num_vertices(), 0.0);

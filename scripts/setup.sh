@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libcgal-dev libsuitesparse-dev libopenblas0-pthread
-  libassimp-dev libtbb-dev libhypre-dev zlib1g-dev
+  libassimp-dev libtbb-dev libhypre-dev libpetsc-real-dev openmpi-bin zlib1g-dev
   libopenvdb-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev python3 python3-vtk9 python3-matplotlib
 )

@@ -1,8 +1,11 @@
 /// @file main.cpp
 /// The `tetfsi` command line. Exit codes: 0 success, 2 invalid scene or input (bad options,
 /// unreadable or malformed files), 1 the run failed (e.g. diverged) or an internal error.
-/// Every exception is caught here: tetfsi reports, it does not crash.
+/// Every exception is caught here: tetfsi reports, it does not crash. Under `mpirun -n N` every
+/// process runs the command; the first prints, any error ends them all with its exit code.
+#include <chrono>
 #include <cstdio>
+#include <thread>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -12,29 +15,51 @@
 #include "apps/run/errors.hpp"
 #include "apps/scene/scene.hpp"
 #include "apps/version.hpp"
+#include "parallel/mpi_session.hpp"
+
+namespace {
+
+/// An error of this process, printed, and with several MPI processes the whole run ended with
+/// `code` at once (the others would otherwise wait for this one in their next distributed solve).
+/// A scene, input or run error (`same_everywhere`) comes from checks every process makes alike on
+/// the same state: the first process prints it and ends the run; the others wait for that, so it
+/// is printed once.
+int fail(int code, const std::string& message, bool same_everywhere) {
+  const int processes = tetfsi::parallel::num_processes(), rank = tetfsi::parallel::rank();
+  // Rank 0 aborts the run before this wait ends, unless it did not meet the error itself.
+  if (processes > 1 && rank > 0 && same_everywhere) std::this_thread::sleep_for(std::chrono::seconds(30));
+  if (processes > 1 && rank > 0) std::cerr << "[process " << rank << " of " << processes << "] ";
+  std::cerr << message << std::flush;
+  tetfsi::parallel::abort_all_if_parallel(code);
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace tetfsi;
   std::string command_line;
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
   try {
+    // Under mpirun every process runs the same command (parallel/mpi_session.hpp); only the first
+    // prints its results.
+    if (parallel::launched_by_mpirun()) {
+      parallel::initialize_mpi();
+      if (parallel::rank() > 0 && !std::freopen("/dev/null", "w", stdout))
+        throw std::runtime_error("cannot silence the standard output of an MPI process");
+    }
     return cli::dispatch(argc, argv, command_line);
   } catch (const scene::SceneError& e) {
-    std::cerr << e.what() << "\n"
-              << fmt::format("{} problem(s) in the scene; nothing was run. The key reference is "
-                             "`tetfsi schema` (docs/scene_format.md).\n", e.issues().size());
-    return 2;
+    return fail(2, fmt::format("{}\n{} problem(s) in the scene; nothing was run. The key reference is `tetfsi schema` "
+                               "(docs/scene_format.md).\n", e.what(), e.issues().size()),
+                true);
   } catch (const run::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return fail(2, fmt::format("error: {}\n", e.what()), true);
   } catch (const run::RunError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return fail(1, fmt::format("error: {}\n", e.what()), true);
   } catch (const std::exception& e) {
-    std::cerr << "internal error: " << e.what() << "\n(please report this with the scene file)\n";
-    return 1;
+    return fail(1, fmt::format("internal error: {}\n(please report this with the scene file)\n", e.what()), false);
   } catch (...) {
-    std::cerr << "internal error: unknown exception\n";
-    return 1;
+    return fail(1, "internal error: unknown exception\n", false);
   }
 }

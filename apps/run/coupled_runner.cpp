@@ -198,9 +198,9 @@ class CoupledRunner : public Simulation {
     if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
     emitters_ = timed_sources(js, log);
     setup_energy_watch(js, log);
-    log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {}, {}, mesh update {}",
+    log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {} (pressure solver: {}), {}, mesh update {}",
              stepper_->num_solids(), stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
-             c.at("solver").get<std::string>(),
+             c.at("solver").get<std::string>(), fluid::to_string(stepper_->fluid().params().solver.backend),
              fixed_h_ > 0 ? fmt::format("dt = {} s", fixed_h_)
                            : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", cfl_, edge_near_, frame_interval_),
              c.at("mesh_update").get<std::string>());

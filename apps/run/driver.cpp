@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/sinks/null_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
@@ -21,6 +22,7 @@
 #include "apps/run/simulation.hpp"
 #include "support/stopwatch.hpp"
 #include "apps/version.hpp"
+#include "parallel/mpi_session.hpp"
 
 namespace tetfsi::run {
 namespace fs = std::filesystem;
@@ -51,14 +53,14 @@ class Driver {
   /// `resume`: the checkpoint to continue from (`run --resume`), or null.
   Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log, LoadedCheckpoint* resume)
       : opt_(opt), scene_(std::move(scene)), log_(log), resume_(resume) {
-    checkpoint_every_ = scene_["export"].value("checkpoint_every", 0);
+    checkpoint_every_ = writes_ ? scene_["export"].value("checkpoint_every", 0) : 0;
     scene_hash_ = checkpoint_scene_hash(scene_.json);
   }
 
   /// Writes frame `frame` if it is due and logs the bytes it took (the state was checked, so
   /// writing it is safe).
   void write_frame(Simulation& sim, Output& out, int frame, double t) {
-    if (!out.frame_due(frame)) return;
+    if (!writes_ || !out.frame_due(frame)) return;
     const Output::Bytes before = out.bytes_written();
     Stopwatch clock;
     sim.write_frame(out, frame, t);
@@ -71,6 +73,7 @@ class Driver {
 
   /// The run.log line on the frames written in all.
   void log_output_total(const Output& out) {
+    if (!writes_) return;
     const Output::Bytes& b = out.bytes_written();
     log_.info("output: {} frame(s), {} bytes of frame files (.vtu {}, surfaces {}, volumes {}), {:.0f} bytes per frame",
               frames_written_, b.total(), b.vtu, b.surfaces, b.volumes,
@@ -82,7 +85,7 @@ class Driver {
   void run() {
     const auto& entry = choose_runner(scene_);
     log_.info("runner: {}: {}", entry.name, entry.summary);
-    if (!opt_.quiet) fmt::print("{}: {}\n", entry.name, entry.summary);
+    if (!quiet()) fmt::print("{}: {}\n", entry.name, entry.summary);
     auto sim = entry.create();
     Output out(opt_.out_dir, scene_["export"]);
     Stopwatch wall;
@@ -104,8 +107,8 @@ class Driver {
       resume_run(*sim, out, header, probes_header, entry.name, wall);
       return;
     }
-    out.begin_stats(header);
-    if (!probes.empty()) out.begin_probes(probes_header);
+    if (writes_) out.begin_stats(header);
+    if (writes_ && !probes.empty()) out.begin_probes(probes_header);
 
     check_finite(*sim, 0, 0.0);
     check_probes_answer(*sim);
@@ -127,11 +130,12 @@ class Driver {
     }
     Stopwatch io;
     write_frame(*sim, out, 0, 0.0);
-    if (!probes.empty() && static_rows.empty()) out.probes_row(probe_values);
-    for (const auto& row : static_rows) out.probes_row(row);
+    if (writes_ && !probes.empty() && static_rows.empty()) out.probes_row(probe_values);
+    for (const auto& row : static_rows)
+      if (writes_) out.probes_row(row);
     double t_output = io.seconds();
     if (!sim->time_dependent()) {
-      out.stats_row(stats_row(setup, 0, 0.0, t_output));
+      if (writes_) out.stats_row(stats_row(setup, 0, 0.0, t_output));
       log_output_total(out);
       log_.info("done: frame 0 written in {:.3f} s (total {:.3f} s)", t_output, wall.seconds());
       return;
@@ -190,7 +194,7 @@ class Driver {
     const double frame_dt = 1.0 / scene_["simulation"].at("frame_rate").get<double>();
     const double eps = 1e-12 * std::max(end, frame_dt);
     const long max_steps = scene_["simulation"].at("max_steps").get<long>();
-    Progress progress(end, !opt_.quiet);
+    Progress progress(end, !quiet());
     progress.start(t, wall.seconds());  // the ETA leaves out set-up and frame 0
     try {
       while (t < end - eps) {
@@ -226,9 +230,9 @@ class Driver {
         io.restart();
         const bool at_frame = t >= next_frame - eps;
         if (at_frame) write_frame(*sim, out, ++frame, t);
-        if (!probes.empty()) out.probes_row(probe_values);
+        if (writes_ && !probes.empty()) out.probes_row(probe_values);
         t_output = io.seconds();
-        out.stats_row(stats_row(r, step, t, t_output));
+        if (writes_) out.stats_row(stats_row(r, step, t, t_output));
         // A checkpoint every checkpoint_every frames, and at the end when it lands on a frame (a
         // later --resume with a longer end time then goes on from there).
         const bool last = !(t < end - eps);
@@ -318,7 +322,13 @@ class Driver {
     return row;
   }
 
+  /// No progress line: --quiet, or a process other than the first of an MPI run.
+  bool quiet() const { return opt_.quiet || !writes_; }
+
   const RunOptions& opt_;
+  /// Only the first MPI process writes the output folder and prints (the others hold the same
+  /// state: parallel/mpi_session.hpp).
+  const bool writes_ = parallel::rank() == 0;
   scene::Scene scene_;
   spdlog::logger& log_;
   std::set<std::size_t> warned_;
@@ -328,6 +338,18 @@ class Driver {
   int last_checkpoint_frame_ = -1;
   std::uint64_t scene_hash_ = 0;  ///< checkpoint_scene_hash of the resolved scene
 };
+
+/// A process other than the first of an MPI run: the same set-up and steps as the first (the
+/// distributed solves need every process), nothing written and nothing logged but errors.
+void run_on_other_process(const RunOptions& opt, scene::Scene scene) {
+  if (opt.resume) throw InputError("--resume: continue a run on one process (without mpirun); its checkpoints are the same");
+  const int threads = scene["simulation"].at("threads").get<int>();
+  const int used = threads > 0 ? threads : tbb::info::default_concurrency();
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);
+  parallel::set_library_threads(used);
+  auto log = std::make_shared<spdlog::logger>("run", std::make_shared<spdlog::sinks::null_sink_mt>());
+  Driver(opt, std::move(scene), *log, nullptr).run();
+}
 
 }  // namespace
 
@@ -353,6 +375,12 @@ void run_scene(const RunOptions& opt) {
   PreflightOptions checks;
   checks.max_tets = opt.max_tets;
   const PreflightReport report = preflight(scene, checks);
+  if (parallel::rank() > 0) {
+    run_on_other_process(opt, std::move(scene));
+    return;
+  }
+  if (opt.resume && parallel::num_processes() > 1)
+    throw InputError("--resume: continue a run on one process (without mpirun); its checkpoints are the same");
   std::error_code ec;
   fs::create_directories(opt.out_dir, ec);
   if (ec || !fs::is_directory(opt.out_dir))
@@ -397,7 +425,11 @@ void run_scene(const RunOptions& opt) {
   const int threads = scene["simulation"].at("threads").get<int>();
   const int used = threads > 0 ? threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);
+  parallel::set_library_threads(used);
   log->info("threads: {}", used);
+  if (parallel::num_processes() > 1)
+    log->info("{} MPI processes: each runs the whole step with {} thread(s); the pressure and coupled solves run on "
+              "PETSc with the rows spread over them; this one (rank 0) writes the output", parallel::num_processes(), used);
   const std::string resolved = scene.json.dump(2);
   log->info("resolved scene (defaults filled in; FNV-1a hash {:016x}; checkpoints' scene hash {:016x}):\n{}",
             fnv1a(resolved), checkpoint_scene_hash(scene.json), resolved);

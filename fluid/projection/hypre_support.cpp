@@ -1,24 +1,12 @@
 #include "fluid/projection/hypre_support.hpp"
 
-#include <cstdlib>
+#include "parallel/mpi_session.hpp"
 
 namespace tetfsi::fluid::hypre {
-namespace {
-void finalize_mpi() {
-  int finalized = 0;
-  MPI_Finalized(&finalized);
-  if (!finalized) MPI_Finalize();
-}
-}  // namespace
 
 void ensure_initialized() {
   static const bool ready = [] {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    if (!initialized) {
-      MPI_Init(nullptr, nullptr);
-      std::atexit(finalize_mpi);
-    }
+    parallel::initialize_mpi();
     HYPRE_Init();
     return true;
   }();
@@ -33,7 +21,7 @@ Matrix::Matrix(const Eigen::SparseMatrix<double>& a) : n_(static_cast<int>(a.row
     rows_[i] = i;
     ncols[i] = a.outerIndexPtr()[i + 1] - a.outerIndexPtr()[i];
   }
-  HYPRE_IJMatrixCreate(MPI_COMM_WORLD, 0, n_ - 1, 0, n_ - 1, &ij_);
+  HYPRE_IJMatrixCreate(MPI_COMM_SELF, 0, n_ - 1, 0, n_ - 1, &ij_);
   HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR);
   HYPRE_IJMatrixSetRowSizes(ij_, ncols.data());
   HYPRE_IJMatrixInitialize(ij_);
@@ -44,7 +32,7 @@ Matrix::Matrix(const Eigen::SparseMatrix<double>& a) : n_(static_cast<int>(a.row
 
 Vector::Vector(const std::vector<int>& rows, const double* values) : rows_(rows) {
   const int n = static_cast<int>(rows.size());
-  HYPRE_IJVectorCreate(MPI_COMM_WORLD, 0, n - 1, &ij_);
+  HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, n - 1, &ij_);
   HYPRE_IJVectorSetObjectType(ij_, HYPRE_PARCSR);
   HYPRE_IJVectorInitialize(ij_);
   HYPRE_IJVectorSetValues(ij_, n, rows.data(), values);

@@ -1,6 +1,7 @@
 #include "fluid/projection/linear_solver.hpp"
 
 #include "fluid/projection/hypre_support.hpp"
+#include "parallel/distributed_solve.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <chrono>
@@ -22,7 +23,7 @@ SolveReport solve_hypre(const Eigen::SparseMatrix<double>& a, const Eigen::Vecto
   hypre::Vector solution(matrix.rows(), x.data());
 
   HYPRE_Solver pcg;
-  HYPRE_ParCSRPCGCreate(MPI_COMM_WORLD, &pcg);
+  HYPRE_ParCSRPCGCreate(MPI_COMM_SELF, &pcg);
   HYPRE_PCGSetMaxIter(pcg, o.max_iterations);
   HYPRE_PCGSetTol(pcg, o.tolerance);
   HYPRE_PCGSetTwoNorm(pcg, 1);
@@ -66,16 +67,36 @@ SolveReport solve_eigen(const Eigen::SparseMatrix<double>& a, const Eigen::Vecto
   return r;
 }
 
+SolveReport solve_petsc(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                        const SolverOptions& o) {
+  try {
+    const parallel::DistributedSolveReport d = parallel::solve_spd_distributed(a, b, x, o.tolerance, o.max_iterations);
+    SolveReport r;
+    r.iterations = d.iterations;
+    r.setup_seconds = d.setup_seconds;
+    r.solve_seconds = d.solve_seconds;
+    return r;
+  } catch (const parallel::PetscError& e) {
+    throw SolverError(std::string("solve_spd: ") + e.what());
+  }
+}
+
 }  // namespace
 
 SolverBackend parse_solver_backend(const std::string& name) {
   if (name == "amg") return SolverBackend::kHypreAmgCg;
   if (name == "ic") return SolverBackend::kEigenIcCg;
-  throw std::invalid_argument("unknown pressure solver '" + name + "' (expected \"amg\" or \"ic\")");
+  if (name == "petsc") return SolverBackend::kPetscAmgCg;
+  throw std::invalid_argument("unknown pressure solver '" + name + "' (expected \"amg\", \"ic\" or \"petsc\")");
 }
 
 const char* to_string(SolverBackend backend) {
-  return backend == SolverBackend::kHypreAmgCg ? "hypre BoomerAMG-PCG" : "Eigen IC-PCG";
+  switch (backend) {
+    case SolverBackend::kHypreAmgCg: return "hypre BoomerAMG-PCG";
+    case SolverBackend::kEigenIcCg: return "Eigen IC-PCG";
+    case SolverBackend::kPetscAmgCg: return "PETSc CG + BoomerAMG";
+  }
+  return "?";
 }
 
 SolveReport solve_spd(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& b, Eigen::VectorXd& x,
@@ -89,8 +110,9 @@ SolveReport solve_spd(const Eigen::SparseMatrix<double>& a, const Eigen::VectorX
     x.setZero();
     return {};
   }
-  SolveReport r = options.backend == SolverBackend::kHypreAmgCg ? solve_hypre(a, b, x, options)
-                                                                 : solve_eigen(a, b, x, options);
+  SolveReport r = options.backend == SolverBackend::kHypreAmgCg  ? solve_hypre(a, b, x, options)
+                  : options.backend == SolverBackend::kPetscAmgCg ? solve_petsc(a, b, x, options)
+                                                                  : solve_eigen(a, b, x, options);
   r.relative_residual = (b - a * x).norm() / bnorm;
   if (!std::isfinite(r.relative_residual) || !x.allFinite())
     throw SolverError(std::string("solve_spd: ") + to_string(options.backend) + " produced NaN/Inf");

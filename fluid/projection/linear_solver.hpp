@@ -3,6 +3,9 @@
 /// Symmetric positive definite sparse solves behind one small interface:
 ///  - kHypreAmgCg: CG preconditioned with one BoomerAMG V-cycle (hypre 2.26, one MPI rank; MPI is
 ///    initialised on first use if the caller has not done so, and finalised at exit).
+///  - kPetscAmgCg: PETSc's CG with BoomerAMG (PCHYPRE), the rows spread over the MPI processes of
+///    the run (`mpirun -n N`; parallel/distributed_solve.hpp); one process is fine too. The same
+///    BoomerAMG settings as kHypreAmgCg, so the same answer to the tolerance.
 ///  - kEigenIcCg:  Eigen CG with IncompleteCholesky<double, Lower, NaturalOrdering<int>> (the natural
 ///    ordering converged much faster than the default AMD ordering on these matrices; shared probe).
 /// Both stop at ||b - A x||_2 <= tolerance ||b||_2; the true residual is recomputed afterwards.
@@ -13,9 +16,9 @@
 
 namespace tetfsi::fluid {
 
-enum class SolverBackend { kHypreAmgCg, kEigenIcCg };
+enum class SolverBackend { kHypreAmgCg, kEigenIcCg, kPetscAmgCg };
 
-/// Parses "amg" / "ic" (for scene files and command lines). @throws std::invalid_argument otherwise.
+/// Parses "amg" / "ic" / "petsc" (for scene files and command lines). @throws std::invalid_argument otherwise.
 SolverBackend parse_solver_backend(const std::string& name);
 const char* to_string(SolverBackend backend);
 

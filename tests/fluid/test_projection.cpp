@@ -88,7 +88,8 @@ TEST_P(ProjectionBackends, InflowToOpenBoundaryGivesExactUniformFlow) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, ProjectionBackends,
-                         ::testing::Values(SolverBackend::kHypreAmgCg, SolverBackend::kEigenIcCg));
+                         ::testing::Values(SolverBackend::kHypreAmgCg, SolverBackend::kEigenIcCg,
+                                           SolverBackend::kPetscAmgCg));
 
 TEST(Projection, ClosedDomainWithNetInflowIsAnError) {
   const FluidMesh m = jittered_box(14);
@@ -107,7 +108,7 @@ TEST(Projection, NonConvergenceIsReported) {
   const FluidMesh m = jittered_box(15);
   const ClassifiedBoundary bc = classify_boundary(m, {});
   TetVectors u = random_velocity(m, 16);
-  for (SolverBackend b : {SolverBackend::kHypreAmgCg, SolverBackend::kEigenIcCg}) {
+  for (SolverBackend b : {SolverBackend::kHypreAmgCg, SolverBackend::kEigenIcCg, SolverBackend::kPetscAmgCg}) {
     SolverOptions opt;
     opt.backend = b;
     opt.tolerance = 1e-14;

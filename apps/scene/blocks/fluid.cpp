@@ -5,8 +5,10 @@ namespace {
 
 Field solver() {
   return Field::object("solver", "Linear solver of the pressure (or coupled) system.", {
-      Field::enumeration("type", {"amg", "ic"},
-                         "Preconditioner: `amg` (hypre BoomerAMG) or `ic` (incomplete Cholesky).")
+      Field::enumeration("type", {"amg", "ic", "petsc"},
+                         "Preconditioner: `amg` (hypre BoomerAMG, this process), `ic` (incomplete Cholesky) or "
+                         "`petsc` (PETSc CG with BoomerAMG, the rows spread over the processes of `mpirun -n N "
+                         "tetfsi run`; required with more than one process; docs/scaling.md).")
           .def("amg"),
       Field::number("tolerance", "", "Relative residual at which the solver stops.")
           .greater(0).less(1).def(1e-6),
