@@ -89,7 +89,12 @@ TEST_P(ProjectionBackends, InflowToOpenBoundaryGivesExactUniformFlow) {
 
 INSTANTIATE_TEST_SUITE_P(Solvers, ProjectionBackends,
                          ::testing::Values(SolverBackend::kHypreAmgCg, SolverBackend::kEigenIcCg,
-                                           SolverBackend::kPetscAmgCg));
+                                           SolverBackend::kPetscAmgCg),
+                         [](const ::testing::TestParamInfo<SolverBackend>& info) {
+                           return info.param == SolverBackend::kHypreAmgCg  ? std::string("hypre")
+                                  : info.param == SolverBackend::kEigenIcCg ? std::string("eigen_ic")
+                                                                            : std::string("petsc");
+                         });
 
 TEST(Projection, ClosedDomainWithNetInflowIsAnError) {
   const FluidMesh m = jittered_box(14);
