@@ -102,6 +102,8 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
       options.preconditioner_name = "petsc_boomeramg";
     }
   }
+  if (!settings_.compare_solvers.empty())
+    comparison_ = std::make_unique<SolverComparison>(settings_.compare_solvers, options, fluid_.params().solver);
   solver_ = make_coupled_solver(settings_.solver, std::move(options));
   previous_vertex_pressure_.assign(mesh_.num_vertices(), 0.0);
   min_dihedral_deg_ = mesh::quality_report(mesh_, mesh::kFluidSubdomain).min_dihedral_deg;
@@ -312,19 +314,8 @@ CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const In
     rows.r -= interface.fixed_flux;
     return rows;
   }
-  // P = (h/ρ) L, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
-  const SparseMatrix L = fluid::assemble_laplacian(fm);
-  // P is L's rows and columns of the unknowns, scaled. The unknowns are numbered in node order, so
-  // L's (sorted, compressed) columns filtered in place are P's columns in order: no sort needed.
-  rows.P.resize(m, m);
-  rows.P.reserve(L.nonZeros());
-  for (int k = 0; k < L.outerSize(); ++k) {
-    if (unknown[k] < 0) continue;
-    rows.P.startVec(unknown[k]);
-    for (SparseMatrix::InnerIterator it(L, k); it; ++it)
-      if (unknown[it.row()] >= 0) rows.P.insertBack(unknown[it.row()], unknown[k]) = (h / rho) * it.value();
-  }
-  rows.P.finalize();
+  // P = (h/ρ) L on the unknowns, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
+  rows.P = fluid::assemble_laplacian(fm, unknown, m, h / rho);
   const Eigen::VectorXd div_star = fluid::gradient_transpose_volume(fm, fluid_.fields().velocity) - bc.flux;
   rows.r.resize(m);
   for (int i = 0; i < fm.num_nodes(); ++i)
@@ -423,6 +414,8 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   report.pressure_unknowns = sys.num_pressures();
   Eigen::VectorXd u, p;
   report.solve = solve_with_contact(h, sys, interface.unknown, u, p);  // eq. (7) with contact
+  if (comparison_)  // the same system from the same guess, before update() moves either
+    report.compared = comparison_->run(sys, solid_velocities(), previous_pressure(interface.unknown, sys.num_pressures()));
   const Eigen::VectorXd pressure_forces = interface.H_all.transpose() * p;  // J p^{n+1}, fixed nodes too
   pressure_force_.assign(solids_.size(), Eigen::Vector3d::Zero());
   for (std::size_t i = 0; i < solids_.size(); ++i)

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "coupling/mesh_update.hpp"
+#include "coupling/solver_comparison.hpp"
 #include "coupling/solvers/coupled_solver.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/submesh.hpp"
@@ -87,6 +88,9 @@ struct CoupledSettings {
   /// and length [s]: a caller prescribes the velocities of kinematic solids over [t, t + h] here
   /// (NewmarkIntegrator::fix_nodes), so that their nodes land where their motion puts them.
   std::function<void(double t, double h)> before_step;
+  /// Benchmark: after each step's solve, solve the same system again with these and record their
+  /// times (`bicgstab`, `umfpack`, `projection`; solver_comparison.hpp). Empty: none.
+  std::vector<std::string> compare_solvers;
 };
 
 /// One stats.csv row of a coupled step.
@@ -95,6 +99,7 @@ struct CoupledStepReport {
   double time = 0;                  ///< t^{n+1} [s]
   fluid::StepReport fluid;          ///< advect / forces timings, counts
   CoupledSolveReport solve;         ///< which solver ran, iterations, residuals, time
+  std::vector<ComparedSolve> compared;  ///< CoupledSettings::compare_solvers, in that order
   MeshUpdateReport mesh_update;     ///< remeshed or only moved, min dihedral angle, time
   double solid_assemble_seconds = 0;
   double interface_seconds = 0;     ///< H and the reduced fluid blocks
@@ -271,6 +276,7 @@ class CoupledStepper {
   std::vector<Solid> solids_;
   int num_solid_dofs_ = 0;                        // 3 x the nodes of all solids
   std::unique_ptr<CoupledSolver> solver_;
+  std::unique_ptr<SolverComparison> comparison_;  ///< null unless settings_.compare_solvers
   std::vector<double> previous_vertex_pressure_;  // per mesh vertex, for time splitting
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_
   std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes

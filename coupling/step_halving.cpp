@@ -51,6 +51,10 @@ CoupledStepReport CoupledStepper::step_or_halve(double h, int halvings) {
   second.solve.solve_seconds += first.solve.solve_seconds;
   second.solve.iterations += first.solve.iterations;
   second.solve.contact_rounds += first.solve.contact_rounds;
+  for (std::size_t k = 0; k < second.compared.size() && k < first.compared.size(); ++k) {
+    second.compared[k].seconds += first.compared[k].seconds;
+    second.compared[k].iterations += first.compared[k].iterations;
+  }
   return second;
 }
 

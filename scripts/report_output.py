@@ -123,7 +123,10 @@ def page(cases, rows, order, total, command, quick, load):
              "- [table.md](table.md) (and [table.csv](table.csv)): every run: case, model, resolution, unknowns, "
              "error against the named reference, its band, wall time per step and per simulated second, peak memory",
              "- [error_vs_time.png](error_vs_time.png): |error| against wall time, one panel per case, log axes, with "
-             "the observed order of convergence; the last panel: every case's |error| against its resolution h", "",
+             "the observed order of convergence; the last panel: every case's |error| against its resolution h",
+             "- [scaling.md](scaling.md) (and [scaling.csv](scaling.csv)): the coupled step on the flagship geometry "
+             "at about 100k, 400k and 1M fluid tets, time per phase, peak memory, and its solvers side by side "
+             "(`scripts/report_scaling.py --out " + "OUT`, run on its own: it takes longer than the cases)", "",
              "Wall time and peak resident memory are those of the whole process (meshing, set-up and output "
              "included; frames are not written). Unknowns: fluid pressure unknowns (fluid runner, bench_fluid's "
              "potential flow), pressure unknowns + solid dofs (coupled runner, largest step), 3 x nodes (tet and "

@@ -122,6 +122,8 @@ class CoupledRunner : public Simulation {
     cs.solver_options.tolerance = c.at("tolerance").get<double>();
     cs.solver_options.max_iterations = c.at("max_iterations").get<int>();
     cs.solver_options.reuse_factorization = c.at("reuse_factorization").get<bool>();
+    cs.compare_solvers = c.at("compare_solvers").get<std::vector<std::string>>();
+    compare_solvers_ = cs.compare_solvers;
     cs.newmark = c.at("newmark") == "trapezoidal" ? solid::NewmarkScheme::kTrapezoidal
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
@@ -220,6 +222,8 @@ class CoupledRunner : public Simulation {
                                   "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps"};
     if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
     if (stepper_->fluid().viscous()) c.push_back("viscous_iterations");
+    for (const std::string& name : compare_solvers_)
+      c.insert(c.end(), {"compare_" + name + "_seconds", "compare_" + name + "_iterations"});
     return c;
   }
   /// The scene's `dt`, or the CFL step cfl dx / u_max with dx the fluid edge length next to the
@@ -287,6 +291,10 @@ class CoupledRunner : public Simulation {
     if (stepper_->fluid().viscous()) {
       out.phase_seconds.push_back(r.fluid.viscosity_seconds);
       out.values.push_back(double(r.fluid.viscous_iterations));
+    }
+    for (const coupling::ComparedSolve& c : r.compared) {  // -1 iterations: it missed its tolerance
+      if (!c.failure.empty()) log_->warn("t = {} s: compare_solvers: {}", r.time, c.failure);
+      out.values.insert(out.values.end(), {c.seconds, c.failure.empty() ? double(c.iterations) : -1.0});
     }
     return out;
   }
@@ -380,14 +388,7 @@ class CoupledRunner : public Simulation {
       return {volume};
     }
     if (kind == "point_displacement") {
-      const Eigen::Vector3d target = vec3(p.at("point"));
-      const Eigen::VectorXd& X = model.reference_positions();
-      int best = 0;
-      double best_d = std::numeric_limits<double>::infinity();
-      for (int a = 0; a < model.num_nodes(); ++a) {
-        const double dist = (X.segment<3>(3 * a) - target).squaredNorm();
-        if (dist < best_d) best_d = dist, best = a;
-      }
+      const int best = nearest_node(model.reference_positions(), vec3(p.at("point")));
       const Eigen::Vector3d u = stepper_->solid(i).displacement().segment<3>(3 * best);
       return {u.x(), u.y(), u.z()};
     }
@@ -467,6 +468,7 @@ class CoupledRunner : public Simulation {
   SurfaceRefinement refinement_;             ///< the mesh finer at the liquid surface (off without one)
   bool surface_left_refined_zone_ = false;   ///< refit the mesh to the surface in the next step
   std::string scheme_;
+  std::vector<std::string> compare_solvers_;  ///< coupling.compare_solvers: stats.csv columns
 };
 
 }  // namespace

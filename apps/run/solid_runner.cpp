@@ -342,11 +342,7 @@ class SolidRunner : public Simulation {
     for (const auto& b : bodies_) {
       if (!p.contains("solid") || p["solid"] != b.name) continue;
       if (kind == "point_displacement") {  // the node nearest to the rest point
-        const Eigen::Vector3d x = vec3(p.at("point"));
-        const auto& X = b.model->reference_positions();
-        int best = 0;
-        for (int i = 1; i < b.model->num_nodes(); ++i)
-          if ((X.segment<3>(3 * i) - x).squaredNorm() < (X.segment<3>(3 * best) - x).squaredNorm()) best = i;
+        const int best = nearest_node(b.model->reference_positions(), vec3(p.at("point")));
         const Eigen::Vector3d d = displacement(b).segment<3>(3 * best);
         return {d.x(), d.y(), d.z()};
       }

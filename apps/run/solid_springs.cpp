@@ -2,10 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <limits>
-
 #include "apps/run/errors.hpp"
 #include "apps/run/scene_values.hpp"
+#include "apps/run/tet_tools.hpp"
 
 namespace tetfsi::run {
 
@@ -13,7 +12,6 @@ int add_scene_springs(solid::NewmarkIntegrator& integrator, const scene::Json& s
                       const std::string& solid_name, spdlog::logger& log) {
   if (!solid.contains("springs")) return 0;
   const Eigen::VectorXd& X = integrator.model().reference_positions();
-  const int num_nodes = static_cast<int>(X.size() / 3);
   int added = 0;
   for (std::size_t k = 0; k < solid["springs"].size(); ++k) {
     const auto& s = solid["springs"][k];
@@ -28,13 +26,7 @@ int add_scene_springs(solid::NewmarkIntegrator& integrator, const scene::Json& s
                                      solid_name));
     } else {
       // The node nearest to `point` (a solid always has nodes).
-      const Eigen::Vector3d p = vec3(s.at("point"));
-      int best = -1;
-      double best_d = std::numeric_limits<double>::infinity();
-      for (int a = 0; a < num_nodes; ++a) {
-        const double d = (X.segment<3>(3 * a) - p).squaredNorm();
-        if (d < best_d) best_d = d, best = a;
-      }
+      const int best = nearest_node(X, vec3(s.at("point")));
       if (best < 0) throw InputError(fmt::format("{}/point: {} of solid '{}': the solid has no node", where, label, solid_name));
       nodes.push_back(best);
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "mesh/interface.hpp"
@@ -65,6 +66,16 @@ double mean_edge_length(const mesh::SurfaceMesh& surface) {
   for (const auto& t : surface.triangles)
     for (int k = 0; k < 3; ++k) sum += (surface.vertices[t[(k + 1) % 3]] - surface.vertices[t[k]]).norm();
   return surface.triangles.empty() ? 0.0 : sum / (3.0 * static_cast<double>(surface.triangles.size()));
+}
+
+int nearest_node(const Eigen::VectorXd& X, const Eigen::Vector3d& x) {
+  int best = -1;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < X.size() / 3; ++a) {
+    const double d = (X.segment<3>(3 * a) - x).squaredNorm();
+    if (d < best_d) best_d = d, best = a;
+  }
+  return best;
 }
 
 }  // namespace tetfsi::run

@@ -1,7 +1,8 @@
 #pragma once
 /// @file tet_tools.hpp
 /// Tet-mesh helpers the runners need: extraction of one subdomain, the boundary surface of a tet
-/// set, and measures of a surface. (Quality figures come from mesh/quality.hpp.)
+/// set, measures of a surface, and the node nearest a point. (Quality figures come from
+/// mesh/quality.hpp.)
 #include "mesh/surface_mesh.hpp"
 #include "mesh/tet_mesh.hpp"
 
@@ -20,5 +21,9 @@ double surface_area(const mesh::SurfaceMesh& surface);
 
 /// Mean length of the triangles' edges [m] (each edge counted once per triangle); 0 if none.
 double mean_edge_length(const mesh::SurfaceMesh& surface);
+
+/// The node whose position in X (3 per node, stacked) is nearest to x (the first of equals; -1 if
+/// X holds no node): where a probe or spring given by a point acts on a solid.
+int nearest_node(const Eigen::VectorXd& X, const Eigen::Vector3d& x);
 
 }  // namespace tetfsi::run

@@ -30,9 +30,18 @@ TetVectors gradient(const FluidMesh& mesh, const Eigen::VectorXd& p);
 Eigen::VectorXd gradient_transpose_volume(const FluidMesh& mesh, const TetVectors& u);
 
 
-/// P1 stiffness matrix L = G^T V G (N x N), symmetric positive semi-definite (constant null space).
-/// Assembled per tet in parallel into fixed triplet slots, then summed: deterministic.
+/// P1 stiffness matrix L = G^T V G (N x N), symmetric positive semi-definite (constant null space):
+/// L_ij = sum_{t ni i,j} V_t grad(phi_i)|_t . grad(phi_j)|_t (Ando, Thuerey & Wojtan 2013, sec. 3).
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh);
+
+/// scale * L restricted to the rows and columns of the unknowns: entry (unknown[i], unknown[j]) of
+/// the m x m result is scale * L_ij for the nodes i, j with unknown[] >= 0 (a node with -1 is left
+/// out).
+///
+/// Assembled per tet in parallel into fixed triplet slots, summed in tet order, then scaled:
+/// deterministic, and bit for bit L's entries filtered and scaled afterwards.
+Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std::vector<int>& unknown, int m,
+                                              double scale = 1.0);
 
 /// Weighted average of per-tet values at the nodes, x_i = sum_{t ni i} w_t x_t / sum_{t ni i} w_t,
 /// with w_t = `weight`[t] (nullptr: the tet volumes V_t). Summed over each node's tets in

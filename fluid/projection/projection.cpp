@@ -71,24 +71,8 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
       if (unknown[i] >= 0) unknown[i] = m++;
   }
   if (m == 0) throw std::invalid_argument("project: every fluid node is on an open boundary: nothing to solve");
-  // Reduced L (rows/columns of unknown nodes only), assembled per tet into fixed triplet slots:
-  // deterministic; equal to assemble_laplacian() restricted to the unknowns.
-  const int nt = mesh.num_tets();
-  std::vector<Eigen::Triplet<double>> trip(16 * static_cast<size_t>(nt), Eigen::Triplet<double>(0, 0, 0.0));
-  tbb::parallel_for(0, nt, [&](int t) {
-    for (int a = 0; a < 4; ++a) {
-      const int ra = unknown[mesh.tets[t][a]];
-      if (ra < 0) continue;
-      for (int b = 0; b < 4; ++b) {
-        const int cb = unknown[mesh.tets[t][b]];
-        if (cb >= 0)
-          trip[16 * static_cast<size_t>(t) + 4 * a + b] =
-              Eigen::Triplet<double>(ra, cb, mesh.volume[t] * mesh.grad[t][a].dot(mesh.grad[t][b]));
-      }
-    }
-  });
-  Eigen::SparseMatrix<double> a(m, m);
-  a.setFromTriplets(trip.begin(), trip.end());  // unused slots add 0 to (0, 0), which is on the diagonal
+  // Reduced L (rows/columns of unknown nodes only; the unknowns are numbered in node order).
+  const Eigen::SparseMatrix<double> a = assemble_laplacian(mesh, unknown, m);
   rep.assemble_seconds = now() - t0;
   solve_on_unknowns(a, rhs, unknown, m, options, rep);
   if (bc.closed) {

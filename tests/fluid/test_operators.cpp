@@ -77,6 +77,38 @@ TEST(FluidOperators, GradientOfLinearFieldIsExactAndLMatchesGTVG) {
   EXPECT_LE((boundary_flux_matrix(m, faces) * nodal - flux).cwiseAbs().maxCoeff(), 1e-13);
 }
 
+TEST(FluidOperators, LaplacianOnUnknownsIsTheTripletSumBitForBit) {
+  // assemble_laplacian(mesh, unknown, m, scale): every third node left out (open or pinned nodes),
+  // the rest renumbered in node order; against a per-tet triplet sum in tet order (Eigen's
+  // setFromTriplets sums duplicates in insertion order), then scaled: equal to the last bit.
+  const FluidMesh m = jittered_box(2, 3);
+  std::vector<int> unknown(m.num_nodes(), -1);
+  int count = 0;
+  for (int i = 0; i < m.num_nodes(); ++i)
+    if (i % 3 != 1) unknown[i] = count++;
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int t = 0; t < m.num_tets(); ++t)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (unknown[m.tets[t][a]] >= 0 && unknown[m.tets[t][b]] >= 0)
+          trip.emplace_back(unknown[m.tets[t][a]], unknown[m.tets[t][b]], m.volume[t] * m.grad[t][a].dot(m.grad[t][b]));
+  Eigen::SparseMatrix<double> expected(count, count);
+  expected.setFromTriplets(trip.begin(), trip.end());
+  const double scale = 0.0125 / 998.2;  // h / rho
+  expected *= scale;
+  const Eigen::SparseMatrix<double> l = assemble_laplacian(m, unknown, count, scale);
+  ASSERT_EQ(l.nonZeros(), expected.nonZeros());
+  ASSERT_TRUE(l.isCompressed());
+  for (int c = 0; c < count; ++c) {
+    Eigen::SparseMatrix<double>::InnerIterator it(l, c), ie(expected, c);
+    for (; it && ie; ++it, ++ie) {
+      ASSERT_EQ(it.row(), ie.row()) << "column " << c;
+      ASSERT_EQ(it.value(), ie.value()) << "entry (" << it.row() << ", " << c << ")";
+    }
+    ASSERT_FALSE(it || ie) << "column " << c;
+  }
+}
+
 TEST(FluidOperators, BoundaryFluxIsExactForLinearVelocity) {
   // Rotation about the box centre: u = w x (x - c) is linear and divergence-free, so the total
   // flux through the closed box surface is 0 and each face's flux is integrated exactly.

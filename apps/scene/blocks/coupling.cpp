@@ -65,6 +65,14 @@ Field coupling() {
                      "conserving, Coulomb friction from `obstacles.friction`; solid/contact/surface_contact.hpp). "
                      "Kinematic and fixed parts are obstacles for the others. `false`: solids that meet stop the run.")
           .def(true),
+      Field::enumeration_set("compare_solvers", {"bicgstab", "umfpack", "projection"},
+                             "Benchmark: after each step's solve, solve the same system again from the same "
+                             "guess with these and record their wall time and iterations in stats.csv "
+                             "(`compare_<name>_seconds`, `compare_<name>_iterations`); the answers are discarded, "
+                             "so the run is unchanged. `bicgstab`, `umfpack`: eq. (7) by that solver; "
+                             "`projection`: the fluid-only pressure projection of the same mesh (the solids as "
+                             "walls) by `fluid.solver`. `umfpack` needs several GB beyond ~300k unknowns.")
+          .def(Json::array()),
       Field::number("contact_gap", "m",
                     "Thickness of the fluid film kept between a solid and the container's walls "
                     "(`wall_contact`), the obstacles, another solid (`solid_contact`) or itself "
