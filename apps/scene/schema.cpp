@@ -85,7 +85,7 @@ std::string Field::expectation() const {
       return s;
     }
     case Kind::EnumSet: {
-      std::string s = "a non-empty array of distinct values from ";
+      std::string s = empty_set_allowed() ? "an array of distinct values from " : "a non-empty array of distinct values from ";
       for (std::size_t i = 0; i < choices.size(); ++i) s += (i ? ", \"" : "\"") + choices[i] + "\"";
       return s;
     }

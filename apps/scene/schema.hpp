@@ -84,6 +84,8 @@ struct Field {
   Field&& less(double v) && { lt = v; return std::move(*this); }
   Field&& at_most(double v) && { le = v; return std::move(*this); }
   Field&& items(int n) && { min_items = n; return std::move(*this); }
+  /// EnumSet: an empty array is valid when it is the default (e.g. "compare nothing").
+  bool empty_set_allowed() const { return default_value.is_array() && default_value.empty(); }
   Field&& variant(std::string tag_value, std::vector<Field> extra) && {
     variants[std::move(tag_value)] = std::move(extra);
     return std::move(*this);

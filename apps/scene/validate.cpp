@@ -70,7 +70,7 @@ class Validator {
         return v;
       }
       case Kind::EnumSet: {
-        if (!v.is_array() || v.empty()) return bad(ptr, f, v);
+        if (!v.is_array() || (v.empty() && !f.empty_set_allowed())) return bad(ptr, f, v);
         std::vector<std::string> seen;
         for (std::size_t i = 0; i < v.size(); ++i) {
           const std::string iptr = ptr + "/" + std::to_string(i);
