@@ -250,29 +250,8 @@ class Checker {
   /// Scenes no runner simulates as written: refused rather than run in part.
   void check_runner() {
     for (auto& issue : model_mix_issues(js_, runner_->name, meshes_fluid())) issues_.push_back(std::move(issue));
-    check_processes();
+    for (auto& issue : process_issues(js_, runner_->name, parallel::num_processes())) issues_.push_back(std::move(issue));
   }
-
-  /// More than one MPI process (`mpirun -n N`): only the fluid and coupled runners distribute
-  /// anything (their pressure and coupled solves, on PETSc: parallel/mpi_session.hpp); any other
-  /// set-up would run N copies of the same serial run.
-  void check_processes() {
-    const int processes = parallel::num_processes();
-    if (processes <= 1) return;
-    if (runner_->name != "fluid" && runner_->name != "coupled") {
-      add("", fmt::format("started as {} MPI processes, but the {} runner runs on one: only fluid and coupled scenes "
-                          "distribute their linear solves (run it without mpirun)", processes, runner_->name));
-      return;
-    }
-    if (js_.at("fluid").at("solver").at("type") != "petsc")
-      add("/fluid/solver/type", fmt::format("started as {} MPI processes: set it to \"petsc\" (the solver that "
-                                            "spreads the pressure system over the processes), or run without mpirun",
-                                            processes));
-    if (runner_->name == "coupled" && js_.at("coupling").at("solver") != "schur_cg")
-      add("/coupling/solver", fmt::format("started as {} MPI processes: only \"schur_cg\" runs its preconditioner on "
-                                          "the processes (with fluid.solver.type \"petsc\")", processes));
-  }
-
 
   /// A boundary-condition box that misses the solid's bounding box selects no node: the run would
   /// stop on it after meshing, so validate says so too.

@@ -111,4 +111,24 @@ std::vector<scene::Issue> checkpoint_issues(const scene::Scene& scene, const Run
                        runner.name == "solid" ? " as a static analysis" : "")}};
 }
 
+std::vector<scene::Issue> process_issues(const scene::Json& js, const std::string& runner, int processes) {
+  std::vector<scene::Issue> issues;
+  if (processes <= 1) return issues;
+  if (runner != "fluid" && runner != "coupled") {
+    issues.push_back({"", fmt::format("started as {} MPI processes, but the {} runner runs on one: only fluid and "
+                                      "coupled scenes distribute their linear solves (run it without mpirun)",
+                                      processes, runner)});
+    return issues;
+  }
+  if (js.at("fluid").at("solver").at("type") != "petsc")
+    issues.push_back({"/fluid/solver/type", fmt::format("started as {} MPI processes: set it to \"petsc\" (the solver "
+                                                        "that spreads the pressure system over the processes), or run "
+                                                        "without mpirun", processes)});
+  if (runner == "coupled" && js.at("coupling").at("solver") != "schur_cg")
+    issues.push_back({"/coupling/solver", fmt::format("started as {} MPI processes: only \"schur_cg\" runs its "
+                                                      "preconditioner on the processes (with fluid.solver.type "
+                                                      "\"petsc\")", processes)});
+  return issues;
+}
+
 }  // namespace tetfsi::run

@@ -21,4 +21,9 @@ std::vector<scene::Issue> model_mix_issues(const scene::Json& js, const std::str
 /// (RunnerEntry::checkpoints; checkpoint.hpp): the issue naming the key, or none.
 std::vector<scene::Issue> checkpoint_issues(const scene::Scene& scene, const RunnerEntry& runner);
 
+/// More than one MPI process (`mpirun -n N`): only the fluid and coupled runners distribute
+/// anything (their pressure and coupled solves, on PETSc: parallel/mpi_session.hpp); any other
+/// set-up would run N copies of the same serial run. The issues naming the key to change, or none.
+std::vector<scene::Issue> process_issues(const scene::Json& js, const std::string& runner, int processes);
+
 }  // namespace tetfsi::run
