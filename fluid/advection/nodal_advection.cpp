@@ -45,14 +45,14 @@ std::vector<Location> feet_of(const FluidMesh& old_mesh, const NodalState& nodal
                               double h, const PointLocator& locator, AdvectionReport* report) {
   const int n = new_mesh.num_nodes();
   // A moved mesh keeps its nodes: node i's walk starts at one of its old tets.
-  const bool same_nodes = n == old_mesh.num_nodes() && new_mesh.tets == old_mesh.tets;
+  const bool same_nodes = !matching_tets(old_mesh, new_mesh).empty();
   std::vector<Location> feet(n);
   std::atomic<int> clamped_total{0}, outside_total{0};
   const int blocks = (n + kBlock - 1) / kBlock;
   tbb::parallel_for(0, blocks, [&](int b) {
     int hint = -1, clamped = 0, outside = 0;
     for (int i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
-      if (same_nodes) hint = old_mesh.node_tets[i].front();
+      if (same_nodes) hint = old_mesh.node_tets[old_mesh.mesh_vertex_to_node[new_mesh.node_to_mesh_vertex[i]]].front();
       // Points that leave the fluid are clamped to it (the locator's clamped barycentric
       // coordinates in the boundary tet its walk ended in), not cut back along the trace: a node
       // on a wall whose velocity has the slightest outward part would otherwise hardly move.

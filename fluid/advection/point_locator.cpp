@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_for.h>
+
 namespace tetfsi::fluid {
 namespace {
 constexpr double kInsideTolerance = 1e-10;  ///< barycentric slack for points on faces
@@ -24,35 +26,37 @@ PointLocator::PointLocator(const FluidMesh& mesh) : mesh_(mesh) {
   lo_ = lo;
   cell_size_ = ext.cwiseQuotient(dims_.cast<double>());
   const size_t ncell = static_cast<size_t>(dims_.prod());
-  std::vector<int> count(ncell + 1, 0);
-  auto for_cells = [&](int t, auto&& f) {
+  // Per tet, in parallel: its bounding box (grown by the margin) and the range of cells that its
+  // unmargined box overlaps; then, serially (the order within a cell decides grid_find's ties),
+  // the cells' tet lists as CSR.
+  const int num_tets = mesh.num_tets();
+  box_lo_.resize(num_tets);
+  box_hi_.resize(num_tets);
+  std::vector<Eigen::Vector3i> cell_lo(num_tets), cell_hi(num_tets);
+  tbb::parallel_for(0, num_tets, [&](int t) {
     Eigen::Vector3d a = mesh.nodes[mesh.tets[t][0]], b = a;
     for (int k = 1; k < 4; ++k) {
       a = a.cwiseMin(mesh.nodes[mesh.tets[t][k]]);
       b = b.cwiseMax(mesh.nodes[mesh.tets[t][k]]);
     }
-    const Eigen::Vector3i ca = cell_of(a), cb = cell_of(b);
+    cell_lo[t] = cell_of(a);
+    cell_hi[t] = cell_of(b);
+    const double margin = 1e-6 * (b - a).maxCoeff();
+    box_lo_[t] = a.array() - margin;
+    box_hi_[t] = b.array() + margin;
+  });
+  auto for_cells = [&](int t, auto&& f) {
+    const Eigen::Vector3i &ca = cell_lo[t], &cb = cell_hi[t];
     for (int k = ca[2]; k <= cb[2]; ++k)
       for (int j = ca[1]; j <= cb[1]; ++j)
         for (int i = ca[0]; i <= cb[0]; ++i) f(static_cast<size_t>(i) + dims_[0] * (j + static_cast<size_t>(dims_[1]) * k));
   };
-  box_lo_.resize(mesh.num_tets());
-  box_hi_.resize(mesh.num_tets());
-  for (int t = 0; t < mesh.num_tets(); ++t) {
-    Eigen::Vector3d a = mesh.nodes[mesh.tets[t][0]], b = a;
-    for (int k = 1; k < 4; ++k) {
-      a = a.cwiseMin(mesh.nodes[mesh.tets[t][k]]);
-      b = b.cwiseMax(mesh.nodes[mesh.tets[t][k]]);
-    }
-    const double margin = 1e-6 * (b - a).maxCoeff();
-    box_lo_[t] = a.array() - margin;
-    box_hi_[t] = b.array() + margin;
-  }
-  for (int t = 0; t < mesh.num_tets(); ++t) for_cells(t, [&](size_t c) { ++count[c + 1]; });
+  std::vector<int> count(ncell + 1, 0);
+  for (int t = 0; t < num_tets; ++t) for_cells(t, [&](size_t c) { ++count[c + 1]; });
   for (size_t c = 0; c < ncell; ++c) count[c + 1] += count[c];
   cell_start_ = count;
   cell_tets_.resize(count[ncell]);
-  for (int t = 0; t < mesh.num_tets(); ++t) for_cells(t, [&](size_t c) { cell_tets_[count[c]++] = t; });
+  for (int t = 0; t < num_tets; ++t) for_cells(t, [&](size_t c) { cell_tets_[count[c]++] = t; });
 }
 
 Eigen::Vector3i PointLocator::cell_of(const Eigen::Vector3d& x) const {

@@ -65,10 +65,11 @@ Eigen::Vector3d interp_velocity(const FluidMesh& m, const Packed& nodal, const L
 }
 
 /// Moves from `from` (inside, at `from_loc`) towards `to`; returns the location of `to` if inside,
-/// else of the last inside point found by bisection on the segment.
+/// else of the last inside point found by bisection on the segment. The walk to `to` starts at
+/// `hint` (a tet near `to`; -1: from_loc's tet).
 Location trace_to(const PointLocator& loc, const Eigen::Vector3d& from, const Location& from_loc,
-                  const Eigen::Vector3d& to, int& clamped, bool* cut = nullptr) {
-  Location l = loc.locate(to, from_loc.tet);
+                  const Eigen::Vector3d& to, int& clamped, bool* cut = nullptr, int hint = -1) {
+  Location l = loc.locate(to, hint >= 0 ? hint : from_loc.tet);
   if (l.inside) return l;
   ++clamped;
   if (cut) *cut = true;
@@ -100,7 +101,9 @@ Location trace_foot(const FluidMesh& vel_mesh, const PointLocator& locator, cons
   }
   const Eigen::Vector3d xm = x0 - 0.5 * h * interp_velocity(vel_mesh, nodal, l0);
   const Location lm = trace_to(locator, x0, l0, xm, clamped);
-  return trace_to(locator, x0, l0, x0 - h * interp_velocity(vel_mesh, nodal, lm), clamped, &cut);
+  // The foot x0 - h v(xm) lies about h|v|/2 from the midpoint and h|v| from x0: walk from the
+  // midpoint's tet (a third fewer walk steps); a cut trace still bisects the segment from x0.
+  return trace_to(locator, x0, l0, x0 - h * interp_velocity(vel_mesh, nodal, lm), clamped, &cut, lm.tet);
 }
 
 /// RK2 (midpoint) feet of the centroids of `targets`, traced for time h (negative: forward) through
@@ -113,15 +116,15 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
   const int n = targets.num_tets();
   std::vector<Location> feet(n);
   // When the target mesh is the velocity mesh moved (the same tets, as between two remeshes of a
-  // coupled run), the centroid of target tet t lies in or next to tet t of the velocity mesh: the
-  // walk starts there (one or two steps) instead of at the previous sample's tet.
-  const bool same_tets = targets.tets == vel_mesh.tets;
+  // coupled run), the centroid of target tet t lies in or next to its tet of the velocity mesh:
+  // the walk starts there (one or two steps) instead of at the previous sample's tet.
+  const std::vector<int> match = matching_tets(vel_mesh, targets);
   std::atomic<int> clamped_total{0}, outside_total{0};
   const int blocks = (n + kBlock - 1) / kBlock;
   tbb::parallel_for(0, blocks, [&](int b) {
     int hint = -1, clamped = 0, outside = 0;
     for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
-      if (same_tets) hint = t;
+      if (!match.empty()) hint = match[t];
       bool foot_cut = false;
       feet[t] = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), h, hint, clamped, outside, foot_cut);
       if (cut && foot_cut) (*cut)[t] = 1;

@@ -4,6 +4,10 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +24,46 @@ struct FaceRecord {
 /// Local vertices of the face opposite local vertex k, ordered so that the right-hand normal points
 /// out of a positively oriented tet.
 constexpr int kFaceVertices[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+/// The bits of a 21-bit integer spread to every third bit (bit i to bit 3i).
+std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+/// The fluid tets of `mesh` (TetMesh tet ids) in Morton (Z-curve) order of their centroids over
+/// the mesh's bounding box, ties by id. Numbering the fluid tets, and the nodes as the tets first
+/// touch them, along a space-filling curve keeps neighbours close in memory: the point location,
+/// interpolation and assembly of every step then read mostly cached data, where the mesher's
+/// order (CGAL's cell container) scatters each neighbourhood over the whole arrays.
+std::vector<int> fluid_tets_in_curve_order(const mesh::TetMesh& mesh, const std::vector<char>& fluid) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (const Eigen::Vector3d& x : mesh.vertices) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const Eigen::Vector3d scale = (double((1 << 21) - 1) / (hi - lo).cwiseMax(1e-300).array()).matrix();
+  std::vector<std::pair<std::uint64_t, int>> keyed;
+  keyed.reserve(mesh.tets.size());
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (!fluid[t]) continue;
+    const auto& v = mesh.tets[t];
+    const Eigen::Vector3d c = 0.25 * (mesh.vertices[v[0]] + mesh.vertices[v[1]] + mesh.vertices[v[2]] + mesh.vertices[v[3]]);
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double u = (c[a] - lo[a]) * scale[a];  // a non-finite position is refused later, by its volume
+      const double q = std::isfinite(u) ? std::clamp(u, 0.0, double((1 << 21) - 1)) : 0.0;
+      key |= spread_bits(static_cast<std::uint64_t>(q)) << a;
+    }
+    keyed.emplace_back(key, t);
+  }
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // (key, id) pairs are distinct: deterministic
+  std::vector<int> order(keyed.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
 
 /// Volumes, centroids and hat-function gradients of every fluid tet from fm.nodes: with
 /// E = [x1-x0, x2-x0, x3-x0], the rows of E^-1 are grad(phi_1..3) and grad(phi_0) = -sum of the
@@ -84,12 +128,15 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh) {
   FluidMesh fm;
   fm.mesh_vertex_to_node.assign(nv, -1);
   std::vector<int> mesh_tet_to_fluid(nt, -1);
+  std::vector<char> fluid(nt, 0);
   for (int t = 0; t < nt; ++t) {
     for (int k = 0; k < 4; ++k)
       if (mesh.tets[t][k] < 0 || mesh.tets[t][k] >= nv)
         throw std::invalid_argument("build_fluid_mesh: tet " + std::to_string(t) + " has vertex index " +
                                     std::to_string(mesh.tets[t][k]) + " out of range");
-    if (!is_fluid(t)) continue;
+    fluid[t] = is_fluid(t);
+  }
+  for (const int t : fluid_tets_in_curve_order(mesh, fluid)) {
     mesh_tet_to_fluid[t] = static_cast<int>(fm.tets.size());
     std::array<int, 4> local{};
     for (int k = 0; k < 4; ++k) {
@@ -169,6 +216,28 @@ void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm) {
   compute_tet_geometry(fm);
   for (BoundaryFace& f : fm.boundary_faces) set_face_geometry(fm.nodes, f);
   compute_dual_volumes(fm);
+}
+
+std::vector<int> matching_tets(const FluidMesh& from, const FluidMesh& to) {
+  if (from.num_tets() != to.num_tets()) return {};
+  std::vector<int> match(to.num_tets());
+  if (from.tet_to_mesh_tet == to.tet_to_mesh_tet && from.tets == to.tets && from.node_to_mesh_vertex == to.node_to_mesh_vertex) {
+    std::iota(match.begin(), match.end(), 0);
+    return match;
+  }
+  int num_mesh_tets = 0;
+  for (const int t : from.tet_to_mesh_tet) num_mesh_tets = std::max(num_mesh_tets, t + 1);
+  std::vector<int> from_tet(num_mesh_tets, -1);
+  for (int t = 0; t < from.num_tets(); ++t) from_tet[from.tet_to_mesh_tet[t]] = t;
+  for (int t = 0; t < to.num_tets(); ++t) {
+    const int mesh_tet = to.tet_to_mesh_tet[t];
+    const int u = mesh_tet < num_mesh_tets ? from_tet[mesh_tet] : -1;
+    if (u < 0) return {};
+    for (int k = 0; k < 4; ++k)
+      if (from.node_to_mesh_vertex[from.tets[u][k]] != to.node_to_mesh_vertex[to.tets[t][k]]) return {};
+    match[t] = u;
+  }
+  return match;
 }
 
 }  // namespace tetfsi::fluid

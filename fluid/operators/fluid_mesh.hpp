@@ -50,16 +50,26 @@ struct FluidMesh {
 };
 
 /// Builds the fluid mesh from the tets labelled kFluidSubdomain (all tets if `subdomain` is empty).
-/// Runs in O(T log T) (faces matched by sorting; deterministic).
+/// The fluid tets are numbered along a Morton (Z-order) curve through their centroids and the
+/// nodes in the order the tets first touch them, so that neighbours sit close in memory (the
+/// step's point location, interpolation and assembly read mostly cached data; the mesher's own
+/// order scatters them). Runs in O(T log T) (faces matched by sorting; deterministic).
 /// @throws std::invalid_argument if there is no fluid tet, a vertex index is out of range, or a
 ///         fluid tet has non-positive volume (the message names the tet)
 FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh);
 
 /// Re-reads the node positions of `fm` from `mesh` and recomputes its geometry (volumes,
-/// gradients, centroids, boundary normals and areas, dual volumes), keeping its topology: the
-/// same result as build_fluid_mesh(mesh), bit for bit, for a mesh whose tets and subdomain
-/// labels are those `fm` was built from (a moved, not remeshed, mesh), without matching faces.
+/// gradients, centroids, boundary normals and areas, dual volumes), keeping its topology and
+/// numbering: for a mesh whose tets and subdomain labels are those `fm` was built from (a moved,
+/// not remeshed, mesh), each tet, node and face gets bit for bit what build_fluid_mesh(mesh) gives
+/// it (which may number them otherwise; dual volumes to round-off), without matching faces.
 /// @throws std::invalid_argument if a fluid tet has non-positive volume (the message names it)
 void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm);
+
+/// For each tet of `to`, the tet of `from` built from the same TetMesh tet with the same TetMesh
+/// vertices: two fluid meshes of one topology (a moved mesh, or jittered copies of one mesh) whose
+/// numberings may differ, since build_fluid_mesh numbers along the centroids' curve. Empty if `to`
+/// has a tet that `from` lacks (a remeshed mesh). O(T); the identity when the numberings agree.
+std::vector<int> matching_tets(const FluidMesh& from, const FluidMesh& to);
 
 }  // namespace tetfsi::fluid

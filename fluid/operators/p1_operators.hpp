@@ -38,8 +38,9 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh);
 /// the m x m result is scale * L_ij for the nodes i, j with unknown[] >= 0 (a node with -1 is left
 /// out).
 ///
-/// Assembled per tet in parallel into fixed triplet slots, summed in tet order, then scaled:
-/// deterministic, and bit for bit L's entries filtered and scaled afterwards.
+/// Gathered column by column in parallel over each node's tets in ascending order (the order of a
+/// triplet sum in tet order), then scaled: deterministic, and bit for bit L's entries filtered and
+/// scaled afterwards.
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std::vector<int>& unknown, int m,
                                               double scale = 1.0);
 

@@ -175,5 +175,9 @@ TEST(LiquidFallingBowl, BowlDropHitsTheFloorAndSplashesKeepingTheVolume) {
   EXPECT_LE(mean_drift, 0.003);  // measured 0.0018 (3e-4 per step in the fall, up to 2.2% at the impact)
   EXPECT_LE(worst_drift, 0.03);  // measured 0.0223
   EXPECT_LT(lowest, 0.04);  // measured 0.0251 (the wall gap is half the 3 cm edge)
-  EXPECT_LT(inside / inside0, 0.8);  // measured 0.605
+  // Measured 0.859 (0.838 with the fluid numbering's curve reversed). The 0.605 measured when the
+  // fluid kept the mesher's tet order came from back-traces that left the liquid and were clamped
+  // where a walk from the previously located point (anywhere in the mesh) met the boundary; along
+  // a space-filling curve that point is a neighbour and the clamp is local (fluid/README.md).
+  EXPECT_LT(inside / inside0, 0.9);
 }
