@@ -1,6 +1,7 @@
 #include "fluid/operators/p1_operators.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -51,8 +52,13 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std:
   std::vector<int> node_of(m, -1);
   for (int i = 0; i < mesh.num_nodes(); ++i)
     if (unknown[i] >= 0) node_of[unknown[i]] = i;
-  // One column's entries, rows ascending (a node has a few tens of neighbours: linear search).
-  auto column = [&](int c, std::vector<std::pair<int, double>>& entries) {
+  Eigen::SparseMatrix<double> l(m, m);
+  if (m == 0) return l;
+  // Per thread: slot[r] = position of row r in the column being gathered, -1 if absent (reset
+  // after each column), so each of the column's ~100 terms finds its entry in O(1).
+  tbb::enumerable_thread_specific<std::vector<int>> slots([m] { return std::vector<int>(m, -1); });
+  // One column's entries, rows ascending; with `values` false only the rows (for the counts).
+  auto column = [&](int c, std::vector<int>& slot, std::vector<std::pair<int, double>>& entries, bool values) {
     entries.clear();
     const int i = node_of[c];
     for (const int t : mesh.node_tets[i]) {
@@ -62,21 +68,22 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std:
       for (int a = 0; a < 4; ++a) {
         const int r = unknown[tet[a]];
         if (r < 0) continue;
-        const double v = mesh.volume[t] * mesh.grad[t][a].dot(mesh.grad[t][b]);
-        auto e = std::find_if(entries.begin(), entries.end(), [r](const auto& x) { return x.first == r; });
-        if (e == entries.end()) entries.emplace_back(r, v);
-        else e->second += v;
+        if (slot[r] < 0) {
+          slot[r] = static_cast<int>(entries.size());
+          entries.emplace_back(r, 0.0);
+        }
+        if (values) entries[slot[r]].second += mesh.volume[t] * mesh.grad[t][a].dot(mesh.grad[t][b]);
       }
     }
+    for (const auto& e : entries) slot[e.first] = -1;
     std::sort(entries.begin(), entries.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   };
-  Eigen::SparseMatrix<double> l(m, m);
-  if (m == 0) return l;
   std::vector<int> count(m + 1, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, m), [&](const tbb::blocked_range<int>& range) {
+    std::vector<int>& slot = slots.local();
     std::vector<std::pair<int, double>> entries;
     for (int c = range.begin(); c < range.end(); ++c) {
-      column(c, entries);
+      column(c, slot, entries, false);
       count[c + 1] = static_cast<int>(entries.size());
     }
   });
@@ -84,9 +91,10 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std:
   l.resizeNonZeros(count[m]);
   std::copy(count.begin(), count.end(), l.outerIndexPtr());
   tbb::parallel_for(tbb::blocked_range<int>(0, m), [&](const tbb::blocked_range<int>& range) {
+    std::vector<int>& slot = slots.local();
     std::vector<std::pair<int, double>> entries;
     for (int c = range.begin(); c < range.end(); ++c) {
-      column(c, entries);
+      column(c, slot, entries, true);
       for (std::size_t k = 0; k < entries.size(); ++k) {
         l.innerIndexPtr()[count[c] + k] = entries[k].first;
         l.valuePtr()[count[c] + k] = scale * entries[k].second;
