@@ -4,6 +4,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "fluid/projection/amg_preconditioner.hpp"
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/mesh_motion.hpp"
 #include "mesh/quality.hpp"
@@ -48,9 +49,30 @@ double fluid_edge_length_near_solids(const mesh::TetMesh& mesh) {
 MeshUpdater::MeshUpdater(MeshUpdateOptions options) : options_(std::move(options)) {}
 MeshUpdater::~MeshUpdater() = default;
 
+MotionSolver parse_motion_solver(const std::string& name) {
+  if (name == "auto") return MotionSolver::kAuto;
+  if (name == "cholesky") return MotionSolver::kCholesky;
+  if (name == "amg") return MotionSolver::kAmg;
+  throw std::invalid_argument("unknown mesh motion solver '" + name + "' (expected auto, cholesky or amg)");
+}
+
 std::unique_ptr<mesh::MeshMotion> MeshUpdater::make_motion(const mesh::TetMesh& reference) const {
   mesh::MeshMotionOptions o = options_.motion;
-  o.factorize = true;  // moved every step until the next remesh: factorize once
+  MotionSolver solver = options_.motion_solver;
+  if (solver == MotionSolver::kAuto) {
+    const auto fluid_tets =
+        std::count(reference.subdomain.begin(), reference.subdomain.end(), mesh::kFluidSubdomain);
+    solver = fluid_tets > options_.amg_motion_above_tets ? MotionSolver::kAmg : MotionSolver::kCholesky;
+  }
+  // Both move the mesh every step until the next remesh. The factorization is made at the second
+  // step on a mesh (a mesh remeshed again at once never pays for it); CG with a BoomerAMG V-cycle
+  // (its hierarchy set up once per mesh) solves every step without it and the first step with it.
+  o.factorize = solver == MotionSolver::kCholesky;
+  o.make_preconditioner = [](const Eigen::SparseMatrix<double>& K) -> mesh::MeshMotionOptions::Preconditioner {
+    auto amg = std::make_shared<fluid::AmgPreconditioner>();
+    amg->setup(K);
+    return [amg](const Eigen::VectorXd& r, Eigen::VectorXd& z) { amg->apply(r, z); };
+  };
   return std::make_unique<mesh::MeshMotion>(reference, o);
 }
 
@@ -69,6 +91,7 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   result.mesh.vertices = motion_->positions(solid_positions);
   result.moved_vertices = result.mesh.vertices;
   result.report.motion_seconds = clock.lap();
+  result.report.motion_iterations = motion_->last_iterations();
   // One pass for the fluid's angles and flat/inverted count; the solid tets only need the latter.
   const mesh::AngleCheck fluid_quality = mesh::min_dihedral_check(result.mesh, mesh::kFluidSubdomain);
   int spoiled = fluid_quality.flat_or_inverted;

@@ -35,9 +35,27 @@ enum class MeshUpdatePolicy {
 MeshUpdatePolicy parse_mesh_update_policy(const std::string& name);
 std::string to_string(MeshUpdatePolicy policy);
 
+/// How MeshUpdater solves the stiffened Laplacian of the mesh motion on each mesh it moves.
+enum class MotionSolver {
+  kAuto,      ///< kCholesky up to MeshUpdateOptions::amg_motion_above_tets fluid tets, kAmg above
+  kCholesky,  ///< factorized once per mesh (CHOLMOD), then two triangular solves per step
+  kAmg,       ///< CG with a BoomerAMG V-cycle (set up once per mesh) from the extrapolated motion
+};
+
+/// "auto" | "cholesky" | "amg". @throws std::invalid_argument otherwise
+MotionSolver parse_motion_solver(const std::string& name);
+
 struct MeshUpdateOptions {
   MeshUpdatePolicy policy = MeshUpdatePolicy::kRemeshWhenNeeded;
   mesh::MeshMotionOptions motion;  ///< how the fluid vertices follow the solids
+  /// The motion's solver. A factorization costs seconds once per mesh at a million fluid tets
+  /// (7.5 s at 962k on 2 cores) and is the largest item of the step's memory (190 MB of 776 MB of
+  /// heap at 409k fluid tets, growing faster than the mesh), but then moves the mesh in about
+  /// 0.03 s per step at 409k; the AMG solve needs neither, at about 0.2 s per step at 409k
+  /// (docs/scaling.md).
+  MotionSolver motion_solver = MotionSolver::kAuto;
+  /// kAuto: the fluid tet count above which the motion is solved by AMG.
+  int amg_motion_above_tets = 1'500'000;
   /// kRemeshWhenNeeded: remesh when the moved fluid's minimum dihedral angle is below this [deg]
   /// (or below half the angle the step started from, whichever is smaller, so that a mesh that
   /// starts with a 7° sliver is not remeshed every step for it).
@@ -58,6 +76,7 @@ struct MeshUpdateReport {
   double min_dihedral_deg = 0;  ///< of the fluid tets after the update
   double seconds = 0;           ///< motion + quality check + remeshing
   double motion_seconds = 0;    ///< of which the stiffened-Laplacian motion
+  int motion_iterations = 0;    ///< CG iterations of the motion, three components (MotionSolver::kAmg)
   double check_seconds = 0;     ///< of which the validity and angle check of the moved mesh
   int passes = 0;               ///< CGAL remeshing passes (0 when not remeshed)
   bool remesh_rejected = false; ///< remeshing was tried but did not beat the moved mesh's quality
@@ -123,7 +142,8 @@ class MeshUpdater {
   void read_state(BinaryReader& in, const mesh::TetMesh& mesh);
 
  private:
-  /// The motion of `reference`, factorized (moved every step until the next remesh).
+  /// The motion of `reference` (moved every step until the next remesh), solved by
+  /// options_.motion_solver.
   std::unique_ptr<mesh::MeshMotion> make_motion(const mesh::TetMesh& reference) const;
   MeshUpdateOptions options_;
   SizeFieldRequest size_request_;  ///< for the next update only

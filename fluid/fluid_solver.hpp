@@ -11,6 +11,7 @@
 ///   4. projection with the boundary conditions of this step (projection.hpp).
 /// Kinematic solids enter through BoundaryConditions::solid_vertex_velocity.
 #include <Eigen/Core>
+#include <memory>
 
 #include "fluid/advection/semi_lagrangian.hpp"
 #include "fluid/boundary/boundary_conditions.hpp"
@@ -126,7 +127,7 @@ class FluidSolver {
   const FluidParams& params() const { return params_; }
   /// True if some tet has a viscosity > 0 (FluidParams::viscosity, viscosity_regions).
   bool viscous() const;
-  const FluidMesh& mesh() const { return mesh_; }
+  const FluidMesh& mesh() const { return *mesh_; }
   const FluidFields& fields() const { return fields_; }
   FluidFields& fields() { return fields_; }
   /// The velocity carried onto the current mesh by the last predict(), before its body forces and
@@ -173,14 +174,35 @@ class FluidSolver {
   /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
   /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
   bool built_from(const mesh::TetMesh& mesh) const;
-  /// mesh_ = fluid_mesh, remembering the topology of `mesh` unless it is the same as before.
-  void set_mesh(const mesh::TetMesh& mesh, FluidMesh fluid_mesh, bool same_topology);
+  /// mesh_ = fluid_mesh (the old mesh_ becomes the spare), remembering the topology of `mesh`
+  /// unless it is the same as before.
+  void set_mesh(const mesh::TetMesh& mesh, std::shared_ptr<FluidMesh> fluid_mesh, bool same_topology);
+  /// The storage for this step's moved mesh: the spare if no copy of the solver holds it, else a
+  /// new mesh; holding mesh_'s topology (copied into it unless the spare has it already).
+  std::shared_ptr<FluidMesh> moved_mesh_storage();
   /// The members write_state / read_state write and read, in order (fluid_solver_state.cpp).
   template <class Archive>
   void state(Archive& a);
 
+  /// The mesh before mesh_, kept to be overwritten by the next moved mesh (its arrays have their
+  /// sizes already: a step allocates, and page-faults, no mesh). A copy of the solver starts
+  /// without one, so that no two solvers write into one mesh.
+  struct SpareMesh {
+    std::shared_ptr<FluidMesh> mesh;
+    bool same_topology = false;  // mesh has mesh_'s tets, nodes and faces (only its geometry is old)
+    SpareMesh() = default;
+    SpareMesh(const SpareMesh&) {}
+    SpareMesh& operator=(const SpareMesh&) { return *this = SpareMesh(); }
+    SpareMesh(SpareMesh&&) = default;
+    SpareMesh& operator=(SpareMesh&&) = default;
+  };
+
   FluidParams params_;
-  FluidMesh mesh_;
+  // The fluid mesh, shared with the copies of the solver (CoupledStepper's snapshot before each
+  // step), so that copying the solver copies no mesh. Never written once set: a step builds its
+  // moved mesh in spare_ (or a new one) and then swaps.
+  std::shared_ptr<FluidMesh> mesh_ = std::make_shared<FluidMesh>();
+  SpareMesh spare_;
   std::vector<std::array<int, 4>> source_tets_;  // tets and labels of the TetMesh mesh_ was built from
   std::vector<int> source_subdomain_;
   FluidFields fields_;

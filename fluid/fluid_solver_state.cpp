@@ -4,6 +4,9 @@
 #include "fluid/fluid_solver.hpp"
 #include "support/binary_stream.hpp"
 
+#include <memory>
+#include <utility>
+
 namespace tetfsi::fluid {
 
 template <class A>
@@ -15,6 +18,14 @@ template <class A>
 void serialize(A& a, FluidMesh& m) {
   a(m.nodes, m.node_to_mesh_vertex, m.mesh_vertex_to_node, m.tets, m.tet_to_mesh_tet, m.volume, m.grad, m.centroids,
     m.neighbor, m.boundary_faces, m.dual_volume, m.node_tets);
+}
+
+// The solver's mesh (shared with its copies): written as the mesh, read into a mesh of its own.
+void serialize(BinaryWriter& a, std::shared_ptr<FluidMesh>& m) { a(*m); }
+void serialize(BinaryReader& a, std::shared_ptr<FluidMesh>& m) {
+  auto read = std::make_shared<FluidMesh>();
+  a(*read);
+  m = std::move(read);
 }
 
 template <class A>
@@ -38,6 +49,7 @@ void FluidSolver::write_state(BinaryWriter& out) const { const_cast<FluidSolver*
 void FluidSolver::read_state(BinaryReader& in) {
   const bool liquid = free_surface_;
   state(in);
+  spare_ = SpareMesh();    // of the mesh before the read
   viscous_rings_.clear();  // of the mesh before the read; remade from the restored one
   if (free_surface_ != liquid) in.fail("a fluid state with another kind of fluid (smoke or liquid)");
 }

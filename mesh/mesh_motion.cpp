@@ -5,10 +5,16 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "mesh/complex_mesher.hpp"  // MeshError
+#include "mesh/incidence.hpp"
 #include "mesh/remesh_region.hpp"   // vertex_kinds
 
 namespace tetfsi::mesh {
@@ -26,6 +32,60 @@ Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Eigen::Vector3d, 4>& x
   return g;
 }
 
+/// The matrix Σ_t k_t over the fluid tets, restricted to rows `row_of[v]` >= 0 (num_rows of them)
+/// and to the columns of the vertices in `column_vertex` (column c: vertex column_vertex[c]), where
+/// k_t = block[block_of[t]] couples the tet's four vertices (block_of[t] = -1: not a fluid tet).
+/// Gathered column by column in parallel straight into the compressed matrix: column c sums its
+/// vertex's tets in ascending order, the order in which setFromTriplets on triplets pushed tet by
+/// tet sums them, so each entry is that sum bit for bit, with no triplet list (16 per tet) and no
+/// serial sort. Per thread, slot[r] is row r's place in the column being gathered (O(1) lookup).
+Eigen::SparseMatrix<double> gather_columns(const TetMesh& mesh, const VertexIncidence& incidence,
+                                           const std::vector<int>& block_of, const std::vector<Eigen::Matrix4d>& block,
+                                           const std::vector<int>& row_of, int num_rows,
+                                           const std::vector<int>& column_vertex) {
+  const int num_columns = static_cast<int>(column_vertex.size());
+  Eigen::SparseMatrix<double> k(num_rows, num_columns);
+  if (num_rows == 0 || num_columns == 0) return k;
+  tbb::enumerable_thread_specific<std::vector<int>> slots([num_rows] { return std::vector<int>(num_rows, -1); });
+  auto column = [&](int c, std::vector<int>& slot, std::vector<std::pair<int, double>>& entries) {
+    entries.clear();
+    const int v = column_vertex[c];
+    for (int e = incidence.start[v]; e < incidence.start[v + 1]; ++e) {
+      const int t = incidence.element[e], b = incidence.local[e];
+      if (block_of[t] < 0) continue;
+      const Eigen::Matrix4d& kt = block[block_of[t]];
+      for (int a = 0; a < 4; ++a) {
+        const int r = row_of[mesh.tets[t][a]];
+        if (r < 0) continue;
+        if (slot[r] < 0) {
+          slot[r] = static_cast<int>(entries.size());
+          entries.emplace_back(r, 0.0);
+        }
+        entries[slot[r]].second += kt(a, b);
+      }
+    }
+    for (const auto& entry : entries) slot[entry.first] = -1;
+    std::sort(entries.begin(), entries.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  };
+  std::vector<std::vector<std::pair<int, double>>> columns(num_columns);
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_columns), [&](const tbb::blocked_range<int>& range) {
+    std::vector<int>& slot = slots.local();
+    for (int c = range.begin(); c < range.end(); ++c) column(c, slot, columns[c]);
+  });
+  std::vector<int> start(num_columns + 1, 0);
+  for (int c = 0; c < num_columns; ++c) start[c + 1] = start[c] + static_cast<int>(columns[c].size());
+  k.resizeNonZeros(start[num_columns]);
+  std::copy(start.begin(), start.end(), k.outerIndexPtr());
+  tbb::parallel_for(tbb::blocked_range<int>(0, num_columns), [&](const tbb::blocked_range<int>& range) {
+    for (int c = range.begin(); c < range.end(); ++c)
+      for (std::size_t e = 0; e < columns[c].size(); ++e) {
+        k.innerIndexPtr()[start[c] + e] = columns[c][e].first;
+        k.valuePtr()[start[c] + e] = columns[c][e].second;
+      }
+  });
+  return k;
+}
+
 }  // namespace
 
 struct MeshMotion::Solver {
@@ -41,47 +101,53 @@ MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
     : reference_(mesh.vertices), kind_(vertex_kinds(mesh)), unknown_(mesh.num_vertices(), -1),
       solver_(std::make_unique<Solver>()) {
   const int n = mesh.num_vertices();
-  std::vector<int> column(n, -1);
   int m = 0;
   for (int v = 0; v < n; ++v) {
     if (kind_[v] == 0) unknown_[v] = m++;
-    if (kind_[v] == 1) column[v] = static_cast<int>(prescribed_.size()), prescribed_.push_back(v);
+    if (kind_[v] == 1) prescribed_.push_back(v);
   }
   double v_max = 0;
+  std::vector<int> block_of(mesh.num_tets(), -1);
+  int num_fluid = 0;
   for (int t = 0; t < mesh.num_tets(); ++t)
-    if (mesh.subdomain[t] == kFluidSubdomain) v_max = std::max(v_max, signed_volume(mesh, t));
-  std::vector<Eigen::Triplet<double>> ff, fp;
-  ff.reserve(16 * mesh.tets.size());
-  for (int t = 0; t < mesh.num_tets(); ++t) {
-    if (mesh.subdomain[t] != kFluidSubdomain) continue;
-    const auto& tet = mesh.tets[t];
-    double volume = 0;
-    const auto g = p1_gradients({mesh.vertices[tet[0]], mesh.vertices[tet[1]], mesh.vertices[tet[2]],
-                                 mesh.vertices[tet[3]]},
-                                volume);
-    if (!(volume > 0)) throw MeshError("mesh motion: fluid tet " + std::to_string(t) + " is flat or inverted");
-    const double s = std::pow(v_max / volume, options.stiffening_exponent) * volume;
-    const Eigen::Matrix4d k = s * g * g.transpose();
-    for (int i = 0; i < 4; ++i) {
-      const int a = unknown_[tet[i]];
-      if (a < 0) continue;
-      for (int j = 0; j < 4; ++j) {
-        if (unknown_[tet[j]] >= 0) ff.emplace_back(a, unknown_[tet[j]], k(i, j));
-        else if (column[tet[j]] >= 0) fp.emplace_back(a, column[tet[j]], k(i, j));
-        // box-boundary vertices (kind 2) never move: no contribution
-      }
+    if (mesh.subdomain[t] == kFluidSubdomain) {
+      v_max = std::max(v_max, signed_volume(mesh, t));
+      block_of[t] = num_fluid++;
     }
-  }
-  K_ff_.resize(m, m);
-  K_ff_.setFromTriplets(ff.begin(), ff.end());
-  K_fp_.resize(m, static_cast<int>(prescribed_.size()));
-  K_fp_.setFromTriplets(fp.begin(), fp.end());
+  // k_t = s_t V_t G_t G_tᵀ with s_t = (V_max / V_t)^χ, each tet on its own (in parallel); the
+  // first flat or inverted tet is found afterwards, so the error names the same tet every time.
+  std::vector<Eigen::Matrix4d> block(num_fluid);
+  std::vector<double> volume(num_fluid);
+  tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_tets()), [&](const tbb::blocked_range<int>& range) {
+    for (int t = range.begin(); t < range.end(); ++t) {
+      if (block_of[t] < 0) continue;
+      const auto& tet = mesh.tets[t];
+      double& v = volume[block_of[t]];
+      const auto g = p1_gradients({mesh.vertices[tet[0]], mesh.vertices[tet[1]], mesh.vertices[tet[2]],
+                                   mesh.vertices[tet[3]]},
+                                  v);
+      block[block_of[t]] = (std::pow(v_max / v, options.stiffening_exponent) * v) * g * g.transpose();
+    }
+  });
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (block_of[t] >= 0 && !(volume[block_of[t]] > 0))
+      throw MeshError("mesh motion: fluid tet " + std::to_string(t) + " is flat or inverted");
+  // Free-free and free-prescribed blocks; box-boundary vertices (kind 2) never move and
+  // contribute nothing.
+  const VertexIncidence incidence = vertex_incidence(mesh);
+  std::vector<int> free_vertex(m);
+  for (int v = 0; v < n; ++v)
+    if (unknown_[v] >= 0) free_vertex[unknown_[v]] = v;
+  K_ff_ = gather_columns(mesh, incidence, block_of, block, unknown_, m, free_vertex);
+  K_fp_ = gather_columns(mesh, incidence, block_of, block, unknown_, m, prescribed_);
   // CG with a diagonal preconditioner: K_ff is SPD; the tolerance is relative to the right-hand
   // side (the prescribed motion), so a rigid-body step converges to round-off.
   solver_->cg.setTolerance(options.tolerance);
   solver_->cg.setMaxIterations(std::max(1000, 4 * m));
   factorize_ = options.factorize;
-  if (m > 0) solver_->cg.compute(K_ff_);
+  tolerance_ = options.tolerance;
+  make_preconditioner_ = options.make_preconditioner;
+  if (m > 0 && !make_preconditioner_) solver_->cg.compute(K_ff_);
   last_ = Eigen::MatrixXd::Zero(m, 3);
 }
 
@@ -102,16 +168,22 @@ std::vector<Eigen::Vector3d> MeshMotion::positions(const std::vector<Eigen::Vect
   if (K_ff_.rows() == 0) return moved;
   // Factorize at the second call on this mesh, not the first: a mesh that is remeshed again right
   // away never pays for a factorization it uses once.
+  last_iterations_ = 0;
   if (factorize_ && ++calls_ == 2) {
     solver_->cholesky.compute(K_ff_);
     solver_->factorized = solver_->cholesky.info() == Eigen::Success;
+    if (solver_->factorized) precondition_ = nullptr;  // the first call's multigrid, no longer needed
   }
   const Eigen::MatrixXd rhs = -(K_fp_ * d_p);
   if (solver_->factorized) {
     last_ = solver_->cholesky.solve(rhs);
     if (solver_->cholesky.info() != Eigen::Success) throw MeshError("mesh motion: the factorized solve failed");
   }
-  for (int c = 0; c < 3 && !solver_->factorized; ++c) {
+  if (!solver_->factorized && make_preconditioner_) {
+    if (!precondition_) precondition_ = make_preconditioner_(K_ff_);
+    solve_preconditioned(rhs);
+  }
+  for (int c = 0; c < 3 && !solver_->factorized && !make_preconditioner_; ++c) {
     if (rhs.col(c).norm() == 0) {
       last_.col(c).setZero();
       continue;
@@ -122,6 +194,43 @@ std::vector<Eigen::Vector3d> MeshMotion::positions(const std::vector<Eigen::Vect
   for (int v = 0; v < n; ++v)
     if (unknown_[v] >= 0) moved[v] += last_.row(unknown_[v]).transpose();
   return moved;
+}
+
+void MeshMotion::solve_preconditioned(const Eigen::MatrixXd& rhs) {
+  // The initial guess extrapolates the last two solutions linearly (the solids move smoothly from
+  // step to step), so a step starts a small fraction of its displacement away from the solution.
+  Eigen::MatrixXd guess = last_;
+  if (before_last_.size() == last_.size()) guess += last_ - before_last_;
+  before_last_ = last_;
+  last_iterations_ = 0;
+  for (int c = 0; c < 3; ++c) {
+    if (rhs.col(c).norm() == 0) {  // no motion in this component: d = 0 exactly
+      last_.col(c).setZero();
+      continue;
+    }
+    const double target = tolerance_ * rhs.col(c).norm();
+    Eigen::VectorXd d = guess.col(c);
+    // Preconditioned conjugate gradients (Saad, "Iterative Methods for Sparse Linear Systems",
+    // Alg. 9.1), written out because the preconditioner is a function (Eigen's CG takes a class).
+    Eigen::VectorXd residual = rhs.col(c) - K_ff_ * d, z, direction, Kp;
+    double rz_previous = 0;
+    int iterations = 0;
+    for (; residual.norm() > target; ++iterations) {
+      if (iterations == max_iterations_)
+        throw MeshError("mesh motion: the stiffened Laplacian did not converge in " + std::to_string(iterations) +
+                        " preconditioned CG iterations");
+      precondition_(residual, z);
+      const double rz = residual.dot(z);
+      direction = iterations == 0 ? z : Eigen::VectorXd(z + (rz / rz_previous) * direction);
+      rz_previous = rz;
+      Kp = K_ff_ * direction;
+      const double alpha = rz / direction.dot(Kp);
+      d += alpha * direction;
+      residual -= alpha * Kp;
+    }
+    last_.col(c) = d;
+    last_iterations_ += iterations;
+  }
 }
 
 std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::vector<Eigen::Vector3d>& solid_positions,
@@ -137,14 +246,17 @@ std::vector<Eigen::Vector3d> move_with_solids(const TetMesh& mesh, const std::ve
   return MeshMotion(mesh, options).positions(solid_positions);
 }
 
-void MeshMotion::write_state(BinaryWriter& out) const { out(last_, calls_); }
+void MeshMotion::write_state(BinaryWriter& out) const { out(last_, before_last_, calls_); }
 
 void MeshMotion::read_state(BinaryReader& in) {
-  Eigen::MatrixXd last;
+  Eigen::MatrixXd last, before_last;
   int calls = 0;
-  in(last, calls);
-  if (last.rows() != last_.rows() || last.cols() != last_.cols()) in.fail("a mesh motion of another mesh");
+  in(last, before_last, calls);
+  if (last.rows() != last_.rows() || last.cols() != last_.cols() ||
+      (before_last.size() != 0 && before_last.size() != last.size()))
+    in.fail("a mesh motion of another mesh");
   last_ = std::move(last);
+  before_last_ = std::move(before_last);
   calls_ = calls;
   if (factorize_ && calls_ >= 2 && K_ff_.rows() > 0) {
     solver_->cholesky.compute(K_ff_);

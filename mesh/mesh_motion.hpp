@@ -14,10 +14,12 @@
 /// with the solid, and the distortion goes into the large tets farther away. χ = 0 is the plain
 /// P1 harmonic extension; Stein et al. use χ = 1. The system, Σ_t s_t V_t G_tᵀ G_t (G_t the P1
 /// gradient of tet t), is symmetric positive definite once the Dirichlet vertices are eliminated;
-/// it is solved for the three components with Eigen's conjugate gradients.
+/// it is solved for the three components by conjugate gradients (diagonal, or a given SPD
+/// preconditioner such as an algebraic multigrid V-cycle) or by a Cholesky factorization.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <Eigen/IterativeLinearSolvers>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -40,6 +42,14 @@ struct MeshMotionOptions {
   /// CG relative residual. The motion only has to keep tets valid, not be accurate: 1e-8 takes
   /// about half the iterations of 1e-10 (the remesher used 1e-6 for its plain extension).
   double tolerance = 1e-8;
+  /// z ≈ K⁻¹ r for a symmetric positive definite K, applied to one component at a time.
+  using Preconditioner = std::function<void(const Eigen::VectorXd& r, Eigen::VectorXd& z)>;
+  /// MeshMotion only: builds the preconditioner of CG for the operator K, at the first call that
+  /// solves by CG (every call without `factorize`, the first one with it). The coupled step
+  /// passes one BoomerAMG V-cycle (coupling/mesh_update.cpp): set up once per mesh, a step then
+  /// costs a few V-cycles per component, with no factorization (seconds at a million tets) and no
+  /// factor in memory (the largest item of the step's memory). Empty: the diagonal of K.
+  std::function<Preconditioner(const Eigen::SparseMatrix<double>& K)> make_preconditioner;
 };
 
 /// New positions of every vertex of `mesh`: solid vertices (those of a tet with a label other than
@@ -70,23 +80,33 @@ class MeshMotion {
   std::vector<Eigen::Vector3d> positions(const std::vector<Eigen::Vector3d>& solid_positions);
 
   int num_vertices() const { return static_cast<int>(reference_.size()); }
+  /// CG iterations of the last positions() over the three components (preconditioned CG only).
+  int last_iterations() const { return last_iterations_; }
   /// The reference positions the operator was assembled at [m].
   const std::vector<Eigen::Vector3d>& reference_positions() const { return reference_; }
 
-  /// Checkpoints: the previous solution (CG's initial guess) and the call count that decides the
-  /// factorization. Restore into a MeshMotion built from the same reference mesh and options; it
+  /// Checkpoints: the two previous solutions (CG's initial guess extrapolates them) and the call
+  /// count that decides the factorization. Restore into a MeshMotion built from the same reference mesh and options; it
   /// factorizes again if the saved one had, so the next positions() is bit for bit the saved one's.
   void write_state(BinaryWriter& out) const;
   void read_state(BinaryReader& in);
 
  private:
   struct Solver;
+  /// last_ = K_ff⁻¹ rhs column by column, by CG with precondition_ from the extrapolated guess.
+  void solve_preconditioned(const Eigen::MatrixXd& rhs);
   std::vector<Eigen::Vector3d> reference_;
   std::vector<int> kind_, unknown_;
   Eigen::SparseMatrix<double> K_ff_, K_fp_;  // free-free and free-prescribed blocks
   std::vector<int> prescribed_;               // vertex of each K_fp_ column
   std::unique_ptr<Solver> solver_;
-  Eigen::MatrixXd last_;                      // previous solution (m x 3), CG's initial guess
+  Eigen::MatrixXd last_;                      // previous solution (m x 3)
+  Eigen::MatrixXd before_last_;               // the one before it (m x 3, empty until two calls)
+  std::function<MeshMotionOptions::Preconditioner(const Eigen::SparseMatrix<double>&)> make_preconditioner_;
+  MeshMotionOptions::Preconditioner precondition_;  // made at the first preconditioned solve
+  double tolerance_ = 1e-8;
+  int max_iterations_ = 1000;
+  int last_iterations_ = 0;
   bool factorize_ = false;
   int calls_ = 0;
 };

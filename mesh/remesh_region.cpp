@@ -3,6 +3,8 @@
 /// sorting vectors of keys (no hash maps: deterministic and, at 10^5 tets, a few ms).
 #include "mesh/remesh_region.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <array>
 #include <map>
@@ -109,6 +111,7 @@ int find_root(std::vector<int>& parent, int x) {
 /// Hull triangles (sorted vertex triples) of the tets flagged in `region`: faces seen once.
 std::vector<std::array<int, 3>> hull_triangles(const TetMesh& mesh, const std::vector<char>& region) {
   std::vector<std::array<int, 3>> faces;
+  faces.reserve(4 * static_cast<std::size_t>(std::count(region.begin(), region.end(), 1)));
   for (int t = 0; t < mesh.num_tets(); ++t) {
     if (!region[t]) continue;
     for (const auto& f : kTetFaceVertices) {
@@ -117,7 +120,8 @@ std::vector<std::array<int, 3>> hull_triangles(const TetMesh& mesh, const std::v
       faces.push_back(key);
     }
   }
-  std::sort(faces.begin(), faces.end());
+  // Equal keys are equal elements, so the parallel sort's result does not depend on the threads.
+  tbb::parallel_sort(faces.begin(), faces.end());
   std::vector<std::array<int, 3>> hull;
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i;

@@ -10,6 +10,7 @@ when validate does (validate 0 with run 1, a physics failure, is allowed), and e
 message names a key (a JSON pointer) or a file.
 
   scripts/bad_inputs.py --tetfsi build/apps/tetfsi [--count 220] [--seed 18] [--extra DIR ...]
+                        [--timeout 60] [--only 'paddle:']
 Exit code 0 if every case passes; the failures are listed.
 """
 import argparse
@@ -98,7 +99,11 @@ def mutations(scene, rng):
     yield "not JSON", "{\"simulation\": [}"
 
 
-def run(cmd, timeout=60):
+RUN_TIMEOUT = 60  # seconds per validate or run (--timeout)
+
+
+def run(cmd, timeout=None):
+    timeout = timeout or RUN_TIMEOUT
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, errors="replace")
         return p.returncode, p.stdout + p.stderr
@@ -130,7 +135,13 @@ def main():
     ap.add_argument("--seed", type=int, default=18)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--extra", nargs="*", default=[])
+    ap.add_argument("--timeout", type=float, default=60,
+                    help="seconds each validate and run may take (a sanitizer build needs about 10x)")
+    ap.add_argument("--only", default="",
+                    help="run only the selected cases whose label starts with this (e.g. 'paddle:')")
     args = ap.parse_args()
+    global RUN_TIMEOUT
+    RUN_TIMEOUT = args.timeout
     rng = random.Random(args.seed)
     tmp = tempfile.mkdtemp(prefix="tetfsi_bad_inputs_")
     cases = []
@@ -160,6 +171,8 @@ def main():
         cases.append(("volume mesh " + name, s, tmp))
     files = []
     for i, (label, scene, folder) in enumerate(cases):
+        if not label.startswith(args.only):
+            continue
         d = os.path.join(tmp, f"case{i:04d}")
         os.makedirs(d)
         f = os.path.join(d, "scene.json")

@@ -45,7 +45,7 @@ BARS = {"us_per_tet": 1.5, "growth": 1.1, "kb_per_tet": 1.0, "coupled_over_proje
         "bicgstab_over_fast": 3.0, "umfpack_over_fast": 10.0}
 
 
-def scene(scale, steps, compare):
+def scene(scale, steps, compare, motion=None):
     s = json.load(open(FLAGSHIP))
     s["mesh"]["edge_length"] *= scale
     s["mesh"]["edge_length_near_solids"] *= scale
@@ -55,6 +55,8 @@ def scene(scale, steps, compare):
     s.pop("probes", None)
     if compare:
         s.setdefault("coupling", {})["compare_solvers"] = compare
+    if motion:
+        s.setdefault("coupling", {})["mesh_motion_solver"] = motion
     return s
 
 
@@ -83,12 +85,9 @@ def mean(rows, key):
     return sum(float(r[key]) for r in later) / len(later)
 
 
-def measure(args, scale, work):
-    rows, wall, peak = run(args, scene(scale, args.steps, None), os.path.join(work, f"step_{scale}"))
-    tets = int(float(rows[-1]["fluid_tets"]))
-    r = {"scale": scale, "fluid_tets": tets, "pressure_unknowns": int(float(rows[-1]["pressure_unknowns"])),
-         "solid_dofs": int(float(rows[-1]["solid_dofs"])), "steps": len(rows),
-         "remeshes": sum(int(float(x["remeshed"])) for x in rows), "wall": wall, "peak_mb": peak}
+def step_figures(rows, tets):
+    """Mean step over steps 2 on, the steady (median from step 3 on) and the slowest step [s]."""
+    r = {}
     for ph in PHASES:
         r["t_" + ph] = mean(rows, "t_" + ph)
     r["step"] = sum(r["t_" + ph] for ph in PHASES)
@@ -99,7 +98,22 @@ def measure(args, scale, work):
     steady = sorted(v for k, v in sums if k > 2) or [v for _, v in sums]
     r["steady_step"] = steady[len(steady) // 2] if len(steady) % 2 else 0.5 * (steady[len(steady) // 2 - 1] + steady[len(steady) // 2])
     r["slowest_step"] = max(v for k, v in sums if k > 1) if len(sums) > 1 else sums[0][1]
+    return r
+
+
+def measure(args, scale, work, last):
+    rows, wall, peak = run(args, scene(scale, args.steps, None), os.path.join(work, f"step_{scale}"))
+    tets = int(float(rows[-1]["fluid_tets"]))
+    r = {"scale": scale, "fluid_tets": tets, "pressure_unknowns": int(float(rows[-1]["pressure_unknowns"])),
+         "solid_dofs": int(float(rows[-1]["solid_dofs"])), "steps": len(rows),
+         "remeshes": sum(int(float(x["remeshed"])) for x in rows), "wall": wall, "peak_mb": peak}
+    r.update(step_figures(rows, tets))
     r["kb_per_tet"] = 1024.0 * peak / tets
+    if args.amg_motion == "all" or (args.amg_motion == "largest" and last):
+        rows, _, peak = run(args, scene(scale, args.steps, None, "amg"), os.path.join(work, f"amg_motion_{scale}"))
+        r.update({"amg_motion_" + k: v for k, v in step_figures(rows, tets).items()})
+        r["amg_motion_peak_mb"] = peak
+        r["amg_motion_kb_per_tet"] = 1024.0 * peak / tets
     if args.compare:
         rows, _, _ = run(args, scene(scale, args.compare_steps, args.compare.split(",")),
                          os.path.join(work, f"compare_{scale}"))
@@ -147,6 +161,22 @@ def page(args, results, total, load):
                      f"{r['slowest_step']:.3f} | {r['peak_mb']:.0f} | {r['kb_per_tet']:.2f} |")
     lines += ["", "Growth of the step time, n^a between sizes: " +
               "; ".join(f"{a:,} → {b:,} tets: a = {e:.2f}" for a, b, e in growth(results, "step")) + ".", ""]
+    amg = [r for r in results if "amg_motion_step" in r]
+    if amg:
+        lines += ["## The mesh motion by AMG instead of the factorization", "",
+                  "The same runs with `coupling.mesh_motion_solver` `amg` (CG with a BoomerAMG V-cycle from the "
+                  "extrapolated motion; no factorization and no factor in memory) against the default (`auto`: "
+                  "the CHOLMOD factorization at these sizes).", "",
+                  "| fluid tets | step [s] (µs per tet), factorized | step [s] (µs per tet), AMG | remesh column, "
+                  "factorized | remesh column, AMG | steady step [s], factorized | steady step [s], AMG | "
+                  "peak [MB] (kB per tet), factorized | peak [MB] (kB per tet), AMG |", "|" + "---|" * 9]
+        for r in amg:
+            lines.append(f"| {r['fluid_tets']:,} | {r['step']:.3f} ({r['us_per_tet']:.2f}) | "
+                         f"{r['amg_motion_step']:.3f} ({r['amg_motion_us_per_tet']:.2f}) | {r['t_remesh']:.3f} | "
+                         f"{r['amg_motion_t_remesh']:.3f} | {r['steady_step']:.3f} | {r['amg_motion_steady_step']:.3f} | "
+                         f"{r['peak_mb']:.0f} ({r['kb_per_tet']:.2f}) | {r['amg_motion_peak_mb']:.0f} "
+                         f"({r['amg_motion_kb_per_tet']:.2f}) |")
+        lines.append("")
     if args.compare:
         names = args.compare.split(",")
         lines += ["## Solvers side by side (the same system each step)", "",
@@ -195,6 +225,8 @@ def main():
     ap.add_argument("--compare", default="projection,bicgstab,umfpack",
                     help="coupling.compare_solvers of the second run ('' for none)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--amg-motion", choices=["none", "largest", "all"], default="largest",
+                    help="also run these sizes with coupling.mesh_motion_solver amg (no factorization)")
     ap.add_argument("--out", default=os.path.join("out", "report"))
     ap.add_argument("--work", help="folder for the runs (default: a temporary folder, removed)")
     args = ap.parse_args()
@@ -203,8 +235,8 @@ def main():
     start, load = time.monotonic(), os.getloadavg()[0]
     results = []
     try:
-        for scale in args.scales:
-            results.append(measure(args, scale, work))
+        for k, scale in enumerate(args.scales):
+            results.append(measure(args, scale, work, k + 1 == len(args.scales)))
             r = results[-1]
             print(f"scale {scale:g}: {r['fluid_tets']:,} fluid tets, step {r['step']:.3f} s "
                   f"({r['us_per_tet']:.2f} µs per tet), peak {r['peak_mb']:.0f} MB ({r['kb_per_tet']:.2f} kB per tet)"
@@ -218,7 +250,7 @@ def main():
     with open(os.path.join(args.out, "scaling.md"), "w") as f:
         f.write(text)
     with open(os.path.join(args.out, "scaling.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(results[0].keys()))
+        w = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for r in results for k in r)))
         w.writeheader()
         w.writerows(results)
     print(text)

@@ -14,7 +14,8 @@ flags="-O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
 cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS="$flags" \
-  -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined"
+  -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DTETFSI_TEST_TIMEOUT_SCALE=4
 cmake --build "$build" --parallel "$jobs"
 # Open MPI (hypre's) leaks in MPI_Init: suppressed by scripts/lsan_suppressions.txt, which needs
 # the full allocation stacks of fast_unwind_on_malloc=0 (Debian's libraries have no frame pointers).

@@ -131,6 +131,7 @@ class CoupledRunner : public Simulation {
     cs.max_step_halvings = sim.at("max_step_halvings").get<int>();
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
+    cs.mesh_update.motion_solver = coupling::parse_motion_solver(c.at("mesh_motion_solver").get<std::string>());
     // 0: CoupledStepper's default band, four near-solid cells (never the whole fluid).
     cs.mesh_update.remesh.band = js.at("fluid").at("remesh_band").get<double>();
     try {
@@ -200,12 +201,12 @@ class CoupledRunner : public Simulation {
     if (js.contains("domain")) stepper_->fluid_boundary().patches = boundary_patches(js, ambient);
     emitters_ = timed_sources(js, log);
     setup_energy_watch(js, log);
-    log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {} (pressure solver: {}), {}, mesh update {}",
+    log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {} (pressure solver: {}), {}, mesh update {} (motion: {})",
              stepper_->num_solids(), stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
              c.at("solver").get<std::string>(), fluid::to_string(stepper_->fluid().params().solver.backend),
              fixed_h_ > 0 ? fmt::format("dt = {} s", fixed_h_)
                            : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", cfl_, edge_near_, frame_interval_),
-             c.at("mesh_update").get<std::string>());
+             c.at("mesh_update").get<std::string>(), c.at("mesh_motion_solver").get<std::string>());
     log_ = &log;
   }
 

@@ -12,7 +12,10 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
   GmresResult result;
   const Eigen::Index size = f.size();
   if (x.size() != size) x = Eigen::VectorXd::Zero(size);
-  Eigen::MatrixXd V(size, restart + 1);  // Arnoldi basis of K M⁻¹
+  // Arnoldi basis of K M⁻¹, grown one vector per Krylov step (a solve that converges in 25 steps
+  // touches 26 vectors, not restart + 1).
+  std::vector<Eigen::VectorXd> V;
+  V.reserve(restart + 1);
   Eigen::MatrixXd Hess = Eigen::MatrixXd::Zero(restart + 1, restart);
   Eigen::VectorXd cs(restart), sn(restart), g(restart + 1), w(size), z(size), Kx(size), x_before;
   double beta_before = std::numeric_limits<double>::infinity();
@@ -33,26 +36,30 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
     if (result.converged || result.iterations >= max_iterations) return result;
     x_before = x;
     beta_before = beta;
-    V.col(0) = r / beta;
+    if (V.empty()) V.emplace_back(size);
+    V[0] = r / beta;
     g.setZero();
     g(0) = beta;
     int k = 0;  // Krylov steps in this cycle
     for (; k < restart && result.iterations < max_iterations; ++k) {
       ++result.iterations;
-      precondition(V.col(k), z);
+      precondition(V[k], z);
       apply(z, w);
       const double w_norm = w.norm();
       // Modified Gram-Schmidt (Alg. 6.2).
       for (int i = 0; i <= k; ++i) {
-        Hess(i, k) = V.col(i).dot(w);
-        w -= Hess(i, k) * V.col(i);
+        Hess(i, k) = V[i].dot(w);
+        w -= Hess(i, k) * V[i];
       }
       Hess(k + 1, k) = w.norm();
       // Breakdown: K M⁻¹ V_k lies in span(V_k) up to rounding, so the least-squares iterate is the
       // solution in this space; normalizing the rounding noise would give a non-orthogonal basis.
       const bool breakdown = !(Hess(k + 1, k) > 1e-14 * w_norm);
       if (breakdown) Hess(k + 1, k) = 0;
-      else V.col(k + 1) = w / Hess(k + 1, k);
+      else {
+        if (static_cast<int>(V.size()) == k + 1) V.emplace_back(size);
+        V[k + 1] = w / Hess(k + 1, k);
+      }
       // Apply the previous rotations to the new column, then the one that zeroes Hess(k+1, k).
       for (int i = 0; i < k; ++i) {
         const double t = cs(i) * Hess(i, k) + sn(i) * Hess(i + 1, k);
@@ -77,7 +84,9 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
     // x += M⁻¹ V_k y with Hess_k y = g_k (upper triangular after the rotations).
     const Eigen::VectorXd y =
         Hess.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-    precondition(V.leftCols(k) * y, z);
+    Eigen::VectorXd Vy = y[0] * V[0];
+    for (int i = 1; i < k; ++i) Vy += y[i] * V[i];
+    precondition(Vy, z);
     x += z;
   }
 }

@@ -2,6 +2,7 @@
 // block lower triangle of A's earlier factor and Ŝ's earlier preconditioner.
 #include <algorithm>
 
+#include "coupling/solvers/block_product.hpp"
 #include "coupling/solvers/gmres.hpp"
 #include "coupling/solvers/schur_state.hpp"
 #include "support/stopwatch.hpp"
@@ -35,17 +36,15 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   f << s.b / solid_scale, s.r / fluid_scale;
 
   // K x = [(A xᵤ − Hᵀ xₚ)/σₛ; (H xᵤ + P xₚ)/σ_f], the paper form of eq. (7) with scaled rows.
-  auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
-    y.resize(n + m);
-    y.head(n) = (s.A * v.head(n) - s.H.transpose() * v.tail(m)) / solid_scale;
-    y.tail(m) = (s.H * v.head(n) + s.P * v.tail(m)) / fluid_scale;
-  };
+  const BlockProducts products(s);
+  auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { products.apply(v, y, solid_scale, fluid_scale); };
   // z = P⁻¹ D⁻¹ v with P = [Â 0; H Ŝ]: zᵤ = Â⁻¹ σₛvᵤ, then zₚ = Ŝ⁻¹ (σ_f vₚ − H zᵤ).
-  Eigen::VectorXd zp(m);
+  Eigen::VectorXd zp(m), flux(m);
   auto precondition = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) {
     z.resize(n + m);
     z.head(n) = factor_->llt.solve(Eigen::VectorXd(solid_scale * v.head(n)));
-    lag.precondition(Eigen::VectorXd(fluid_scale * v.tail(m) - s.H * z.head(n)), zp);
+    products.interface_flux(z.head(n), flux);
+    lag.precondition(Eigen::VectorXd(fluid_scale * v.tail(m) - flux), zp);
     z.tail(m) = zp;
   };
 

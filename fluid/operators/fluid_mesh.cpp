@@ -1,5 +1,7 @@
 #include "fluid/operators/fluid_mesh.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <Eigen/LU>
@@ -73,24 +75,28 @@ void compute_tet_geometry(FluidMesh& fm) {
   fm.volume.resize(nf);
   fm.grad.resize(nf);
   fm.centroids.resize(nf);
-  for (int t = 0; t < nf; ++t) {
-    const auto& v = fm.tets[t];
-    fm.centroids[t] = 0.25 * (fm.nodes[v[0]] + fm.nodes[v[1]] + fm.nodes[v[2]] + fm.nodes[v[3]]);
-    Eigen::Matrix3d e;
-    e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
-    e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];
-    e.col(2) = fm.nodes[v[3]] - fm.nodes[v[0]];
-    const double det = e.determinant();
-    if (!(det > 0.0))
+  // Each tet on its own (in parallel); the first tet with non-positive volume is found afterwards,
+  // so that the error names the same tet whatever the thread count.
+  tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
+    for (int t = range.begin(); t < range.end(); ++t) {
+      const auto& v = fm.tets[t];
+      fm.centroids[t] = 0.25 * (fm.nodes[v[0]] + fm.nodes[v[1]] + fm.nodes[v[2]] + fm.nodes[v[3]]);
+      Eigen::Matrix3d e;
+      e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
+      e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];
+      e.col(2) = fm.nodes[v[3]] - fm.nodes[v[0]];
+      fm.volume[t] = e.determinant() / 6.0;
+      const Eigen::Matrix3d inv = e.inverse();
+      fm.grad[t][1] = inv.row(0).transpose();
+      fm.grad[t][2] = inv.row(1).transpose();
+      fm.grad[t][3] = inv.row(2).transpose();
+      fm.grad[t][0] = -(fm.grad[t][1] + fm.grad[t][2] + fm.grad[t][3]);
+    }
+  });
+  for (int t = 0; t < nf; ++t)
+    if (!(fm.volume[t] > 0.0))
       throw std::invalid_argument("fluid mesh: fluid tet " + std::to_string(fm.tet_to_mesh_tet[t]) +
-                                  " has non-positive volume " + std::to_string(det / 6.0));
-    fm.volume[t] = det / 6.0;
-    const Eigen::Matrix3d inv = e.inverse();
-    fm.grad[t][1] = inv.row(0).transpose();
-    fm.grad[t][2] = inv.row(1).transpose();
-    fm.grad[t][3] = inv.row(2).transpose();
-    fm.grad[t][0] = -(fm.grad[t][1] + fm.grad[t][2] + fm.grad[t][3]);
-  }
+                                  " has non-positive volume " + std::to_string(fm.volume[t]));
 }
 
 /// Area and unit outward normal of a boundary face from its nodes' positions.

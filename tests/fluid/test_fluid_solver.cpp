@@ -129,6 +129,40 @@ TEST(FluidSolver, SameInputSameOutput) {
   for (size_t t = 0; t < a.size(); ++t) ASSERT_EQ(a[t], b[t]) << t;
 }
 
+TEST(FluidSolver, ACopySharesTheMeshAndKeepsItsStateWhileTheOriginalSteps) {
+  // A copy of the solver (the coupled step's snapshot before a step it may undo) shares the mesh;
+  // the original's steps build their moved meshes elsewhere (the spare of the step before, reused
+  // from the second step on), so the copy keeps its mesh and fields, and then steps exactly as
+  // the original did. The reused spare gets the geometry a fresh copy of the mesh would.
+  const mesh::TetMesh base = mesh::structured_box(kLo, kHi, 5, 5, 5);
+  FluidSolver s(FluidParams{});
+  s.initialize(base);
+  for (int t = 0; t < s.mesh().num_tets(); ++t) {
+    const Eigen::Vector3d c = s.mesh().centroid(t);
+    s.fields().velocity[t] = Eigen::Vector3d(std::sin(3 * c.y()), std::cos(2 * c.z()), c.x());
+  }
+  const FluidSolver copy = s;
+  EXPECT_EQ(&copy.mesh(), &s.mesh()) << "the copy shares the mesh";
+  const FluidMesh mesh_before = s.mesh();
+  const TetVectors velocity_before = s.fields().velocity;
+  std::vector<mesh::TetMesh> moved;
+  std::mt19937 rng(5);
+  for (int k = 0; k < 3; ++k) moved.push_back(testing::jittered(base, kLo, kHi, 1.0 / 5, 0.1, rng));
+  for (const mesh::TetMesh& m : moved) s.step(m, {}, 0.05);
+  EXPECT_EQ(copy.mesh().nodes, mesh_before.nodes);
+  EXPECT_EQ(copy.mesh().volume, mesh_before.volume);
+  EXPECT_EQ(copy.fields().velocity, velocity_before);
+  FluidMesh expected = mesh_before;
+  update_fluid_mesh_geometry(moved.back(), expected);
+  EXPECT_EQ(s.mesh().volume, expected.volume);
+  EXPECT_EQ(s.mesh().dual_volume, expected.dual_volume);
+  for (int t = 0; t < expected.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(s.mesh().grad[t][k], expected.grad[t][k]) << "tet " << t;
+  FluidSolver again = copy;
+  for (const mesh::TetMesh& m : moved) again.step(m, {}, 0.05);
+  EXPECT_EQ(again.fields().velocity, s.fields().velocity);
+}
+
 TEST(FluidSolver, NaNAndBadInputAreErrors) {
   const mesh::TetMesh m = mesh::structured_box(kLo, kHi, 3, 3, 3);
   FluidSolver s(FluidParams{});

@@ -51,6 +51,15 @@ Field coupling() {
                     "With `remesh_when_needed`: remesh when the moved fluid's minimum dihedral angle is "
                     "below this (or below half the angle before the step, if that is smaller).")
           .greater(0).less(60).def(10),
+      Field::enumeration("mesh_motion_solver", {"auto", "cholesky", "amg"},
+                         "How the stiffened Laplacian that moves the fluid vertices with the solids is solved "
+                         "each step. `cholesky`: factorized once per mesh (CHOLMOD), then two triangular solves "
+                         "a step; the factorization takes seconds at a million fluid tets and its factor is the "
+                         "largest item in memory. `amg`: conjugate gradients with a BoomerAMG V-cycle from the "
+                         "extrapolated motion of the last two steps; no factorization and no factor, but "
+                         "several times the per-step cost (docs/scaling.md has both measured). `auto`: "
+                         "`cholesky` up to 1.5 million fluid tets, `amg` above.")
+          .def("auto"),
       Field::boolean("wall_contact",
                      "The container's walls are contact obstacles for every solid (the container's faces, "
                      "set back by `contact_gap`), so a solid that sinks, rises or is thrown comes to rest on "
