@@ -8,7 +8,7 @@ namespace tetfsi::coupling::detail {
 namespace {
 
 /// Column j of M dotted with x, summed in storage order.
-double column_dot(const SparseMatrix& M, int j, const Eigen::VectorXd& x) {
+double column_dot(const SparseMatrix& M, int j, const Eigen::Ref<const Eigen::VectorXd>& x) {
   double sum = 0;
   for (SparseMatrix::InnerIterator it(M, j); it; ++it) sum += it.value() * x[it.index()];
   return sum;
@@ -29,7 +29,7 @@ BlockProducts::BlockProducts(const CoupledSystem& s) : s_(s), H_transpose_(s.H.t
 void BlockProducts::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y, double solid_scale,
                           double fluid_scale) const {
   const int n = s_.num_solid_dofs(), m = s_.num_pressures();
-  const Eigen::VectorXd x_u = x.head(n), x_p = x.tail(m);
+  const Eigen::Ref<const Eigen::VectorXd> x_u = x.head(n), x_p = x.tail(m);  // views, no copies
   y.resize(n + m);
   // Row j of the solid block: (A xᵤ)_j = (Aᵀ xᵤ)_j = A(:, j)·xᵤ and (Hᵀ xₚ)_j = H(:, j)·xₚ.
   for_each_column(n, [&](int j) { y[j] = (column_dot(s_.A, j, x_u) - column_dot(s_.H, j, x_p)) / solid_scale; });
@@ -39,7 +39,7 @@ void BlockProducts::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y, double s
   });
 }
 
-void BlockProducts::interface_flux(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+void BlockProducts::interface_flux(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::VectorXd& y) const {
   y.resize(s_.num_pressures());
   for_each_column(s_.num_pressures(), [&](int i) { y[i] = column_dot(H_transpose_, i, x); });
 }

@@ -22,7 +22,7 @@ class BlockProducts {
   /// as written in the paper, [A −Hᵀ; H P], each divided by its scale.
   void apply(const Eigen::VectorXd& x, Eigen::VectorXd& y, double solid_scale, double fluid_scale) const;
   /// y = H x (x of size n, y of size m).
-  void interface_flux(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  void interface_flux(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::VectorXd& y) const;
 
  private:
   const CoupledSystem& s_;

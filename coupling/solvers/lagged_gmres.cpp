@@ -39,12 +39,15 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   const BlockProducts products(s);
   auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { products.apply(v, y, solid_scale, fluid_scale); };
   // z = P⁻¹ D⁻¹ v with P = [Â 0; H Ŝ]: zᵤ = Â⁻¹ σₛvᵤ, then zₚ = Ŝ⁻¹ (σ_f vₚ − H zᵤ).
-  Eigen::VectorXd zp(m), flux(m);
+  // Work vectors kept across the iterations (GMRES calls this once per iteration).
+  Eigen::VectorXd zp(m), flux(m), solid_rhs(n), fluid_rhs(m);
   auto precondition = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) {
     z.resize(n + m);
-    z.head(n) = factor_->llt.solve(Eigen::VectorXd(solid_scale * v.head(n)));
+    solid_rhs = solid_scale * v.head(n);
+    z.head(n) = factor_->llt.solve(solid_rhs);
     products.interface_flux(z.head(n), flux);
-    lag.precondition(Eigen::VectorXd(fluid_scale * v.tail(m) - flux), zp);
+    fluid_rhs = fluid_scale * v.tail(m) - flux;
+    lag.precondition(fluid_rhs, zp);
     z.tail(m) = zp;
   };
 
