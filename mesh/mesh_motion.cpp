@@ -146,6 +146,7 @@ MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
   solver_->cg.setMaxIterations(std::max(1000, 4 * m));
   factorize_ = options.factorize;
   tolerance_ = options.tolerance;
+  step_reduction_ = options.step_reduction;
   make_preconditioner_ = options.make_preconditioner;
   if (m > 0 && !make_preconditioner_) solver_->cg.compute(K_ff_);
   last_ = Eigen::MatrixXd::Zero(m, 3);
@@ -208,11 +209,12 @@ void MeshMotion::solve_preconditioned(const Eigen::MatrixXd& rhs) {
       last_.col(c).setZero();
       continue;
     }
-    const double target = tolerance_ * rhs.col(c).norm();
     Eigen::VectorXd d = guess.col(c);
     // Preconditioned conjugate gradients (Saad, "Iterative Methods for Sparse Linear Systems",
     // Alg. 9.1), written out because the preconditioner is a function (Eigen's CG takes a class).
+    // Stops at ‖r‖ ≤ max(tolerance ‖rhs‖, step_reduction ‖r₀‖) (MeshMotionOptions).
     Eigen::VectorXd residual = rhs.col(c) - K_ff_ * d, z, direction, Kp;
+    const double target = std::max(tolerance_ * rhs.col(c).norm(), step_reduction_ * residual.norm());
     double rz_previous = 0;
     int iterations = 0;
     for (; residual.norm() > target; ++iterations) {

@@ -22,8 +22,11 @@
 ///                 2, so the iterations are those of the Ŝ-preconditioned Schur complement
 ///                 (Murphy, Golub & Wathen, SIAM J. Sci. Comput. 21, 2000) plus the drift of Â.
 ///                 The residual GMRES stops on is that of the current system, so the answer is
-///                 the same to the tolerance. Both blocks are rebuilt once the lagged solves' extra
-///                 iterations (beyond the last fresh solve's) add up to twice a fresh solve's, or
+///                 the same to the tolerance. A alone is refactorized once the lagged solves' extra
+///                 iterations (beyond the last fresh solve's) since its factorization add up to half
+///                 a fresh solve's (its numeric factorization costs about that much; the drift of Â
+///                 is what makes the iterations grow). Both blocks are rebuilt once the extra
+///                 iterations since the last fresh solve add up to twice a fresh solve's, or
 ///                 when GMRES misses its cap (3x a fresh solve's iterations + 20), in which case the
 ///                 step is solved fresh; a new pattern of A rebuilds the factor, a remeshed fluid
 ///                 (new P or H pattern) only Ŝ's preconditioner. If the refactorization fails (A

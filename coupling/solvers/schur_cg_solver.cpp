@@ -67,6 +67,14 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
                        factor_->pattern.matches(s.A) && lag_->precondition;
   CoupledSolveReport lagged;
   const bool lag_first = can_lag && !lag_->refresh;
+  if (lag_first && lag_->factor_due()) {
+    // A alone is refactorized; if it is not SPD the earlier factor stays (refactor() keeps it)
+    // and the next attempt waits for another half solve's worth of extra iterations.
+    Stopwatch factor_clock;
+    if (refactor(s.A)) lag_->age = -1;  // factorized for this solve, which reports age 0
+    lag_->factor_extra_iterations = 0;
+    lagged.setup_seconds = factor_clock.lap();
+  }
   if (lag_first && solve_lagged(s, u, p, lagged)) return lagged;
   Stopwatch factor_clock;
   const bool factored = n == 0 || refactor(s.A);
@@ -88,6 +96,7 @@ CoupledSolveReport SchurCGSolver::solve(const CoupledSystem& s, Eigen::VectorXd&
   if (can_lag && !lag_first) {
     lag_->refresh = false;
     lag_->extra_iterations = 0;
+    lag_->factor_extra_iterations = 0;
     if (solve_lagged(s, u, p, lagged, /*rebuild_preconditioner=*/true)) {
       lagged.setup_seconds += factor_seconds;
       return lagged;
@@ -168,6 +177,7 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   lag.fresh_iterations = it;
   lag.age = 0;
   lag.extra_iterations = 0;
+  lag.factor_extra_iterations = 0;
   lag.refresh = false;
   return report;
 }

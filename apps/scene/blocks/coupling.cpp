@@ -19,8 +19,9 @@ Field coupling() {
       Field::boolean("reuse_factorization",
                      "`schur_cg` only: keep the solid block's Cholesky factor and the pressure "
                      "preconditioner from an earlier step and solve by GMRES preconditioned with them "
-                     "(`solver_factor_age` > 0 in stats.csv), rebuilding both once the extra iterations "
-                     "add up to two fresh solves; the answer meets the same tolerance. `false` factorizes every step.")
+                     "(`solver_factor_age` > 0 in stats.csv), refactorizing the solid block once the "
+                     "extra iterations its drift costs add up to half a fresh solve and rebuilding both once "
+                     "they add up to two; the answer meets the same tolerance. `false` factorizes every step.")
           .def(true),
       Field::number("tolerance", "", "Relative residual of each block row at which the solve stops.")
           .greater(0).less(1).def(1e-8),
@@ -56,9 +57,10 @@ Field coupling() {
                          "each step. `cholesky`: factorized once per mesh (CHOLMOD), then two triangular solves "
                          "a step; the factorization takes seconds at a million fluid tets and its factor is the "
                          "largest item in memory. `amg`: conjugate gradients with a BoomerAMG V-cycle from the "
-                         "extrapolated motion of the last two steps; no factorization and no factor, but "
-                         "several times the per-step cost (docs/scaling.md has both measured). `auto`: "
-                         "`cholesky` up to 1.5 million fluid tets, `amg` above.")
+                         "extrapolated motion of the last two steps, to 1e-3 of that guess's residual; no "
+                         "factorization and no factor, at about 1.7 times the per-step cost of the factor's "
+                         "solves (docs/scaling.md has both measured). `auto`: `cholesky` up to 250,000 fluid "
+                         "tets, `amg` above.")
           .def("auto"),
       Field::boolean("wall_contact",
                      "The container's walls are contact obstacles for every solid (the container's faces, "
