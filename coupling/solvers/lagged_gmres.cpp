@@ -40,11 +40,12 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { products.apply(v, y, solid_scale, fluid_scale); };
   // z = P⁻¹ D⁻¹ v with P = [Â 0; H Ŝ]: zᵤ = Â⁻¹ σₛvᵤ, then zₚ = Ŝ⁻¹ (σ_f vₚ − H zᵤ).
   // Work vectors kept across the iterations (GMRES calls this once per iteration).
-  Eigen::VectorXd zp(m), flux(m), solid_rhs(n), fluid_rhs(m);
+  Eigen::VectorXd zu(n), zp(m), flux(m), solid_rhs(n), fluid_rhs(m);
   auto precondition = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) {
     z.resize(n + m);
     solid_rhs = solid_scale * v.head(n);
-    z.head(n) = factor_->llt.solve(solid_rhs);
+    factor_->cholesky.solve(solid_rhs, zu);
+    z.head(n) = zu;
     products.interface_flux(z.head(n), flux);
     fluid_rhs = fluid_scale * v.tail(m) - flux;
     lag.precondition(fluid_rhs, zp);

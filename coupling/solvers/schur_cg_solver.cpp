@@ -118,7 +118,9 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   // factor_ holds the Cholesky factor of this A (refactor()), reused by every CG iteration (two
   // triangular solves each) and by the lagged solves that follow.
   auto A_inv = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-    return n > 0 ? Eigen::VectorXd(factor_->llt.solve(x)) : Eigen::VectorXd();
+    Eigen::VectorXd y;
+    if (n > 0) factor_->cholesky.solve(x, y);
+    return y;
   };
 
   // Until this solve succeeds the lagged state is marked unusable (refresh), so that a caller

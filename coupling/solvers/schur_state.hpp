@@ -3,13 +3,13 @@
 /// Private: what the fast path (SchurCGSolver) keeps between solves: the CHOLMOD factor of the
 /// solid block A, and, for the lagged solves, the preconditioner of Ŝ and the patterns it was
 /// built for (see coupled_solver.hpp).
-#include <Eigen/CholmodSupport>
 #include <Eigen/IterativeLinearSolvers>
 #include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "coupling/solvers/block_cholesky.hpp"
 #include "coupling/solvers/solver_impls.hpp"
 
 namespace tetfsi::coupling::detail {
@@ -34,7 +34,8 @@ struct SparsityPattern {
   }
 };
 
-/// Supernodal Cholesky of A = M/h + C + (h/2)K′ (SPD for a stable step). The fill-reducing
+/// Supernodal Cholesky of A = M/h + C + (h/2)K′ (SPD for a stable step), one factor per solid body
+/// (block_cholesky.hpp). The fill-reducing
 /// ordering and symbolic factor (CHOLMOD's analysis) depend only on A's sparsity pattern, which
 /// stays the same from step to step while the solid meshes do (the remesher freezes them), so
 /// they are computed once per pattern and only the numeric factorization is redone. The solver
@@ -42,20 +43,19 @@ struct SparsityPattern {
 /// one leaves the current intact): the analysis is done once in each, and two numeric factors stay
 /// in memory (42 MB each at 48³ in bench_coupling).
 struct SchurCGSolver::Factor {
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  BlockCholesky cholesky;   // one CHOLMOD factor per solid body, solved in parallel
   SparsityPattern pattern;  // of the A the analysis was made for
-  bool valid = false;       // llt holds the factor of an SPD matrix with that pattern
+  bool valid = false;       // cholesky holds the factor of an SPD matrix with that pattern
   SparseMatrix matrix;      // the A of the last factorize(), for checkpoints (schur_checkpoint.cpp)
 
   /// Factorizes A, re-analysing only when its pattern changed. Returns false if A is not SPD.
   bool factorize(const SparseMatrix& A) {
     matrix = A;
     if (!pattern.matches(A)) {
-      llt.analyzePattern(A);
+      cholesky.analyze_pattern(A);
       pattern.assign(A);
     }
-    llt.factorize(A);
-    valid = llt.info() == Eigen::Success;
+    valid = cholesky.factorize(A);
     return valid;
   }
 };
