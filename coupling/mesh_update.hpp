@@ -49,15 +49,16 @@ struct MeshUpdateOptions {
   MeshUpdatePolicy policy = MeshUpdatePolicy::kRemeshWhenNeeded;
   mesh::MeshMotionOptions motion;  ///< how the fluid vertices follow the solids
   /// The motion's solver. A factorization costs seconds once per mesh at a million fluid tets
-  /// (2.1 s at 409k, 7.5 s at 962k on 2 cores) and is the largest item of the step's memory (190
+  /// (2.1 s at 409k, 7.2 s at 962k on 2 cores) and is the largest item of the step's memory (190
   /// MB of 776 MB of heap at 409k fluid tets, growing faster than the mesh), but then moves the
-  /// mesh in about 0.05 s per step at 409k; the AMG solve needs neither, at about 0.085 s per step
-  /// at 409k (5 iterations per component, MeshMotionOptions::step_reduction; docs/scaling.md).
+  /// mesh in about 0.05 s per step at 409k and 0.2 s at 962k (with the quality check); the AMG
+  /// solve needs neither, at about 0.1 s per step at 409k and 0.34-0.46 s at 962k (5 iterations
+  /// per component at 409k, MeshMotionOptions::step_reduction; docs/scaling.md).
   MotionSolver motion_solver = MotionSolver::kAuto;
-  /// kAuto: the fluid tet count above which the motion is solved by AMG. Below it the factor takes
-  /// under a second and 100 MB and has paid for itself within about 50 steps (99k fluid tets:
-  /// 0.25 s once, then 0.006 s per step against AMG's 0.017 s).
-  int amg_motion_above_tets = 250'000;
+  /// kAuto: the fluid tet count above which the motion is solved by AMG. Below it the factorization
+  /// has paid for itself within 20-60 steps (99k, 409k fluid tets) and is the faster choice for a
+  /// run of hundreds of steps between remeshes; above it its memory and set-up dominate.
+  int amg_motion_above_tets = 1'500'000;
   /// kRemeshWhenNeeded: remesh when the moved fluid's minimum dihedral angle is below this [deg]
   /// (or below half the angle the step started from, whichever is smaller, so that a mesh that
   /// starts with a 7° sliver is not remeshed every step for it).

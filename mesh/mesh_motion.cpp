@@ -1,18 +1,19 @@
 #include "mesh/mesh_motion.hpp"
 
 #include "support/binary_stream.hpp"
+#include "support/conjugate_gradient.hpp"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
+#include "mesh/column_gather.hpp"
 #include "mesh/complex_mesher.hpp"  // MeshError
 #include "mesh/incidence.hpp"
 #include "mesh/remesh_region.hpp"   // vertex_kinds
@@ -35,20 +36,14 @@ Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Eigen::Vector3d, 4>& x
 /// The matrix Σ_t k_t over the fluid tets, restricted to rows `row_of[v]` >= 0 (num_rows of them)
 /// and to the columns of the vertices in `column_vertex` (column c: vertex column_vertex[c]), where
 /// k_t = block[block_of[t]] couples the tet's four vertices (block_of[t] = -1: not a fluid tet).
-/// Gathered column by column in parallel straight into the compressed matrix: column c sums its
-/// vertex's tets in ascending order, the order in which setFromTriplets on triplets pushed tet by
-/// tet sums them, so each entry is that sum bit for bit, with no triplet list (16 per tet) and no
-/// serial sort. Per thread, slot[r] is row r's place in the column being gathered (O(1) lookup).
-Eigen::SparseMatrix<double> gather_columns(const TetMesh& mesh, const VertexIncidence& incidence,
-                                           const std::vector<int>& block_of, const std::vector<Eigen::Matrix4d>& block,
-                                           const std::vector<int>& row_of, int num_rows,
-                                           const std::vector<int>& column_vertex) {
-  const int num_columns = static_cast<int>(column_vertex.size());
-  Eigen::SparseMatrix<double> k(num_rows, num_columns);
-  if (num_rows == 0 || num_columns == 0) return k;
-  tbb::enumerable_thread_specific<std::vector<int>> slots([num_rows] { return std::vector<int>(num_rows, -1); });
-  auto column = [&](int c, std::vector<int>& slot, std::vector<std::pair<int, double>>& entries) {
-    entries.clear();
+/// Column c sums its vertex's tets in ascending order (column_gather.hpp), the order in which
+/// setFromTriplets on triplets pushed tet by tet sums them: each entry is that sum bit for bit.
+Eigen::SparseMatrix<double> gather_block_columns(const TetMesh& mesh, const VertexIncidence& incidence,
+                                                 const std::vector<int>& block_of,
+                                                 const std::vector<Eigen::Matrix4d>& block,
+                                                 const std::vector<int>& row_of, int num_rows,
+                                                 const std::vector<int>& column_vertex) {
+  return gather_columns(num_rows, static_cast<int>(column_vertex.size()), [&](int c, const auto& emit) {
     const int v = column_vertex[c];
     for (int e = incidence.start[v]; e < incidence.start[v + 1]; ++e) {
       const int t = incidence.element[e], b = incidence.local[e];
@@ -56,34 +51,10 @@ Eigen::SparseMatrix<double> gather_columns(const TetMesh& mesh, const VertexInci
       const Eigen::Matrix4d& kt = block[block_of[t]];
       for (int a = 0; a < 4; ++a) {
         const int r = row_of[mesh.tets[t][a]];
-        if (r < 0) continue;
-        if (slot[r] < 0) {
-          slot[r] = static_cast<int>(entries.size());
-          entries.emplace_back(r, 0.0);
-        }
-        entries[slot[r]].second += kt(a, b);
+        if (r >= 0) emit(r, [&] { return kt(a, b); });
       }
     }
-    for (const auto& entry : entries) slot[entry.first] = -1;
-    std::sort(entries.begin(), entries.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  };
-  std::vector<std::vector<std::pair<int, double>>> columns(num_columns);
-  tbb::parallel_for(tbb::blocked_range<int>(0, num_columns), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int>& slot = slots.local();
-    for (int c = range.begin(); c < range.end(); ++c) column(c, slot, columns[c]);
   });
-  std::vector<int> start(num_columns + 1, 0);
-  for (int c = 0; c < num_columns; ++c) start[c + 1] = start[c] + static_cast<int>(columns[c].size());
-  k.resizeNonZeros(start[num_columns]);
-  std::copy(start.begin(), start.end(), k.outerIndexPtr());
-  tbb::parallel_for(tbb::blocked_range<int>(0, num_columns), [&](const tbb::blocked_range<int>& range) {
-    for (int c = range.begin(); c < range.end(); ++c)
-      for (std::size_t e = 0; e < columns[c].size(); ++e) {
-        k.innerIndexPtr()[start[c] + e] = columns[c][e].first;
-        k.valuePtr()[start[c] + e] = columns[c][e].second;
-      }
-  });
-  return k;
 }
 
 }  // namespace
@@ -138,8 +109,8 @@ MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
   std::vector<int> free_vertex(m);
   for (int v = 0; v < n; ++v)
     if (unknown_[v] >= 0) free_vertex[unknown_[v]] = v;
-  K_ff_ = gather_columns(mesh, incidence, block_of, block, unknown_, m, free_vertex);
-  K_fp_ = gather_columns(mesh, incidence, block_of, block, unknown_, m, prescribed_);
+  K_ff_ = gather_block_columns(mesh, incidence, block_of, block, unknown_, m, free_vertex);
+  K_fp_ = gather_block_columns(mesh, incidence, block_of, block, unknown_, m, prescribed_);
   // CG with a diagonal preconditioner: K_ff is SPD; the tolerance is relative to the right-hand
   // side (the prescribed motion), so a rigid-body step converges to round-off.
   solver_->cg.setTolerance(options.tolerance);
@@ -210,26 +181,14 @@ void MeshMotion::solve_preconditioned(const Eigen::MatrixXd& rhs) {
       continue;
     }
     Eigen::VectorXd d = guess.col(c);
-    // Preconditioned conjugate gradients (Saad, "Iterative Methods for Sparse Linear Systems",
-    // Alg. 9.1), written out because the preconditioner is a function (Eigen's CG takes a class).
     // Stops at ‖r‖ ≤ max(tolerance ‖rhs‖, step_reduction ‖r₀‖) (MeshMotionOptions).
-    Eigen::VectorXd residual = rhs.col(c) - K_ff_ * d, z, direction, Kp;
+    Eigen::VectorXd residual = rhs.col(c) - K_ff_ * d;
     const double target = std::max(tolerance_ * rhs.col(c).norm(), step_reduction_ * residual.norm());
-    double rz_previous = 0;
-    int iterations = 0;
-    for (; residual.norm() > target; ++iterations) {
-      if (iterations == max_iterations_)
-        throw MeshError("mesh motion: the stiffened Laplacian did not converge in " + std::to_string(iterations) +
-                        " preconditioned CG iterations");
-      precondition_(residual, z);
-      const double rz = residual.dot(z);
-      direction = iterations == 0 ? z : Eigen::VectorXd(z + (rz / rz_previous) * direction);
-      rz_previous = rz;
-      Kp = K_ff_ * direction;
-      const double alpha = rz / direction.dot(Kp);
-      d += alpha * direction;
-      residual -= alpha * Kp;
-    }
+    const int iterations = preconditioned_cg([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y = K_ff_ * v; },
+                                             precondition_, residual, d, target, max_iterations_);
+    if (residual.norm() > target)
+      throw MeshError("mesh motion: the stiffened Laplacian did not converge in " + std::to_string(iterations) +
+                      " preconditioned CG iterations");
     last_.col(c) = d;
     last_iterations_ += iterations;
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "coupling/solvers/schur_state.hpp"
+#include "support/conjugate_gradient.hpp"
 #include "support/stopwatch.hpp"
 
 namespace tetfsi::coupling::detail {
@@ -139,11 +140,9 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   };
   auto recover_u = [&] { u = n > 0 ? A_inv(s.b + s.H.transpose() * p) : Eigen::VectorXd(); };
 
-  // Preconditioned conjugate gradients (Saad, "Iterative Methods for Sparse Linear Systems",
-  // Alg. 9.1). Written out because S is only available as an operator; Eigen's
-  // ConjugateGradient would need a matrix-free wrapper with its expression traits, which is longer.
-  // With u = A⁻¹(b + Hᵀp) the solid row holds to round-off and the CG residual r − H A⁻¹ b − S p
-  // is the fluid row's residual, so CG stops once it is below half the tolerance relative to the
+  // Preconditioned conjugate gradients (support/conjugate_gradient.hpp) on S. With
+  // u = A⁻¹(b + Hᵀp) the solid row holds to round-off and the CG residual r − H A⁻¹ b − S p is the
+  // fluid row's residual, so CG stops once it is below half the tolerance relative to the
   // fluid row's scale. The recursively updated residual drifts from the true one when A is stiff
   // (each S product goes through A⁻¹), so the block residuals of (u, p) are then computed from
   // scratch; if they miss the tolerance CG restarts from the current iterate with a 10x tighter
@@ -153,18 +152,10 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   const double scale = std::max(s.r.norm(), rhs.norm());
   int it = 0;
   auto cg_pass = [&](double target) {
-    Eigen::VectorXd res = rhs - apply_S(p), z(m), dir(m);
-    double rz_previous = 0;
-    for (bool first = true; m > 0 && res.norm() > target && it < options_.max_iterations; ++it, first = false) {
-      lag.precondition(res, z);
-      const double rz = res.dot(z);
-      dir = first ? z : Eigen::VectorXd(z + (rz / rz_previous) * dir);
-      rz_previous = rz;
-      const Eigen::VectorXd Sd = apply_S(dir);
-      const double alpha = rz / dir.dot(Sd);
-      p += alpha * dir;
-      res -= alpha * Sd;
-    }
+    Eigen::VectorXd res = rhs - apply_S(p);
+    if (m > 0)
+      it += preconditioned_cg([&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y = apply_S(v); }, lag.precondition,
+                              res, p, target, options_.max_iterations - it);
     recover_u();
     if (!u.allFinite() || !p.allFinite()) return false;
     report.residual = residuals(s, u, p);

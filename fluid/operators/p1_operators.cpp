@@ -1,11 +1,11 @@
 #include "fluid/operators/p1_operators.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <utility>
+
+#include "mesh/column_gather.hpp"
 
 namespace tetfsi::fluid {
 
@@ -43,65 +43,30 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh) {
 
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std::vector<int>& unknown, int m,
                                               double scale) {
-  // Column by column in parallel, straight into the compressed matrix: column unknown[i] gathers
-  // V_t grad(phi_a).grad(phi_b) over node i's tets in ascending order, which is the order in which
-  // a triplet sum in tet order adds them, so each entry is that sum bit for bit (and L_ij = L_ji
-  // exactly: the dot product's terms commute). This needs no triplet list (16 per tet) and no
-  // serial sort; it reads each node's tets close together because build_fluid_mesh numbers tets
-  // and nodes along a space-filling curve (on the mesher's order the gather was 3x slower).
+  // Column by column in parallel, straight into the compressed matrix (mesh/column_gather.hpp):
+  // column unknown[i] gathers V_t grad(phi_a).grad(phi_b) over node i's tets in ascending order,
+  // which is the order in which a triplet sum in tet order adds them, so each entry is that sum bit
+  // for bit (and L_ij = L_ji exactly: the dot product's terms commute). It reads each node's tets
+  // close together because build_fluid_mesh numbers tets and nodes along a space-filling curve (on
+  // the mesher's order the gather was 3x slower).
   std::vector<int> node_of(m, -1);
   for (int i = 0; i < mesh.num_nodes(); ++i)
     if (unknown[i] >= 0) node_of[unknown[i]] = i;
-  Eigen::SparseMatrix<double> l(m, m);
-  if (m == 0) return l;
-  // Per thread: slot[r] = position of row r in the column being gathered, -1 if absent (reset
-  // after each column), so each of the column's ~100 terms finds its entry in O(1).
-  tbb::enumerable_thread_specific<std::vector<int>> slots([m] { return std::vector<int>(m, -1); });
-  // One column's entries, rows ascending; with `values` false only the rows (for the counts).
-  auto column = [&](int c, std::vector<int>& slot, std::vector<std::pair<int, double>>& entries, bool values) {
-    entries.clear();
-    const int i = node_of[c];
-    for (const int t : mesh.node_tets[i]) {
-      const auto& tet = mesh.tets[t];
-      int b = 0;
-      while (tet[b] != i) ++b;
-      for (int a = 0; a < 4; ++a) {
-        const int r = unknown[tet[a]];
-        if (r < 0) continue;
-        if (slot[r] < 0) {
-          slot[r] = static_cast<int>(entries.size());
-          entries.emplace_back(r, 0.0);
+  return mesh::gather_columns(
+      m, m,
+      [&](int c, const auto& emit) {
+        const int i = node_of[c];
+        for (const int t : mesh.node_tets[i]) {
+          const auto& tet = mesh.tets[t];
+          int b = 0;
+          while (tet[b] != i) ++b;
+          for (int a = 0; a < 4; ++a) {
+            const int r = unknown[tet[a]];
+            if (r >= 0) emit(r, [&] { return mesh.volume[t] * mesh.grad[t][a].dot(mesh.grad[t][b]); });
+          }
         }
-        if (values) entries[slot[r]].second += mesh.volume[t] * mesh.grad[t][a].dot(mesh.grad[t][b]);
-      }
-    }
-    for (const auto& e : entries) slot[e.first] = -1;
-    std::sort(entries.begin(), entries.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  };
-  std::vector<int> count(m + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, m), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int>& slot = slots.local();
-    std::vector<std::pair<int, double>> entries;
-    for (int c = range.begin(); c < range.end(); ++c) {
-      column(c, slot, entries, false);
-      count[c + 1] = static_cast<int>(entries.size());
-    }
-  });
-  for (int c = 0; c < m; ++c) count[c + 1] += count[c];
-  l.resizeNonZeros(count[m]);
-  std::copy(count.begin(), count.end(), l.outerIndexPtr());
-  tbb::parallel_for(tbb::blocked_range<int>(0, m), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int>& slot = slots.local();
-    std::vector<std::pair<int, double>> entries;
-    for (int c = range.begin(); c < range.end(); ++c) {
-      column(c, slot, entries, true);
-      for (std::size_t k = 0; k < entries.size(); ++k) {
-        l.innerIndexPtr()[count[c] + k] = entries[k].first;
-        l.valuePtr()[count[c] + k] = scale * entries[k].second;
-      }
-    }
-  });
-  return l;
+      },
+      scale);
 }
 
 TetVectors average_to_nodes(const FluidMesh& mesh, const TetVectors& u) { return weighted_node_average(mesh, u); }
