@@ -295,7 +295,7 @@ CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const Sol
   return interface;
 }
 
-CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const Interface& interface) const {
+CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const Interface& interface) {
   const fluid::FluidMesh& fm = fluid_.mesh();
   const fluid::ClassifiedBoundary& bc = fluid_.boundary();
   const std::vector<int>& unknown = interface.unknown;
@@ -315,7 +315,7 @@ CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const In
     return rows;
   }
   // P = (h/ρ) L on the unknowns, r = Gᵀ V v* − (prescribed boundary flux) − H_fixed u_fixed.
-  rows.P = fluid::assemble_laplacian(fm, unknown, m, h / rho);
+  rows.P = fluid::assemble_laplacian(fm, unknown, m, h / rho, &fluid_rows_pattern_);
   const Eigen::VectorXd div_star = fluid::gradient_transpose_volume(fm, fluid_.fields().velocity) - bc.flux;
   rows.r.resize(m);
   for (int i = 0; i < fm.num_nodes(); ++i)
@@ -408,8 +408,14 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   const Stopwatch clock;
   Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
   FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
-  CoupledSystem sys{std::move(solid.A), std::move(interface.H), std::move(fluid.P), std::move(solid.b),
-                    std::move(fluid.r)};
+  // Swapped, not moved: Eigen 3.4's SparseMatrix has no move constructor, and a copy of A, H and P
+  // would stay in memory for the whole step.
+  CoupledSystem sys;
+  sys.A.swap(solid.A);
+  sys.H.swap(interface.H);
+  sys.P.swap(fluid.P);
+  sys.b = std::move(solid.b);
+  sys.r = std::move(fluid.r);
   report.interface_seconds = clock.seconds();
   report.pressure_unknowns = sys.num_pressures();
   Eigen::VectorXd u, p;
@@ -422,6 +428,7 @@ CoupledStepReport CoupledStepper::step_once(double h) {
     for (int a = 0; a < solids_[i].model->num_nodes(); ++a)
       pressure_force_[i] += pressure_forces.segment<3>(solids_[i].dof_offset + 3 * a);
   update(h, u, p, interface.unknown, report);                         // eqs. (8) and (5)
+  fluid_rows_pattern_.swap(sys.P);
   report.mesh_update = update_mesh_to_solids();  // x^{n+1}: the fluid mesh follows the solids
   report.fluid_gravity_potential = fluid_gravity_potential(report);
   time_ += h;

@@ -216,7 +216,7 @@ class CoupledStepper {
   CoupledStepReport step_once(double h);
   SolidRows assemble_solid_rows(double h, CoupledStepReport& report);
   Interface assemble_interface(double h, const SolidRows& solid, CoupledStepReport& report) const;
-  FluidRows assemble_fluid_rows(double h, const Interface& interface) const;
+  FluidRows assemble_fluid_rows(double h, const Interface& interface);
   /// Eq. (7), or the two solves of time splitting; u, p are the new solid velocities and pressures.
   /// @throws std::runtime_error if the solution is not finite
   CoupledSolveReport solve(const CoupledSystem& sys, const std::vector<int>& unknown, Eigen::VectorXd& u,
@@ -286,6 +286,9 @@ class CoupledStepper {
   // The vertices of the mesh fluid_ last stepped on, moved to the solids at t^{n+1}
   // (MeshUpdateResult::moved_vertices); empty before the first step.
   std::vector<Eigen::Vector3d> fluid_mesh_moved_vertices_;
+  // The last step's (h/ρ) L, handed back after its solve: the next step's assembly sums its values
+  // into this pattern when the mesh only moved (mesh/column_gather.hpp; bit for bit the same).
+  SparseMatrix fluid_rows_pattern_;
   double time_ = 0;
   int step_ = 0;
 };

@@ -42,7 +42,7 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh) {
 }
 
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std::vector<int>& unknown, int m,
-                                              double scale) {
+                                              double scale, Eigen::SparseMatrix<double>* earlier) {
   // Column by column in parallel, straight into the compressed matrix (mesh/column_gather.hpp):
   // column unknown[i] gathers V_t grad(phi_a).grad(phi_b) over node i's tets in ascending order,
   // which is the order in which a triplet sum in tet order adds them, so each entry is that sum bit
@@ -66,7 +66,7 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std:
           }
         }
       },
-      scale);
+      scale, earlier);
 }
 
 TetVectors average_to_nodes(const FluidMesh& mesh, const TetVectors& u) { return weighted_node_average(mesh, u); }

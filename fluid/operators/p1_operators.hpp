@@ -40,9 +40,11 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh);
 ///
 /// Gathered column by column in parallel over each node's tets in ascending order (the order of a
 /// triplet sum in tet order), then scaled: deterministic, and bit for bit L's entries filtered and
-/// scaled afterwards.
+/// scaled afterwards. `earlier` (optional): a matrix this returned before, taken over (its pattern
+/// reused, values overwritten) when the entries fall on the same places, as on a moved mesh with
+/// the same unknowns (mesh/column_gather.hpp): one pass instead of two and no sort.
 Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std::vector<int>& unknown, int m,
-                                              double scale = 1.0);
+                                              double scale = 1.0, Eigen::SparseMatrix<double>* earlier = nullptr);
 
 /// Weighted average of per-tet values at the nodes, x_i = sum_{t ni i} w_t x_t / sum_{t ni i} w_t,
 /// with w_t = `weight`[t] (nullptr: the tet volumes V_t). Summed over each node's tets in

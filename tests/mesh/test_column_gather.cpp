@@ -44,14 +44,19 @@ TEST(ColumnGather, EqualsTheTripletSumInElementOrderBitForBit) {
   for (int e = 0; e < num_elements; ++e)
     for (int b = 0; b < 4; ++b) around[element[e][b]].emplace_back(e, b);
 
-  const Eigen::SparseMatrix<double> gathered = gather_columns(
-      num_rows, static_cast<int>(column_vertex.size()),
-      [&](int c, const auto& emit) {
-        for (const auto& [e, b] : around[column_vertex[c]])
-          for (int a = 0; a < 4; ++a)
-            if (row_of[element[e][a]] >= 0) emit(row_of[element[e][a]], [&, e = e, b = b] { return block[e](a, b); });
-      },
-      0.5);
+  // The gather of the first `used` elements (the others left out), reusing `earlier` if given.
+  auto gather = [&](int used, Eigen::SparseMatrix<double>* earlier) {
+    return gather_columns(
+        num_rows, static_cast<int>(column_vertex.size()),
+        [&](int c, const auto& emit) {
+          for (const auto& [e, b] : around[column_vertex[c]])
+            for (int a = 0; a < 4; ++a)
+              if (e < used && row_of[element[e][a]] >= 0)
+                emit(row_of[element[e][a]], [&, e = e, b = b] { return block[e](a, b); });
+        },
+        0.5, earlier);
+  };
+  const Eigen::SparseMatrix<double> gathered = gather(num_elements, nullptr);
   std::vector<Eigen::Triplet<double>> triplets;
   for (int e = 0; e < num_elements; ++e)
     for (int b = 0; b < 4; ++b)
@@ -64,6 +69,30 @@ TEST(ColumnGather, EqualsTheTripletSumInElementOrderBitForBit) {
   ASSERT_EQ(gathered.nonZeros(), summed.nonZeros());
   const Eigen::MatrixXd difference = Eigen::MatrixXd(gathered) - Eigen::MatrixXd(summed);
   EXPECT_EQ(difference.cwiseAbs().maxCoeff(), 0.0);
+
+  // New values on the same elements (a moved mesh): summed into the earlier pattern, which the
+  // result takes over, bit for bit the full gather's.
+  for (auto& k : block) k *= -1.5;
+  Eigen::SparseMatrix<double> earlier = gathered;
+  const double* earlier_values = earlier.valuePtr();
+  const Eigen::SparseMatrix<double> reused = gather(num_elements, &earlier);
+  EXPECT_EQ(reused.valuePtr(), earlier_values) << "the earlier matrix's storage is taken over";
+  const Eigen::SparseMatrix<double> fresh = gather(num_elements, nullptr);
+  ASSERT_EQ(reused.nonZeros(), fresh.nonZeros());
+  EXPECT_EQ((Eigen::MatrixXd(reused) - Eigen::MatrixXd(fresh)).cwiseAbs().maxCoeff(), 0.0);
+  // Fewer elements: some earlier entries get no term, so the pattern differs and the full gather
+  // runs (no explicit zeros left behind).
+  Eigen::SparseMatrix<double> stale = gathered;
+  const Eigen::SparseMatrix<double> fewer = gather(num_elements / 2, &stale);
+  const Eigen::SparseMatrix<double> fewer_fresh = gather(num_elements / 2, nullptr);
+  EXPECT_LT(fewer.nonZeros(), gathered.nonZeros());
+  ASSERT_EQ(fewer.nonZeros(), fewer_fresh.nonZeros());
+  EXPECT_EQ((Eigen::MatrixXd(fewer) - Eigen::MatrixXd(fewer_fresh)).cwiseAbs().maxCoeff(), 0.0);
+  // More elements than the earlier pattern holds: a term off the pattern, the full gather again.
+  Eigen::SparseMatrix<double> small = fewer_fresh;
+  const Eigen::SparseMatrix<double> more = gather(num_elements, &small);
+  ASSERT_EQ(more.nonZeros(), fresh.nonZeros());
+  EXPECT_EQ((Eigen::MatrixXd(more) - Eigen::MatrixXd(fresh)).cwiseAbs().maxCoeff(), 0.0);
 }
 
 }  // namespace
