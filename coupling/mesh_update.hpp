@@ -49,10 +49,10 @@ struct MeshUpdateOptions {
   MeshUpdatePolicy policy = MeshUpdatePolicy::kRemeshWhenNeeded;
   mesh::MeshMotionOptions motion;  ///< how the fluid vertices follow the solids
   /// The motion's solver. A factorization costs seconds once per mesh at a million fluid tets
-  /// (2.1 s at 409k, 7.2 s at 962k on 2 cores) and is the largest item of the step's memory (190
-  /// MB of 776 MB of heap at 409k fluid tets, growing faster than the mesh), but then moves the
-  /// mesh in about 0.05 s per step at 409k and 0.2 s at 962k (with the quality check); the AMG
-  /// solve needs neither, at about 0.1 s per step at 409k and 0.34-0.46 s at 962k (5 iterations
+  /// (2.1 s at 409k, 6.7-7.2 s at 962k on 2 cores) and is the largest item of the step's memory
+  /// (190 MB of 776 MB of heap at 409k fluid tets, growing faster than the mesh), but then moves the
+  /// mesh in about 0.07 s per step at 409k and 0.2 s at 962k (with the quality check); the AMG
+  /// solve needs neither, at about 0.1 s per step at 409k and 0.31-0.46 s at 962k (5 iterations
   /// per component at 409k, MeshMotionOptions::step_reduction; docs/scaling.md).
   MotionSolver motion_solver = MotionSolver::kAuto;
   /// kAuto: the fluid tet count above which the motion is solved by AMG. Below it the factorization
