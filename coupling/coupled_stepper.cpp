@@ -403,32 +403,38 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   // A viscous fluid sticks to the solids at their velocity uⁿ (fluid/viscosity/viscous_boundary.hpp).
   if (fluid_.viscous()) boundary_.no_slip_velocity = mesh_vertices_at(solid_velocities());
   report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection, viscosity, body forces
-  SolidRows solid = assemble_solid_rows(h, report);    // eq. (4): A, b
-  if (fluid_.viscous()) add_viscous_drag(solid);
-  const Stopwatch clock;
-  Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
-  FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
-  // Swapped, not moved: Eigen 3.4's SparseMatrix has no move constructor, and a copy of A, H and P
-  // would stay in memory for the whole step.
-  CoupledSystem sys;
-  sys.A.swap(solid.A);
-  sys.H.swap(interface.H);
-  sys.P.swap(fluid.P);
-  sys.b = std::move(solid.b);
-  sys.r = std::move(fluid.r);
-  report.interface_seconds = clock.seconds();
-  report.pressure_unknowns = sys.num_pressures();
-  Eigen::VectorXd u, p;
-  report.solve = solve_with_contact(h, sys, interface.unknown, u, p);  // eq. (7) with contact
-  if (comparison_)  // the same system from the same guess, before update() moves either
-    report.compared = comparison_->run(sys, solid_velocities(), previous_pressure(interface.unknown, sys.num_pressures()));
-  const Eigen::VectorXd pressure_forces = interface.H_all.transpose() * p;  // J p^{n+1}, fixed nodes too
-  pressure_force_.assign(solids_.size(), Eigen::Vector3d::Zero());
-  for (std::size_t i = 0; i < solids_.size(); ++i)
-    for (int a = 0; a < solids_[i].model->num_nodes(); ++a)
-      pressure_force_[i] += pressure_forces.segment<3>(solids_[i].dof_offset + 3 * a);
-  update(h, u, p, interface.unknown, report);                         // eqs. (8) and (5)
-  fluid_rows_pattern_.swap(sys.P);
+  {
+    // The step's rows and system live in this block only, so that they are freed before the mesh
+    // update (whose factorization of the mesh motion, at the second step on a mesh, is the step's
+    // largest allocation).
+    SolidRows solid = assemble_solid_rows(h, report);    // eq. (4): A, b
+    if (fluid_.viscous()) add_viscous_drag(solid);
+    const Stopwatch clock;
+    Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
+    FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
+    // Swapped, not moved: Eigen 3.4's SparseMatrix has no move constructor, and a copy of A, H and P
+    // would stay in memory for the whole step.
+    CoupledSystem sys;
+    sys.A.swap(solid.A);
+    sys.H.swap(interface.H);
+    sys.P.swap(fluid.P);
+    sys.b = std::move(solid.b);
+    sys.r = std::move(fluid.r);
+    report.interface_seconds = clock.seconds();
+    report.pressure_unknowns = sys.num_pressures();
+    Eigen::VectorXd u, p;
+    report.solve = solve_with_contact(h, sys, interface.unknown, u, p);  // eq. (7) with contact
+    if (comparison_)  // the same system from the same guess, before update() moves either
+      report.compared =
+          comparison_->run(sys, solid_velocities(), previous_pressure(interface.unknown, sys.num_pressures()));
+    const Eigen::VectorXd pressure_forces = interface.H_all.transpose() * p;  // J p^{n+1}, fixed nodes too
+    pressure_force_.assign(solids_.size(), Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < solids_.size(); ++i)
+      for (int a = 0; a < solids_[i].model->num_nodes(); ++a)
+        pressure_force_[i] += pressure_forces.segment<3>(solids_[i].dof_offset + 3 * a);
+    update(h, u, p, interface.unknown, report);                         // eqs. (8) and (5)
+    fluid_rows_pattern_.swap(sys.P);
+  }
   report.mesh_update = update_mesh_to_solids();  // x^{n+1}: the fluid mesh follows the solids
   report.fluid_gravity_potential = fluid_gravity_potential(report);
   time_ += h;
