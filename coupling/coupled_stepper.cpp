@@ -324,7 +324,7 @@ CoupledStepper::FluidRows CoupledStepper::assemble_fluid_rows(double h, const In
   if (mean_constraint()) {
     // Gᵀ V v^{n+1} − H u^{n+1} = −(Gᵀ V vⁿ − H uⁿ), vⁿ the advected velocity before body forces:
     // the defect of the start-of-step state on this mesh moves to the right-hand side.
-    const Eigen::VectorXd div_n = fluid::gradient_transpose_volume(fm, fluid_.advected_velocity()) - bc.flux;
+    const Eigen::VectorXd div_n = fluid_.advected_divergence() - bc.flux;
     rows.r -= interface.H_all * solid_velocities();
     for (int i = 0; i < fm.num_nodes(); ++i)
       if (unknown[i] >= 0) rows.r[unknown[i]] += div_n[i];
@@ -402,6 +402,7 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   if (settings_.before_step) settings_.before_step(time_, h);  // kinematic solids' velocities
   // A viscous fluid sticks to the solids at their velocity uⁿ (fluid/viscosity/viscous_boundary.hpp).
   if (fluid_.viscous()) boundary_.no_slip_velocity = mesh_vertices_at(solid_velocities());
+  fluid_.keep_advected_divergence(mean_constraint());  // read by assemble_fluid_rows
   report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection, viscosity, body forces
   {
     // The step's rows and system live in this block only, so that they are freed before the mesh

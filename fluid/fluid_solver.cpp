@@ -25,7 +25,7 @@ FluidSolver::FluidSolver(FluidParams params) : params_(std::move(params)) {
 }
 
 bool FluidSolver::built_from(const mesh::TetMesh& mesh) const {
-  return initialized_ && mesh.tets == source_tets_ && mesh.subdomain == source_subdomain_ &&
+  return initialized_ && mesh.tets == source_->tets && mesh.subdomain == source_->subdomain &&
          mesh.num_vertices() == static_cast<int>(mesh_->mesh_vertex_to_node.size());
 }
 
@@ -34,8 +34,7 @@ void FluidSolver::set_mesh(const mesh::TetMesh& mesh, std::shared_ptr<FluidMesh>
   spare_.same_topology = same_topology;
   if (same_topology) return;
   viscous_rings_.clear();
-  source_tets_ = mesh.tets;
-  source_subdomain_ = mesh.subdomain;
+  source_ = std::make_shared<const SourceTopology>(SourceTopology{mesh.tets, mesh.subdomain});
 }
 
 std::shared_ptr<FluidMesh> FluidSolver::moved_mesh_storage() {
@@ -205,7 +204,7 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   fields_ = advect(*mesh_, fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr,
                    old_locator ? &*old_locator : nullptr);
   set_mesh(mesh, std::move(new_mesh_storage), same_topology);
-  advected_velocity_ = fields_.velocity;
+  if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_.velocity);
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;
   if (free_surface_) {

@@ -130,9 +130,14 @@ class FluidSolver {
   const FluidMesh& mesh() const { return *mesh_; }
   const FluidFields& fields() const { return fields_; }
   FluidFields& fields() { return fields_; }
-  /// The velocity carried onto the current mesh by the last predict(), before its body forces and
-  /// sources [m/s] (the coupled step's start-of-step fluid state, coupling/coupled_stepper.cpp).
-  const TetVectors& advected_velocity() const { return advected_velocity_; }
+  /// Gᵀ V v per node of the current mesh (p1_operators.hpp, gradient_transpose_volume) for the
+  /// velocity v carried onto it by the last predict(), before its body forces and sources [m³/s]:
+  /// the divergence of the coupled step's start-of-step fluid state (coupling/coupled_stepper.cpp).
+  /// Kept only after keep_advected_divergence(true) (empty otherwise): one value per node instead
+  /// of the advected velocity's three per tet.
+  const Eigen::VectorXd& advected_divergence() const { return advected_divergence_; }
+  /// Whether predict() keeps advected_divergence() (the simultaneous coupling's mean constraint).
+  void keep_advected_divergence(bool keep) { keep_advected_divergence_ = keep; }
   const Eigen::VectorXd& pressure() const { return pressure_; }
   const ClassifiedBoundary& boundary() const { return boundary_; }
 
@@ -152,12 +157,18 @@ class FluidSolver {
   void report_energies(StepReport& rep) const;
 
   /// Checkpoints (apps/run/checkpoint.hpp; fluid_solver_state.cpp): everything a step changes —
-  /// the mesh and its topology record, the fields, the velocity before the last body forces, the
+  /// the mesh and its topology record, the fields, the advected divergence (if kept), the
   /// pressure, the classified boundary, the level set with its cut-tet geometry and the volume kept.
   /// The parameters and liquid options are the set-up's: restore into a solver set up from the
   /// same scene. read_state throws BinaryReadError on a truncated or corrupt state.
   void write_state(BinaryWriter& out) const;
   void read_state(BinaryReader& in);
+
+  /// The tets and labels of the TetMesh the current fluid mesh was built from.
+  struct SourceTopology {
+    std::vector<std::array<int, 4>> tets;
+    std::vector<int> subdomain;
+  };
 
  private:
   void apply_sources(const BoundaryConditions& bc, double h);
@@ -203,10 +214,11 @@ class FluidSolver {
   // moved mesh in spare_ (or a new one) and then swaps.
   std::shared_ptr<FluidMesh> mesh_ = std::make_shared<FluidMesh>();
   SpareMesh spare_;
-  std::vector<std::array<int, 4>> source_tets_;  // tets and labels of the TetMesh mesh_ was built from
-  std::vector<int> source_subdomain_;
+  // Shared with the copies of the solver, as mesh_ is (replaced, never written, on a new topology).
+  std::shared_ptr<const SourceTopology> source_ = std::make_shared<const SourceTopology>();
   FluidFields fields_;
-  TetVectors advected_velocity_;
+  Eigen::VectorXd advected_divergence_;  // see advected_divergence()
+  bool keep_advected_divergence_ = false;
   Eigen::VectorXd pressure_;
   ClassifiedBoundary boundary_;
   bool initialized_ = false;

@@ -38,9 +38,17 @@ void serialize(A& a, LiquidGeometry& g) {
   a(g.liquid_volume, g.wet_moment, g.first_moment, g.is_liquid, g.num_air_nodes);
 }
 
+// The tets and labels the mesh was built from (shared with the solver's copies), as the mesh.
+void serialize(BinaryWriter& a, std::shared_ptr<const FluidSolver::SourceTopology>& s) { a(s->tets, s->subdomain); }
+void serialize(BinaryReader& a, std::shared_ptr<const FluidSolver::SourceTopology>& s) {
+  auto read = std::make_shared<FluidSolver::SourceTopology>();
+  a(read->tets, read->subdomain);
+  s = std::move(read);
+}
+
 template <class Archive>
 void FluidSolver::state(Archive& a) {
-  a(mesh_, source_tets_, source_subdomain_, fields_.velocity, fields_.smoke, fields_.temperature, advected_velocity_,
+  a(mesh_, source_, fields_.velocity, fields_.smoke, fields_.temperature, advected_divergence_,
     pressure_, boundary_, initialized_, free_surface_, level_set_, liquid_, target_volume_);
 }
 

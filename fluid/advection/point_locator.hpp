@@ -43,10 +43,10 @@ class PointLocator {
   Eigen::Vector3i dims_;
   std::vector<int> cell_start_;  ///< CSR over cells
   std::vector<int> cell_tets_;
-  /// Per tet: bounding box grown by 1e-6 of its largest extent. A point outside it has a
-  /// barycentric coordinate far below -kInsideTolerance, so grid_find skips the tet without
-  /// changing which tet it returns (a failed search scans a whole cell).
-  std::vector<Eigen::Vector3d> box_lo_, box_hi_;
+  /// Per tet: bounding box grown by 1e-6 of its largest extent, rounded outwards to single
+  /// precision. A point outside it has a barycentric coordinate far below -kInsideTolerance, so
+  /// grid_find skips the tet without changing which tet it returns (a failed search scans a whole cell).
+  std::vector<Eigen::Vector3f> box_lo_, box_hi_;
 };
 
 }  // namespace tetfsi::fluid

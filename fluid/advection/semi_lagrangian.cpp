@@ -12,6 +12,7 @@ namespace tetfsi::fluid {
 namespace {
 
 constexpr int kBlock = 256;  ///< samples per deterministic work block
+int num_blocks(int n) { return (n + kBlock - 1) / kBlock; }
 
 /// Per-tet fields packed as 5 doubles (velocity, smoke, temperature), at tets or at nodes.
 using Packed = std::vector<Eigen::Matrix<double, 5, 1>>;
@@ -20,19 +21,6 @@ Packed pack(const FluidFields& f) {
   Packed p(f.velocity.size());
   for (size_t t = 0; t < p.size(); ++t) p[t] << f.velocity[t], f.smoke[t], f.temperature[t];
   return p;
-}
-
-FluidFields unpack(const Packed& p) {
-  FluidFields f;
-  f.velocity.resize(p.size());
-  f.smoke.resize(p.size());
-  f.temperature.resize(p.size());
-  for (size_t t = 0; t < p.size(); ++t) {
-    f.velocity[t] = p[t].head<3>();
-    f.smoke[t] = p[t][3];
-    f.temperature[t] = p[t][4];
-  }
-  return f;
 }
 
 /// Weighted node averages of packed tet values (the reconstruction; see header); the weights are
@@ -47,17 +35,25 @@ Eigen::Matrix<double, 5, 1> interp(const FluidMesh& m, const Packed& nodal, cons
   return v;
 }
 
-/// Centroid-preserving, limited tet-wise linear reconstruction (AdvectionScheme::kLinear).
-Eigen::Matrix<double, 5, 1> interp_linear(const FluidMesh& m, const Packed& tet_values, const Packed& nodal,
-                                          const Location& l) {
+/// Centroid-preserving, limited tet-wise linear reconstruction (AdvectionScheme::kLinear) in the
+/// foot's tet, whose own value is `tet_value`.
+Eigen::Matrix<double, 5, 1> interp_linear(const FluidMesh& m, const Eigen::Matrix<double, 5, 1>& tet_value,
+                                          const Packed& nodal, const Location& l) {
   const auto& tet = m.tets[l.tet];
-  Eigen::Matrix<double, 5, 1> v = tet_values[l.tet], lo = v, hi = v;
+  Eigen::Matrix<double, 5, 1> v = tet_value, lo = v, hi = v;
   for (int k = 0; k < 4; ++k) {
     v += (l.bary[k] - 0.25) * nodal[tet[k]];
     lo = lo.cwiseMin(nodal[tet[k]]);
     hi = hi.cwiseMax(nodal[tet[k]]);
   }
   return v.cwiseMax(lo).cwiseMin(hi);
+}
+
+/// The packed value of tet t of `f` (pack() without the copy of every tet).
+Eigen::Matrix<double, 5, 1> tet_value(const FluidFields& f, int t) {
+  Eigen::Matrix<double, 5, 1> v;
+  v << f.velocity[t], f.smoke[t], f.temperature[t];
+  return v;
 }
 
 Eigen::Vector3d interp_velocity(const FluidMesh& m, const Packed& nodal, const Location& l) {
@@ -106,34 +102,46 @@ Location trace_foot(const FluidMesh& vel_mesh, const PointLocator& locator, cons
   return trace_to(locator, x0, l0, x0 - h * interp_velocity(vel_mesh, nodal, lm), clamped, &cut, lm.tet);
 }
 
-/// RK2 (midpoint) feet of the centroids of `targets`, traced for time h (negative: forward) through
-/// the velocity reconstructed on `vel_mesh`; returned as locations in `vel_mesh`. `cut` (if given):
-/// 1 for the samples whose final trace was cut at the fluid boundary.
-std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
-                                 const FluidMesh& targets, double h, AdvectionReport& rep,
-                                 std::vector<char>* cut = nullptr) {
-  if (cut) cut->assign(targets.num_tets(), 0);
+/// Calls visit(block, t, foot, cut) for the RK2 (midpoint) foot of the centroid of every tet t of
+/// `targets`, traced for time h (negative: forward) through the velocity reconstructed on
+/// `vel_mesh`, as a location in `vel_mesh`; cut: the final trace was cut at the fluid boundary.
+/// Blocks of kBlock targets run in parallel, each in order (the walks, hence the feet, do not
+/// depend on the thread count); visit may write to slot t or to its block's own storage.
+template <class Visit>
+void for_each_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
+                   const FluidMesh& targets, double h, AdvectionReport& rep, const Visit& visit) {
   const int n = targets.num_tets();
-  std::vector<Location> feet(n);
   // When the target mesh is the velocity mesh moved (the same tets, as between two remeshes of a
   // coupled run), the centroid of target tet t lies in or next to its tet of the velocity mesh:
   // the walk starts there (one or two steps) instead of at the previous sample's tet.
   const std::vector<int> match = matching_tets(vel_mesh, targets);
   std::atomic<int> clamped_total{0}, outside_total{0};
-  const int blocks = (n + kBlock - 1) / kBlock;
-  tbb::parallel_for(0, blocks, [&](int b) {
+  tbb::parallel_for(0, num_blocks(n), [&](int b) {
     int hint = -1, clamped = 0, outside = 0;
     for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
       if (!match.empty()) hint = match[t];
-      bool foot_cut = false;
-      feet[t] = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), h, hint, clamped, outside, foot_cut);
-      if (cut && foot_cut) (*cut)[t] = 1;
+      bool cut = false;
+      const Location foot = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), h, hint, clamped, outside, cut);
+      visit(b, t, foot, cut);
     }
     clamped_total += clamped;
     outside_total += outside;
   });
   rep.clamped += clamped_total;
   rep.outside_start += outside_total;
+}
+
+/// The feet of for_each_foot, one per target tet; `cut` (if given): 1 for the samples whose final
+/// trace was cut at the fluid boundary.
+std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
+                                 const FluidMesh& targets, double h, AdvectionReport& rep,
+                                 std::vector<char>* cut = nullptr) {
+  if (cut) cut->assign(targets.num_tets(), 0);
+  std::vector<Location> feet(targets.num_tets());
+  for_each_foot(vel_mesh, locator, nodal, targets, h, rep, [&](int, int t, const Location& foot, bool foot_cut) {
+    feet[t] = foot;
+    if (cut && foot_cut) (*cut)[t] = 1;
+  });
   return feet;
 }
 
@@ -170,31 +178,44 @@ Eigen::Vector3d inflow_at(const FluidMesh& old_mesh, const BoundaryExits& exits,
                                        exits.inflow_velocity[f][2]) / 3.0);
 }
 
+/// A sample whose final trace was cut at the fluid boundary: its tet and its foot.
+struct CutFoot {
+  int tet;
+  Location foot;
+};
+
 /// The samples whose trace left through an open face (ExitRule::kOpen) drop their tangential
 /// velocity; those that left through an inflow face (ExitRule::kInflow) take its velocity.
-void apply_exits(const FluidMesh& old_mesh, const BoundaryExits& exits, const std::vector<Location>& feet,
-                 const std::vector<char>& cut, Packed& values, AdvectionReport& rep) {
+void apply_exits(const FluidMesh& old_mesh, const BoundaryExits& exits, const std::vector<CutFoot>& cut_feet,
+                 TetVectors& velocity, AdvectionReport& rep) {
   std::vector<int> face_of(4 * static_cast<size_t>(old_mesh.num_tets()), -1);
   for (size_t f = 0; f < old_mesh.boundary_faces.size(); ++f) {
     const BoundaryFace& bf = old_mesh.boundary_faces[f];
     face_of[4 * static_cast<size_t>(bf.tet) + bf.local_face] = static_cast<int>(f);
   }
-  for (size_t t = 0; t < values.size(); ++t) {
-    if (!cut[t]) continue;
-    const int f = exit_face(old_mesh, face_of, feet[t]);
+  for (const CutFoot& c : cut_feet) {
+    const int f = exit_face(old_mesh, face_of, c.foot);
     if (f < 0 || exits.rule[f] == ExitRule::kClamp) continue;
+    Eigen::Vector3d& u = velocity[c.tet];
     if (exits.rule[f] == ExitRule::kInflow) {
-      values[t].head<3>() = inflow_at(old_mesh, exits, f, feet[t]);
+      u = inflow_at(old_mesh, exits, f, c.foot);
       ++rep.inflow_feet;
       continue;
     }
     const Eigen::Vector3d& n = old_mesh.boundary_faces[f].normal;
-    const double un = values[t].head<3>().dot(n);
+    const double un = u.dot(n);
     if (un < 0.0) {
-      values[t].head<3>() = un * n;
+      u = un * n;
       ++rep.backflow_feet;
     }
   }
+}
+
+/// Stores the packed value v as tet t of `f`.
+void store(FluidFields& f, int t, const Eigen::Matrix<double, 5, 1>& v) {
+  f.velocity[t] = v.head<3>();
+  f.smoke[t] = v[3];
+  f.temperature[t] = v[4];
 }
 
 Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
@@ -216,35 +237,50 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
       old_fields.smoke.size() != old_mesh.num_tets() || old_fields.temperature.size() != old_mesh.num_tets())
     throw std::invalid_argument("advect: old fields do not match the old mesh's tet count");
   AdvectionReport rep;
-  const Packed f = pack(old_fields);
-  const Packed f_nodal = to_nodes(old_mesh, f, node_weight);
   std::optional<PointLocator> own_locator;
   if (!given_locator) own_locator.emplace(old_mesh);
   const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
   // Which traces were cut at the boundary matters only where some face is open or an inflow (apply_exits).
   const bool any_open =
       exits && std::any_of(exits->rule.begin(), exits->rule.end(), [](ExitRule r) { return r != ExitRule::kClamp; });
-  std::vector<char> cut;
-  const std::vector<Location> feet =
-      trace_feet(old_mesh, old_locator, f_nodal, new_mesh, h, rep, any_open ? &cut : nullptr);
-  Packed forward(new_mesh.num_tets());
   // With node weights (a liquid), a foot in a tet that is not full of liquid reads the node
   // interpolant: the tet's own value is poorly constrained there (see node_weight).
   auto anchored = [&](int tet) { return !node_weight || (*node_weight)[tet] >= old_mesh.volume[tet]; };
-  tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
-    forward[t] = scheme == AdvectionScheme::kLinear && anchored(feet[t].tet)
-                     ? interp_linear(old_mesh, f, f_nodal, feet[t])
-                     : interp(old_mesh, f_nodal, feet[t]);
-  });
-  if (scheme == AdvectionScheme::kBfecc) {
+  const int n = new_mesh.num_tets();
+  FluidFields advected;
+  advected.velocity.resize(n);
+  advected.smoke.resize(n);
+  advected.temperature.resize(n);
+  std::vector<CutFoot> cut_feet;
+  if (scheme != AdvectionScheme::kBfecc) {
+    // One pass: each sample's foot is read as it is found (no array of feet or of packed values:
+    // at a million tets they were 100 bytes per tet of the step's peak memory). The cut feet,
+    // few, are kept per block for apply_exits, in the samples' order.
+    const Packed f_nodal = to_nodes(old_mesh, pack(old_fields), node_weight);
+    std::vector<std::vector<CutFoot>> cut_by_block(any_open ? num_blocks(n) : 0);
+    for_each_foot(old_mesh, old_locator, f_nodal, new_mesh, h, rep, [&](int b, int t, const Location& foot, bool cut) {
+      store(advected, t,
+            scheme == AdvectionScheme::kLinear && anchored(foot.tet)
+                ? interp_linear(old_mesh, tet_value(old_fields, foot.tet), f_nodal, foot)
+                : interp(old_mesh, f_nodal, foot));
+      if (any_open && cut) cut_by_block[b].push_back({t, foot});
+    });
+    for (const auto& block : cut_by_block) cut_feet.insert(cut_feet.end(), block.begin(), block.end());
+  } else {
+    const Packed f = pack(old_fields);
+    const Packed f_nodal = to_nodes(old_mesh, f, node_weight);
+    std::vector<char> cut;
+    const std::vector<Location> feet =
+        trace_feet(old_mesh, old_locator, f_nodal, new_mesh, h, rep, any_open ? &cut : nullptr);
+    Packed forward(n);
+    tbb::parallel_for(0, n, [&](int t) { forward[t] = interp(old_mesh, f_nodal, feet[t]); });
     // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
     AdvectionReport back_rep;
     const std::vector<Location> ahead = trace_feet(old_mesh, old_locator, f_nodal, old_mesh, -h, back_rep);
     const Packed forward_nodal = to_nodes(new_mesh, forward);
     const PointLocator new_locator(new_mesh);
     Packed corrected(old_mesh.num_tets());
-    const int blocks = (old_mesh.num_tets() + kBlock - 1) / kBlock;
-    tbb::parallel_for(0, blocks, [&](int b) {
+    tbb::parallel_for(0, num_blocks(old_mesh.num_tets()), [&](int b) {
       int hint = -1;
       for (int t = b * kBlock; t < std::min(old_mesh.num_tets(), (b + 1) * kBlock); ++t) {
         const Location l = new_locator.locate(position(old_mesh, ahead[t]), hint);
@@ -254,7 +290,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
       }
     });
     const Packed corrected_nodal = to_nodes(old_mesh, corrected, node_weight);
-    tbb::parallel_for(0, new_mesh.num_tets(), [&](int t) {
+    tbb::parallel_for(0, n, [&](int t) {
       const Eigen::Matrix<double, 5, 1> v = interp(old_mesh, corrected_nodal, feet[t]);
       Eigen::Matrix<double, 5, 1> lo = f_nodal[old_mesh.tets[feet[t].tet][0]], hi = lo;
       for (int k = 1; k < 4; ++k) {
@@ -264,11 +300,14 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
       // Limiter (Selle et al. 2008): revert to the plain value where the correction overshoots.
       for (int c = 0; c < 5; ++c)
         if (v[c] >= lo[c] && v[c] <= hi[c]) forward[t][c] = v[c];
+      store(advected, t, forward[t]);
     });
+    for (int t = 0; t < n && any_open; ++t)
+      if (cut[t]) cut_feet.push_back({t, feet[t]});
   }
-  if (any_open) apply_exits(old_mesh, *exits, feet, cut, forward, rep);
+  if (any_open) apply_exits(old_mesh, *exits, cut_feet, advected.velocity, rep);
   if (report) *report = rep;
-  return unpack(forward);
+  return advected;
 }
 
 }  // namespace tetfsi::fluid
