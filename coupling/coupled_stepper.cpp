@@ -16,21 +16,37 @@
 namespace tetfsi::coupling {
 namespace {
 
-SparseMatrix block_diagonal(const std::vector<SparseMatrix>& blocks) {
-  int n = 0;
-  std::size_t nnz = 0;
-  for (const auto& b : blocks) n += static_cast<int>(b.rows()), nnz += b.nonZeros();
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(nnz);
-  int offset = 0;
-  for (const auto& b : blocks) {
-    for (int k = 0; k < b.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(b, k); it; ++it)
-        t.emplace_back(offset + it.row(), offset + it.col(), it.value());
-    offset += static_cast<int>(b.rows());
+/// diag(blocks[0], blocks[1], ...), the blocks' compressed columns placed one after the other (no
+/// triplets, no sort); the blocks are consumed (one block is swapped out, not copied).
+SparseMatrix block_diagonal(std::vector<SparseMatrix>& blocks) {
+  SparseMatrix m;
+  if (blocks.size() == 1) {
+    blocks[0].makeCompressed();
+    m.swap(blocks[0]);
+    return m;
   }
-  SparseMatrix m(n, n);
-  m.setFromTriplets(t.begin(), t.end());
+  int n = 0;
+  Eigen::Index nnz = 0;
+  for (auto& b : blocks) {
+    b.makeCompressed();
+    n += static_cast<int>(b.rows()), nnz += b.nonZeros();
+  }
+  m.resize(n, n);
+  m.resizeNonZeros(nnz);
+  int offset = 0, column = 0;
+  Eigen::Index entry = 0;
+  for (auto& b : blocks) {
+    for (int k = 0; k < b.outerSize(); ++k, ++column) {
+      m.outerIndexPtr()[column] = static_cast<int>(entry);
+      for (int e = b.outerIndexPtr()[k]; e < b.outerIndexPtr()[k + 1]; ++e, ++entry) {
+        m.innerIndexPtr()[entry] = offset + b.innerIndexPtr()[e];
+        m.valuePtr()[entry] = b.valuePtr()[e];
+      }
+    }
+    offset += static_cast<int>(b.rows());
+    b = SparseMatrix();
+  }
+  m.outerIndexPtr()[n] = static_cast<int>(entry);
   return m;
 }
 
@@ -192,8 +208,10 @@ CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledS
   SolidRows rows;
   std::vector<SparseMatrix> A_blocks(solids_.size());
   std::vector<Eigen::VectorXd> b_blocks(solids_.size());
-  for (std::size_t i = 0; i < solids_.size(); ++i) solids_[i].integrator->form_system(h, A_blocks[i], b_blocks[i]);
-  rows.A = block_diagonal(A_blocks);
+  for (std::size_t i = 0; i < solids_.size(); ++i) {
+    solids_[i].integrator->form_system(h, A_blocks[i], b_blocks[i]);
+    solids_[i].model->release_workspace();  // not kept through the rest of the step (its peak memory)
+  }
   const int n = num_solid_dofs_;
   rows.b.resize(n);
   rows.fixed.assign(n, 0);
@@ -209,6 +227,7 @@ CoupledStepper::SolidRows CoupledStepper::assemble_solid_rows(double h, CoupledS
         rows.fixed_velocity[o + k] = b_blocks[i][k] / A_blocks[i].coeff(k, k);
       }
   }
+  rows.A = block_diagonal(A_blocks);  // after the reads of A_blocks above: it consumes them
   report.solid_assemble_seconds = clock.seconds();
   report.solid_dofs = n;
   return rows;

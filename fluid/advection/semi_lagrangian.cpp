@@ -256,7 +256,8 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
     // One pass: each sample's foot is read as it is found (no array of feet or of packed values:
     // at a million tets they were 100 bytes per tet of the step's peak memory). The cut feet,
     // few, are kept per block for apply_exits, in the samples' order.
-    const Packed f_nodal = to_nodes(old_mesh, pack(old_fields), node_weight);
+    const Packed f_nodal = weighted_node_average_of<Eigen::Matrix<double, 5, 1>>(
+        old_mesh, [&](int t) { return tet_value(old_fields, t); }, node_weight);
     std::vector<std::vector<CutFoot>> cut_by_block(any_open ? num_blocks(n) : 0);
     for_each_foot(old_mesh, old_locator, f_nodal, new_mesh, h, rep, [&](int b, int t, const Location& foot, bool cut) {
       store(advected, t,

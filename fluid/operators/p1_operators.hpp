@@ -49,9 +49,10 @@ Eigen::SparseMatrix<double> assemble_laplacian(const FluidMesh& mesh, const std:
 /// Weighted average of per-tet values at the nodes, x_i = sum_{t ni i} w_t x_t / sum_{t ni i} w_t,
 /// with w_t = `weight`[t] (nullptr: the tet volumes V_t). Summed over each node's tets in
 /// ascending order, nodes in parallel: deterministic. Value: double or a fixed-size Eigen vector.
-template <class Value>
-std::vector<Value> weighted_node_average(const FluidMesh& mesh, const std::vector<Value>& values,
-                                         const std::vector<double>* weight = nullptr) {
+/// The values are read as value_of(t) (no array of them needed).
+template <class Value, class ValueOf>
+std::vector<Value> weighted_node_average_of(const FluidMesh& mesh, const ValueOf& value_of,
+                                            const std::vector<double>* weight = nullptr) {
   const std::vector<double>& w = weight ? *weight : mesh.volume;
   std::vector<Value> out(mesh.num_nodes());
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
@@ -60,12 +61,19 @@ std::vector<Value> weighted_node_average(const FluidMesh& mesh, const std::vecto
     else sum = Value::Zero();
     double total = 0.0;
     for (int t : mesh.node_tets[i]) {
-      sum += w[t] * values[t];
+      sum += w[t] * value_of(t);
       total += w[t];
     }
     out[i] = sum / total;
   });
   return out;
+}
+
+/// weighted_node_average_of for the values[t].
+template <class Value>
+std::vector<Value> weighted_node_average(const FluidMesh& mesh, const std::vector<Value>& values,
+                                         const std::vector<double>* weight = nullptr) {
+  return weighted_node_average_of<Value>(mesh, [&](int t) -> const Value& { return values[t]; }, weight);
 }
 
 /// Volume-weighted average of tet vectors at the nodes: u_i = sum_t V_t u_t / sum_t V_t

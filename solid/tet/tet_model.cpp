@@ -136,6 +136,11 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   return true;
 }
 
+void TetModel::release_workspace() const {
+  std::vector<double>().swap(element_matrices_);
+  std::vector<double>().swap(element_vectors_);
+}
+
 double TetModel::strain_energy(const Eigen::VectorXd& d) const {
   // Sum in fixed element order (deterministic); cheap compared to evaluate().
   double w = 0;

@@ -58,6 +58,10 @@ class TetModel : public ElasticModel {
   double strain_energy(const Eigen::VectorXd& d) const override;
   std::string last_error() const override { return last_error_; }
   int last_inverted_count() const override { return last_inverted_; }
+  /// Frees the element matrices and vectors evaluate() keeps for its next call (144 + 12 doubles
+  /// per tet), for a caller that evaluates once per step and needs the memory for the rest of it
+  /// (the coupled step, whose peak is in the fluid's advection); the next evaluate() allocates them again.
+  void release_workspace() const;
 
   /// Deformation gradient of tet t at displacement d.
   Eigen::Matrix3d deformation_gradient(const Eigen::VectorXd& d, int t) const;

@@ -493,8 +493,9 @@ TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
     const double U = std::sqrt(2 * 9.81 * 0.6), h = 0.04;
     for (std::size_t r = 0; r < stats.rows.size(); ++r) {
       EXPECT_LE(stats.at(r, "max_divergence"), 1e-8 * U / h) << "step " << r + 1;
-      if (stats.at(r, "remeshed") > 0)  // a local remesh, not the whole fluid
+      if (stats.at(r, "remeshed") > 0) {  // a local remesh, not the whole fluid
         EXPECT_LT(stats.at(r, "remeshed_tets"), 0.8 * stats.at(r, "tets")) << "step " << r + 1;
+      }
     }
   }
   json coupled = committed("dam_break_ci.json");
