@@ -201,7 +201,7 @@ class CoupledStepper {
   struct FluidRows;  // (h/ρ) L and r of eq. (6)
   /// Everything a step changes except the mesh, which changes only once the step has succeeded.
   struct Snapshot {
-    fluid::FluidSolver fluid;
+    fluid::FluidSolver::UndoPoint fluid;
     std::vector<solid::NewmarkIntegrator::State> solids;
     std::vector<double> previous_vertex_pressure;
     std::vector<int> surface_contact_nodes;

@@ -59,14 +59,14 @@ CoupledStepReport CoupledStepper::step_or_halve(double h, int halvings) {
 }
 
 CoupledStepper::Snapshot CoupledStepper::snapshot() const {
-  Snapshot s{fluid_, {}, previous_vertex_pressure_, {}, time_, step_};
+  Snapshot s{fluid_.undo_point(mesh_), {}, previous_vertex_pressure_, {}, time_, step_};
   if (surface_contact_) s.surface_contact_nodes = surface_contact_->touching_nodes();
   for (const Solid& solid : solids_) s.solids.push_back(solid.integrator->save_state());
   return s;
 }
 
 void CoupledStepper::restore(Snapshot s) {
-  fluid_ = std::move(s.fluid);
+  fluid_.undo(std::move(s.fluid));
   for (std::size_t i = 0; i < solids_.size(); ++i) solids_[i].integrator->restore_state(s.solids[i]);
   previous_vertex_pressure_ = std::move(s.previous_vertex_pressure);
   if (surface_contact_) surface_contact_->set_touching_nodes(std::move(s.surface_contact_nodes));

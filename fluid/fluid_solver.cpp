@@ -29,6 +29,32 @@ bool FluidSolver::built_from(const mesh::TetMesh& mesh) const {
          mesh.num_vertices() == static_cast<int>(mesh_->mesh_vertex_to_node.size());
 }
 
+bool FluidSolver::moves_in_place(const mesh::TetMesh& mesh) const {
+  return built_from(mesh) && !free_surface_ && params_.advection != AdvectionScheme::kBfecc;
+}
+
+FluidSolver::UndoPoint FluidSolver::undo_point(const mesh::TetMesh& mesh) const {
+  UndoPoint point{*this, {}};
+  if (moves_in_place(mesh)) {
+    point.nodes = mesh_->nodes;
+    point.solver.mesh_.reset();
+  }
+  return point;
+}
+
+void FluidSolver::undo(UndoPoint point) {
+  if (point.solver.mesh_) {
+    *this = std::move(point.solver);
+    return;
+  }
+  // The mesh the point was taken on, moved since (in place or into new storage, with the same
+  // topology either way): its geometry goes back to the point's node positions.
+  std::shared_ptr<FluidMesh> moved = std::move(mesh_);
+  *this = std::move(point.solver);
+  update_fluid_mesh_geometry(std::move(point.nodes), *moved);
+  mesh_ = std::move(moved);
+}
+
 void FluidSolver::set_mesh(const mesh::TetMesh& mesh, std::shared_ptr<FluidMesh> fluid_mesh, bool same_topology) {
   spare_.mesh = std::exchange(mesh_, std::move(fluid_mesh));
   spare_.same_topology = same_topology;
@@ -175,6 +201,24 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   if (!(h > 0.0)) throw std::invalid_argument("FluidSolver::step: h must be positive");
   StepReport rep;
   double t0 = now();
+  if (moves_in_place(mesh) && mesh_.use_count() == 1) {
+    // The mesh only moved and nothing else holds it: advect onto the moved tets' centroids, then
+    // move the mesh itself (one fluid mesh in memory, not the old and the new one).
+    spare_ = SpareMesh();
+    const std::vector<Eigen::Vector3d> centroids = moved_centroids(mesh, *mesh_);
+    rep.assemble_seconds += now() - t0;
+    t0 = now();
+    AdvectionReport adv;
+    const BoundaryExits exits = boundary_exits(*mesh_, bc);
+    fields_ = advect_to_centroids(*mesh_, fields_, centroids, h, &adv, params_.advection, &exits);
+    rep.clamped_traces = adv.clamped + adv.outside_start;
+    rep.advect_seconds = now() - t0;
+    t0 = now();
+    update_fluid_mesh_geometry(mesh, *mesh_);
+    rep.assemble_seconds += now() - t0;
+    if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_.velocity);
+    return add_forces(bc, h, rep);
+  }
   // A moved (not remeshed) mesh keeps its topology: only its geometry is recomputed.
   const bool same_topology = built_from(mesh);
   std::shared_ptr<FluidMesh> new_mesh_storage =
@@ -213,7 +257,11 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     rep.surface_seconds += now() - t0;
   }
 
-  t0 = now();
+  return add_forces(bc, h, rep);
+}
+
+StepReport FluidSolver::add_forces(const BoundaryConditions& bc, double h, StepReport rep) {
+  double t0 = now();
   boundary_ = classify_boundary(*mesh_, bc);
   rep.assemble_seconds += now() - t0;
   t0 = now();

@@ -117,7 +117,19 @@ class FluidSolver {
   // ---- pieces for the simultaneous coupling (coupling/coupled_stepper.hpp) ----
   /// Steps 1-3 of step(): advects onto `mesh`, classifies `bc`, applies sources and body forces,
   /// leaving the intermediate velocity v* in fields().velocity (no projection).
+  /// When `mesh` is the current mesh moved (the same tets and labels), the fluid is a gas and the
+  /// advection is not BFECC, predict() moves the fluid mesh in place (advect_to_centroids): one
+  /// fluid mesh in memory instead of the old and the new one.
   StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h);
+  /// The solver's state before a step onto `mesh`, for undoing the step (CoupledStepper's step
+  /// halving): a copy of the solver that, when predict() will move the mesh in place, holds the
+  /// mesh's node positions instead of sharing the mesh.
+  struct UndoPoint;
+  UndoPoint undo_point(const mesh::TetMesh& mesh) const;
+  /// Back to `point`, taken before this solver's last predict() (and nothing since but the other
+  /// steps of a coupled step): the fluid mesh moved in place gets the point's geometry back,
+  /// recomputed from its node positions.
+  void undo(UndoPoint point);
   /// Eq. (8), interior part: v = v* - (h/rho) G p with the pressure p [Pa] per fluid node that the
   /// coupled solve found (a free surface: v = v* - (h/rho) B p on the liquid and the extension
   /// into the air, free_surface_projection.hpp); then the finiteness check and the statistics of `rep`.
@@ -185,6 +197,10 @@ class FluidSolver {
   /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
   /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
   bool built_from(const mesh::TetMesh& mesh) const;
+  /// built_from(mesh), and neither a free surface nor BFECC, which read the new mesh while advecting.
+  bool moves_in_place(const mesh::TetMesh& mesh) const;
+  /// predict()'s steps after the advection: the classified boundary, sources, viscosity, body forces.
+  StepReport add_forces(const BoundaryConditions& bc, double h, StepReport rep);
   /// mesh_ = fluid_mesh (the old mesh_ becomes the spare), remembering the topology of `mesh`
   /// unless it is the same as before.
   void set_mesh(const mesh::TetMesh& mesh, std::shared_ptr<FluidMesh> fluid_mesh, bool same_topology);
@@ -231,6 +247,11 @@ class FluidSolver {
   std::vector<Eigen::Matrix3d> viscous_stiffness_;  // per fluid node, see viscous_node_stiffness()
   // The viscous step's fit rings (viscosity/node_fit.hpp) of mesh_, kept while its topology holds.
   std::vector<std::vector<int>> viscous_rings_;
+};
+
+struct FluidSolver::UndoPoint {
+  FluidSolver solver;                  ///< the solver; without its mesh when `nodes` is not empty
+  std::vector<Eigen::Vector3d> nodes;  ///< the fluid mesh's node positions [m]; empty: `solver` shares the mesh
 };
 
 }  // namespace tetfsi::fluid

@@ -102,6 +102,10 @@ Location trace_foot(const FluidMesh& vel_mesh, const PointLocator& locator, cons
   return trace_to(locator, x0, l0, x0 - h * interp_velocity(vel_mesh, nodal, lm), clamped, &cut, lm.tet);
 }
 
+template <class Point, class Start, class Visit>
+void for_each_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal, int n,
+                   const Point& point, const Start& start, double h, AdvectionReport& rep, const Visit& visit);
+
 /// Calls visit(block, t, foot, cut) for the RK2 (midpoint) foot of the centroid of every tet t of
 /// `targets`, traced for time h (negative: forward) through the velocity reconstructed on
 /// `vel_mesh`, as a location in `vel_mesh`; cut: the final trace was cut at the fluid boundary.
@@ -110,18 +114,27 @@ Location trace_foot(const FluidMesh& vel_mesh, const PointLocator& locator, cons
 template <class Visit>
 void for_each_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal,
                    const FluidMesh& targets, double h, AdvectionReport& rep, const Visit& visit) {
-  const int n = targets.num_tets();
   // When the target mesh is the velocity mesh moved (the same tets, as between two remeshes of a
   // coupled run), the centroid of target tet t lies in or next to its tet of the velocity mesh:
   // the walk starts there (one or two steps) instead of at the previous sample's tet.
   const std::vector<int> match = matching_tets(vel_mesh, targets);
+  for_each_foot(
+      vel_mesh, locator, nodal, targets.num_tets(), [&](int t) -> const Eigen::Vector3d& { return targets.centroid(t); },
+      [&](int t) { return match.empty() ? -1 : match[t]; }, h, rep, visit);
+}
+
+/// for_each_foot for n samples at point(t), whose walks start at tet start(t) of vel_mesh (-1: at
+/// the previous sample's tet in the block, or from the grid).
+template <class Point, class Start, class Visit>
+void for_each_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const Packed& nodal, int n,
+                   const Point& point, const Start& start, double h, AdvectionReport& rep, const Visit& visit) {
   std::atomic<int> clamped_total{0}, outside_total{0};
   tbb::parallel_for(0, num_blocks(n), [&](int b) {
     int hint = -1, clamped = 0, outside = 0;
     for (int t = b * kBlock; t < std::min(n, (b + 1) * kBlock); ++t) {
-      if (!match.empty()) hint = match[t];
+      if (const int s = start(t); s >= 0) hint = s;
       bool cut = false;
-      const Location foot = trace_foot(vel_mesh, locator, nodal, targets.centroid(t), h, hint, clamped, outside, cut);
+      const Location foot = trace_foot(vel_mesh, locator, nodal, point(t), h, hint, clamped, outside, cut);
       visit(b, t, foot, cut);
     }
     clamped_total += clamped;
@@ -224,11 +237,8 @@ Eigen::Vector3d position(const FluidMesh& m, const Location& l) {
   return x;
 }
 
-}  // namespace
-
-FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
-                   AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
-                   const std::vector<double>* node_weight, const PointLocator* given_locator) {
+void check_advection_inputs(const FluidMesh& old_mesh, const FluidFields& old_fields, const BoundaryExits* exits,
+                            const std::vector<double>* node_weight) {
   if (node_weight && static_cast<int>(node_weight->size()) != old_mesh.num_tets())
     throw std::invalid_argument("advect: node-average weights do not match the old mesh's tet count");
   if (exits && exits->rule.size() != old_mesh.boundary_faces.size())
@@ -236,77 +246,148 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   if (static_cast<int>(old_fields.velocity.size()) != old_mesh.num_tets() ||
       old_fields.smoke.size() != old_mesh.num_tets() || old_fields.temperature.size() != old_mesh.num_tets())
     throw std::invalid_argument("advect: old fields do not match the old mesh's tet count");
+}
+
+/// Which traces were cut at the boundary matters only where some face is open or an inflow (apply_exits).
+bool any_open_face(const BoundaryExits* exits) {
+  return exits && std::any_of(exits->rule.begin(), exits->rule.end(), [](ExitRule r) { return r != ExitRule::kClamp; });
+}
+
+FluidFields fields_of_size(int n) {
+  FluidFields f;
+  f.velocity.resize(n);
+  f.smoke.resize(n);
+  f.temperature.resize(n);
+  return f;
+}
+
+/// kSemiLagrangian and kLinear for n samples at point(t), whose walks start at start(t)
+/// (for_each_foot), in one pass: each sample's foot is read as it is found (no array of feet or of
+/// packed values: at a million tets they were 100 bytes per tet of the step's peak memory). The
+/// cut feet, few, are kept per block for apply_exits, in the samples' order.
+template <class Point, class Start>
+FluidFields advect_samples(const FluidMesh& old_mesh, const FluidFields& old_fields, int n, const Point& point,
+                           const Start& start, double h, AdvectionReport& rep, AdvectionScheme scheme,
+                           const BoundaryExits* exits, const std::vector<double>* node_weight,
+                           const PointLocator& old_locator) {
+  const bool any_open = any_open_face(exits);
+  // With node weights (a liquid), a foot in a tet that is not full of liquid reads the node
+  // interpolant: the tet's own value is poorly constrained there (see node_weight).
+  auto anchored = [&](int tet) { return !node_weight || (*node_weight)[tet] >= old_mesh.volume[tet]; };
+  FluidFields advected = fields_of_size(n);
+  const Packed f_nodal = weighted_node_average_of<Eigen::Matrix<double, 5, 1>>(
+      old_mesh, [&](int t) { return tet_value(old_fields, t); }, node_weight);
+  std::vector<std::vector<CutFoot>> cut_by_block(any_open ? num_blocks(n) : 0);
+  for_each_foot(old_mesh, old_locator, f_nodal, n, point, start, h, rep,
+                [&](int b, int t, const Location& foot, bool cut) {
+                  store(advected, t,
+                        scheme == AdvectionScheme::kLinear && anchored(foot.tet)
+                            ? interp_linear(old_mesh, tet_value(old_fields, foot.tet), f_nodal, foot)
+                            : interp(old_mesh, f_nodal, foot));
+                  if (any_open && cut) cut_by_block[b].push_back({t, foot});
+                });
+  if (any_open) {
+    std::vector<CutFoot> cut_feet;
+    for (const auto& block : cut_by_block) cut_feet.insert(cut_feet.end(), block.begin(), block.end());
+    apply_exits(old_mesh, *exits, cut_feet, advected.velocity, rep);
+  }
+  return advected;
+}
+
+/// kBfecc (see semi_lagrangian.hpp): the plain advection, its reverse onto the old mesh, and the
+/// corrected advection with the limiter.
+FluidFields advect_bfecc(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
+                         AdvectionReport& rep, const BoundaryExits* exits, const std::vector<double>* node_weight,
+                         const PointLocator& old_locator) {
+  const bool any_open = any_open_face(exits);
+  const int n = new_mesh.num_tets();
+  FluidFields advected = fields_of_size(n);
+  const Packed f = pack(old_fields);
+  const Packed f_nodal = to_nodes(old_mesh, f, node_weight);
+  std::vector<char> cut;
+  const std::vector<Location> feet =
+      trace_feet(old_mesh, old_locator, f_nodal, new_mesh, h, rep, any_open ? &cut : nullptr);
+  Packed forward(n);
+  tbb::parallel_for(0, n, [&](int t) { forward[t] = interp(old_mesh, f_nodal, feet[t]); });
+  // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
+  AdvectionReport back_rep;
+  const std::vector<Location> ahead = trace_feet(old_mesh, old_locator, f_nodal, old_mesh, -h, back_rep);
+  const Packed forward_nodal = to_nodes(new_mesh, forward);
+  const PointLocator new_locator(new_mesh);
+  Packed corrected(old_mesh.num_tets());
+  tbb::parallel_for(0, num_blocks(old_mesh.num_tets()), [&](int b) {
+    int hint = -1;
+    for (int t = b * kBlock; t < std::min(old_mesh.num_tets(), (b + 1) * kBlock); ++t) {
+      const Location l = new_locator.locate(position(old_mesh, ahead[t]), hint);
+      hint = l.tet;
+      const auto back = interp(new_mesh, forward_nodal, l);  // clamped barycentric if outside
+      corrected[t] = f[t] + 0.5 * (f[t] - back);
+    }
+  });
+  const Packed corrected_nodal = to_nodes(old_mesh, corrected, node_weight);
+  tbb::parallel_for(0, n, [&](int t) {
+    const Eigen::Matrix<double, 5, 1> v = interp(old_mesh, corrected_nodal, feet[t]);
+    Eigen::Matrix<double, 5, 1> lo = f_nodal[old_mesh.tets[feet[t].tet][0]], hi = lo;
+    for (int k = 1; k < 4; ++k) {
+      lo = lo.cwiseMin(f_nodal[old_mesh.tets[feet[t].tet][k]]);
+      hi = hi.cwiseMax(f_nodal[old_mesh.tets[feet[t].tet][k]]);
+    }
+    // Limiter (Selle et al. 2008): revert to the plain value where the correction overshoots.
+    for (int c = 0; c < 5; ++c)
+      if (v[c] >= lo[c] && v[c] <= hi[c]) forward[t][c] = v[c];
+    store(advected, t, forward[t]);
+  });
+  if (any_open) {
+    std::vector<CutFoot> cut_feet;
+    for (int t = 0; t < n; ++t)
+      if (cut[t]) cut_feet.push_back({t, feet[t]});
+    apply_exits(old_mesh, *exits, cut_feet, advected.velocity, rep);
+  }
+  return advected;
+}
+
+}  // namespace
+
+FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, const FluidMesh& new_mesh, double h,
+                   AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
+                   const std::vector<double>* node_weight, const PointLocator* given_locator) {
+  check_advection_inputs(old_mesh, old_fields, exits, node_weight);
   AdvectionReport rep;
   std::optional<PointLocator> own_locator;
   if (!given_locator) own_locator.emplace(old_mesh);
   const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
-  // Which traces were cut at the boundary matters only where some face is open or an inflow (apply_exits).
-  const bool any_open =
-      exits && std::any_of(exits->rule.begin(), exits->rule.end(), [](ExitRule r) { return r != ExitRule::kClamp; });
-  // With node weights (a liquid), a foot in a tet that is not full of liquid reads the node
-  // interpolant: the tet's own value is poorly constrained there (see node_weight).
-  auto anchored = [&](int tet) { return !node_weight || (*node_weight)[tet] >= old_mesh.volume[tet]; };
-  const int n = new_mesh.num_tets();
   FluidFields advected;
-  advected.velocity.resize(n);
-  advected.smoke.resize(n);
-  advected.temperature.resize(n);
-  std::vector<CutFoot> cut_feet;
-  if (scheme != AdvectionScheme::kBfecc) {
-    // One pass: each sample's foot is read as it is found (no array of feet or of packed values:
-    // at a million tets they were 100 bytes per tet of the step's peak memory). The cut feet,
-    // few, are kept per block for apply_exits, in the samples' order.
-    const Packed f_nodal = weighted_node_average_of<Eigen::Matrix<double, 5, 1>>(
-        old_mesh, [&](int t) { return tet_value(old_fields, t); }, node_weight);
-    std::vector<std::vector<CutFoot>> cut_by_block(any_open ? num_blocks(n) : 0);
-    for_each_foot(old_mesh, old_locator, f_nodal, new_mesh, h, rep, [&](int b, int t, const Location& foot, bool cut) {
-      store(advected, t,
-            scheme == AdvectionScheme::kLinear && anchored(foot.tet)
-                ? interp_linear(old_mesh, tet_value(old_fields, foot.tet), f_nodal, foot)
-                : interp(old_mesh, f_nodal, foot));
-      if (any_open && cut) cut_by_block[b].push_back({t, foot});
-    });
-    for (const auto& block : cut_by_block) cut_feet.insert(cut_feet.end(), block.begin(), block.end());
+  if (scheme == AdvectionScheme::kBfecc) {
+    advected = advect_bfecc(old_mesh, old_fields, new_mesh, h, rep, exits, node_weight, old_locator);
   } else {
-    const Packed f = pack(old_fields);
-    const Packed f_nodal = to_nodes(old_mesh, f, node_weight);
-    std::vector<char> cut;
-    const std::vector<Location> feet =
-        trace_feet(old_mesh, old_locator, f_nodal, new_mesh, h, rep, any_open ? &cut : nullptr);
-    Packed forward(n);
-    tbb::parallel_for(0, n, [&](int t) { forward[t] = interp(old_mesh, f_nodal, feet[t]); });
-    // Reverse step: trace the OLD centroids forward through the same old velocity, read f^ on the new mesh.
-    AdvectionReport back_rep;
-    const std::vector<Location> ahead = trace_feet(old_mesh, old_locator, f_nodal, old_mesh, -h, back_rep);
-    const Packed forward_nodal = to_nodes(new_mesh, forward);
-    const PointLocator new_locator(new_mesh);
-    Packed corrected(old_mesh.num_tets());
-    tbb::parallel_for(0, num_blocks(old_mesh.num_tets()), [&](int b) {
-      int hint = -1;
-      for (int t = b * kBlock; t < std::min(old_mesh.num_tets(), (b + 1) * kBlock); ++t) {
-        const Location l = new_locator.locate(position(old_mesh, ahead[t]), hint);
-        hint = l.tet;
-        const auto back = interp(new_mesh, forward_nodal, l);  // clamped barycentric if outside
-        corrected[t] = f[t] + 0.5 * (f[t] - back);
-      }
-    });
-    const Packed corrected_nodal = to_nodes(old_mesh, corrected, node_weight);
-    tbb::parallel_for(0, n, [&](int t) {
-      const Eigen::Matrix<double, 5, 1> v = interp(old_mesh, corrected_nodal, feet[t]);
-      Eigen::Matrix<double, 5, 1> lo = f_nodal[old_mesh.tets[feet[t].tet][0]], hi = lo;
-      for (int k = 1; k < 4; ++k) {
-        lo = lo.cwiseMin(f_nodal[old_mesh.tets[feet[t].tet][k]]);
-        hi = hi.cwiseMax(f_nodal[old_mesh.tets[feet[t].tet][k]]);
-      }
-      // Limiter (Selle et al. 2008): revert to the plain value where the correction overshoots.
-      for (int c = 0; c < 5; ++c)
-        if (v[c] >= lo[c] && v[c] <= hi[c]) forward[t][c] = v[c];
-      store(advected, t, forward[t]);
-    });
-    for (int t = 0; t < n && any_open; ++t)
-      if (cut[t]) cut_feet.push_back({t, feet[t]});
+    // When the new mesh is the old one moved (the same tets, as between two remeshes of a coupled
+    // run), the centroid of new tet t lies in or next to its old tet: the walk starts there.
+    const std::vector<int> match = matching_tets(old_mesh, new_mesh);
+    advected = advect_samples(
+        old_mesh, old_fields, new_mesh.num_tets(),
+        [&](int t) -> const Eigen::Vector3d& { return new_mesh.centroid(t); },
+        [&](int t) { return match.empty() ? -1 : match[t]; }, h, rep, scheme, exits, node_weight, old_locator);
   }
-  if (any_open) apply_exits(old_mesh, *exits, cut_feet, advected.velocity, rep);
+  if (report) *report = rep;
+  return advected;
+}
+
+FluidFields advect_to_centroids(const FluidMesh& old_mesh, const FluidFields& old_fields,
+                                const std::vector<Eigen::Vector3d>& new_centroids, double h, AdvectionReport* report,
+                                AdvectionScheme scheme, const BoundaryExits* exits,
+                                const std::vector<double>* node_weight, const PointLocator* given_locator) {
+  if (scheme == AdvectionScheme::kBfecc)
+    throw std::invalid_argument("advect_to_centroids: BFECC needs the new mesh (advect())");
+  if (static_cast<int>(new_centroids.size()) != old_mesh.num_tets())
+    throw std::invalid_argument("advect_to_centroids: one centroid per tet of the old mesh expected");
+  check_advection_inputs(old_mesh, old_fields, exits, node_weight);
+  AdvectionReport rep;
+  std::optional<PointLocator> own_locator;
+  if (!given_locator) own_locator.emplace(old_mesh);
+  const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
+  FluidFields advected = advect_samples(
+      old_mesh, old_fields, old_mesh.num_tets(), [&](int t) -> const Eigen::Vector3d& { return new_centroids[t]; },
+      [](int t) { return t; }, h, rep, scheme, exits, node_weight, old_locator);
   if (report) *report = rep;
   return advected;
 }

@@ -66,6 +66,13 @@ FluidMesh build_fluid_mesh(const mesh::TetMesh& mesh);
 /// @throws std::invalid_argument if a fluid tet has non-positive volume (the message names it)
 void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm);
 
+/// The same with the node positions given directly (one per node of fm) [m].
+void update_fluid_mesh_geometry(std::vector<Eigen::Vector3d> nodes, FluidMesh& fm);
+
+/// The centroids of fm's tets with its nodes at the positions of `mesh` (fm's topology moved), bit
+/// for bit those update_fluid_mesh_geometry(mesh, fm) would give, without changing fm [m].
+std::vector<Eigen::Vector3d> moved_centroids(const mesh::TetMesh& mesh, const FluidMesh& fm);
+
 /// For each tet of `to`, the tet of `from` built from the same TetMesh tet with the same TetMesh
 /// vertices: two fluid meshes of one topology (a moved mesh, or jittered copies of one mesh) whose
 /// numberings may differ, since build_fluid_mesh numbers along the centroids' curve. Empty if `to`
