@@ -29,6 +29,11 @@ bool FluidSolver::built_from(const mesh::TetMesh& mesh) const {
          mesh.num_vertices() == static_cast<int>(mesh_->mesh_vertex_to_node.size());
 }
 
+FluidFields& FluidSolver::writable_fields() {
+  if (fields_.use_count() > 1) fields_ = std::make_shared<FluidFields>(*fields_);  // an undo point's
+  return *fields_;
+}
+
 bool FluidSolver::moves_in_place(const mesh::TetMesh& mesh) const {
   return built_from(mesh) && !free_surface_ && params_.advection != AdvectionScheme::kBfecc;
 }
@@ -84,7 +89,7 @@ void FluidSolver::initialize(const mesh::TetMesh& mesh, FluidFields fields) {
   if (static_cast<int>(fields.velocity.size()) != n || fields.smoke.size() != n || fields.temperature.size() != n)
     throw std::invalid_argument("FluidSolver::initialize: fields must have one value per fluid tet (" +
                                 std::to_string(n) + ")");
-  fields_ = std::move(fields);
+  fields_ = std::make_shared<FluidFields>(std::move(fields));
   pressure_ = Eigen::VectorXd::Zero(mesh_->num_nodes());
   initialized_ = true;
 }
@@ -113,7 +118,7 @@ void FluidSolver::extend_liquid_velocity() {
   for (int t = 0; t < mesh_->num_tets(); ++t)
     keep[t] = liquid_.liquid_volume[t] > 0.0 &&
               liquid_.liquid_volume[t] >= liquid_options_.min_kept_fraction * mesh_->volume[t];
-  extend_velocity(*mesh_, keep, liquid_options_.extension_layers, fields_.velocity);
+  extend_velocity(*mesh_, keep, liquid_options_.extension_layers, writable_fields().velocity);
 }
 
 void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
@@ -157,7 +162,7 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc, double h) {
   for (const Pouring& p : pouring)
     for (int t = 0; t < mesh_->num_tets(); ++t)
       if (p.layer.contains(mesh_->centroid(t)))
-        fields_.velocity[t] = p.patch->velocity_field ? p.patch->velocity_field(mesh_->centroid(t)) : p.patch->velocity;
+        writable_fields().velocity[t] = p.patch->velocity_field ? p.patch->velocity_field(mesh_->centroid(t)) : p.patch->velocity;
   // The liquid the inflow faces let in over the step, h sum_f A_f (-u_f.n_f) over the faces with
   // liquid at every node, joins the volume the run keeps: the layer stays full (its back-traces end
   // on the wall), so the refill above does not see it.
@@ -179,16 +184,16 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc, double h) {
   for (const SourceVolume& s : bc.sources)
     for (int t = 0; t < mesh_->num_tets(); ++t)
       if (s.region.contains(mesh_->centroid(t))) {
-        fields_.smoke[t] = s.smoke;
-        fields_.temperature[t] = s.temperature;
-        if (s.set_velocity) fields_.velocity[t] = s.velocity;
+        writable_fields().smoke[t] = s.smoke;
+        writable_fields().temperature[t] = s.temperature;
+        if (s.set_velocity) writable_fields().velocity[t] = s.velocity;
       }
   for (size_t f = 0; f < mesh_->boundary_faces.size(); ++f)
     if (boundary_.face_kind[f] == FaceKind::kInflow) {
       const BoundaryPatch& p = bc.patches[boundary_.face_patch[f]];
       const int t = mesh_->boundary_faces[f].tet;
-      fields_.smoke[t] = p.smoke;
-      fields_.temperature[t] = p.temperature;
+      writable_fields().smoke[t] = p.smoke;
+      writable_fields().temperature[t] = p.temperature;
     }
 }
 
@@ -205,18 +210,15 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     // The mesh only moved and nothing else holds it: advect onto the moved tets' centroids, then
     // move the mesh itself (one fluid mesh in memory, not the old and the new one).
     spare_ = SpareMesh();
-    const std::vector<Eigen::Vector3d> centroids = moved_centroids(mesh, *mesh_);
-    rep.assemble_seconds += now() - t0;
-    t0 = now();
     AdvectionReport adv;
     const BoundaryExits exits = boundary_exits(*mesh_, bc);
-    fields_ = advect_to_centroids(*mesh_, fields_, centroids, h, &adv, params_.advection, &exits);
+    fields_ = std::make_shared<FluidFields>(advect_onto_moved(*mesh_, *fields_, mesh, h, &adv, params_.advection, &exits));
     rep.clamped_traces = adv.clamped + adv.outside_start;
     rep.advect_seconds = now() - t0;
     t0 = now();
     update_fluid_mesh_geometry(mesh, *mesh_);
     rep.assemble_seconds += now() - t0;
-    if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_.velocity);
+    if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_->velocity);
     return add_forces(bc, h, rep);
   }
   // A moved (not remeshed) mesh keeps its topology: only its geometry is recomputed.
@@ -238,17 +240,17 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
   std::optional<PointLocator> old_locator;
   if (free_surface_) {
     old_locator.emplace(*mesh_);
-    phi = (liquid_options_.bfecc ? advect_nodal_bfecc : advect_nodal)(*mesh_, fields_.velocity, level_set_, new_mesh,
+    phi = (liquid_options_.bfecc ? advect_nodal_bfecc : advect_nodal)(*mesh_, fields_->velocity, level_set_, new_mesh,
                                                                       h, nullptr, &weight, &*old_locator);
   }
   rep.surface_seconds = now() - t0;
   t0 = now();
   AdvectionReport adv;
   const BoundaryExits exits = boundary_exits(*mesh_, bc);
-  fields_ = advect(*mesh_, fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr,
-                   old_locator ? &*old_locator : nullptr);
+  fields_ = std::make_shared<FluidFields>(advect(*mesh_, *fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr,
+                   old_locator ? &*old_locator : nullptr));
   set_mesh(mesh, std::move(new_mesh_storage), same_topology);
-  if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_.velocity);
+  if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_->velocity);
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;
   if (free_surface_) {
@@ -272,9 +274,9 @@ StepReport FluidSolver::add_forces(const BoundaryConditions& bc, double h, StepR
   if (viscous()) apply_viscosity_step(bc, h, rep);
   t0 = now();
   if (params_.apply_gravity)
-    for (auto& u : fields_.velocity) u += h * params_.gravity;
-  add_buoyancy(*mesh_, fields_.smoke, fields_.temperature, params_.gravity, params_.buoyancy, h, fields_.velocity);
-  add_vorticity_confinement(*mesh_, params_.vorticity_epsilon, h, fields_.velocity);
+    for (auto& u : writable_fields().velocity) u += h * params_.gravity;
+  add_buoyancy(*mesh_, writable_fields().smoke, writable_fields().temperature, params_.gravity, params_.buoyancy, h, writable_fields().velocity);
+  add_vorticity_confinement(*mesh_, params_.vorticity_epsilon, h, writable_fields().velocity);
   rep.forces_seconds += now() - t0;
   return rep;
 }
@@ -301,7 +303,7 @@ void FluidSolver::apply_viscosity_step(const BoundaryConditions& bc, double h, S
   const ViscousNodes nodes = viscous_nodes(*mesh_, boundary_, bc, params_.walls);
   if (viscous_rings_.empty()) viscous_rings_ = node_rings(*mesh_);
   ViscosityReport vr = apply_viscosity(*mesh_, mu, weight, params_.density, nodes, h, params_.viscous_solver,
-                                       fields_.velocity, &viscous_rings_);
+                                       writable_fields().velocity, &viscous_rings_);
   viscous_force_.assign(mesh_->num_nodes(), Eigen::Vector3d::Zero());
   viscous_stiffness_.assign(mesh_->num_nodes(), Eigen::Matrix3d::Zero());
   for (const BoundaryFace& bf : mesh_->boundary_faces)
@@ -333,7 +335,7 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepR
     throw std::invalid_argument("FluidSolver::apply_pressure: one pressure per fluid node expected");
   pressure_ = std::move(pressure);
   if (free_surface_) {  // u_t -= (h/rho) B_t p on the liquid, then the extension into the air
-    apply_wet_pressure(*mesh_, liquid_, pressure_, h, params_.density, fields_.velocity);
+    apply_wet_pressure(*mesh_, liquid_, pressure_, h, params_.density, writable_fields().velocity);
     const double t0 = now();
     extend_liquid_velocity();
     rep.surface_seconds += now() - t0;
@@ -341,9 +343,9 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepR
   } else {
     const TetVectors grad_p = gradient(*mesh_, pressure_);
     const double scale = h / params_.density;
-    for (int t = 0; t < mesh_->num_tets(); ++t) fields_.velocity[t] -= scale * grad_p[t];
+    for (int t = 0; t < mesh_->num_tets(); ++t) writable_fields().velocity[t] -= scale * grad_p[t];
   }
-  for (const auto& u : fields_.velocity)
+  for (const auto& u : fields_->velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
   rep.num_tets = mesh_->num_tets();
@@ -353,8 +355,8 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepR
 }
 
 void FluidSolver::report_energies(StepReport& rep) const {
-  rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_.velocity)
-                                                        : kinetic_energy(*mesh_, fields_.velocity));
+  rep.kinetic_energy = params_.density * (free_surface_ ? liquid_kinetic_energy(liquid_, fields_->velocity)
+                                                        : kinetic_energy(*mesh_, fields_->velocity));
   rep.gravity_potential = 0.0;
   if (!params_.apply_gravity) return;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // int x dV over the fluid
@@ -376,8 +378,8 @@ StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport r
   // A liquid that fills every node has no free surface this step: the ordinary projection.
   const bool surface = free_surface_ && liquid_.num_air_nodes > 0;
   ProjectionReport pr =
-      surface ? project_free_surface(*mesh_, boundary_, liquid_, h, params_.density, fields_.velocity, params_.solver)
-              : project(*mesh_, boundary_, h, params_.density, fields_.velocity, params_.solver);
+      surface ? project_free_surface(*mesh_, boundary_, liquid_, h, params_.density, writable_fields().velocity, params_.solver)
+              : project(*mesh_, boundary_, h, params_.density, writable_fields().velocity, params_.solver);
   pressure_ = std::move(pr.pressure);
   if (free_surface_) {
     const double t0 = now();
@@ -385,7 +387,7 @@ StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport r
     rep.surface_seconds += now() - t0;
     rep.liquid_volume = liquid_.total_volume();
   }
-  for (const auto& u : fields_.velocity)
+  for (const auto& u : fields_->velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
   rep.num_tets = mesh_->num_tets();

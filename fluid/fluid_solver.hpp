@@ -118,7 +118,7 @@ class FluidSolver {
   /// Steps 1-3 of step(): advects onto `mesh`, classifies `bc`, applies sources and body forces,
   /// leaving the intermediate velocity v* in fields().velocity (no projection).
   /// When `mesh` is the current mesh moved (the same tets and labels), the fluid is a gas and the
-  /// advection is not BFECC, predict() moves the fluid mesh in place (advect_to_centroids): one
+  /// advection is not BFECC, predict() moves the fluid mesh in place (advect_onto_moved): one
   /// fluid mesh in memory instead of the old and the new one.
   StepReport predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h);
   /// The solver's state before a step onto `mesh`, for undoing the step (CoupledStepper's step
@@ -140,8 +140,9 @@ class FluidSolver {
   /// True if some tet has a viscosity > 0 (FluidParams::viscosity, viscosity_regions).
   bool viscous() const;
   const FluidMesh& mesh() const { return *mesh_; }
-  const FluidFields& fields() const { return fields_; }
-  FluidFields& fields() { return fields_; }
+  const FluidFields& fields() const { return *fields_; }
+  /// The fields to write (a copy first if an undo point still shares them).
+  FluidFields& fields() { return writable_fields(); }
   /// Gᵀ V v per node of the current mesh (p1_operators.hpp, gradient_transpose_volume) for the
   /// velocity v carried onto it by the last predict(), before its body forces and sources [m³/s]:
   /// the divergence of the coupled step's start-of-step fluid state (coupling/coupled_stepper.cpp).
@@ -199,6 +200,8 @@ class FluidSolver {
   bool built_from(const mesh::TetMesh& mesh) const;
   /// built_from(mesh), and neither a free surface nor BFECC, which read the new mesh while advecting.
   bool moves_in_place(const mesh::TetMesh& mesh) const;
+  /// *fields_, copied first if a copy of the solver shares it.
+  FluidFields& writable_fields();
   /// predict()'s steps after the advection: the classified boundary, sources, viscosity, body forces.
   StepReport add_forces(const BoundaryConditions& bc, double h, StepReport rep);
   /// mesh_ = fluid_mesh (the old mesh_ becomes the spare), remembering the topology of `mesh`
@@ -232,7 +235,9 @@ class FluidSolver {
   SpareMesh spare_;
   // Shared with the copies of the solver, as mesh_ is (replaced, never written, on a new topology).
   std::shared_ptr<const SourceTopology> source_ = std::make_shared<const SourceTopology>();
-  FluidFields fields_;
+  // Shared with the copies of the solver (an undo point) until one writes them (writable_fields):
+  // a step replaces them by the advected fields before it writes, so an undo point copies none.
+  std::shared_ptr<FluidFields> fields_ = std::make_shared<FluidFields>();
   Eigen::VectorXd advected_divergence_;  // see advected_divergence()
   bool keep_advected_divergence_ = false;
   Eigen::VectorXd pressure_;

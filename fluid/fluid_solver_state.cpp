@@ -38,6 +38,19 @@ void serialize(A& a, LiquidGeometry& g) {
   a(g.liquid_volume, g.wet_moment, g.first_moment, g.is_liquid, g.num_air_nodes);
 }
 
+// The fields (shared with the solver's copies until written): written as the fields, read into
+// fields of their own.
+template <class A>
+void serialize(A& a, FluidFields& f) {
+  a(f.velocity, f.smoke, f.temperature);
+}
+void serialize(BinaryWriter& a, std::shared_ptr<FluidFields>& f) { a(*f); }
+void serialize(BinaryReader& a, std::shared_ptr<FluidFields>& f) {
+  auto read = std::make_shared<FluidFields>();
+  a(*read);
+  f = std::move(read);
+}
+
 // The tets and labels the mesh was built from (shared with the solver's copies), as the mesh.
 void serialize(BinaryWriter& a, std::shared_ptr<const FluidSolver::SourceTopology>& s) { a(s->tets, s->subdomain); }
 void serialize(BinaryReader& a, std::shared_ptr<const FluidSolver::SourceTopology>& s) {
@@ -48,7 +61,7 @@ void serialize(BinaryReader& a, std::shared_ptr<const FluidSolver::SourceTopolog
 
 template <class Archive>
 void FluidSolver::state(Archive& a) {
-  a(mesh_, source_, fields_.velocity, fields_.smoke, fields_.temperature, advected_divergence_,
+  a(mesh_, source_, fields_, advected_divergence_,
     pressure_, boundary_, initialized_, free_surface_, level_set_, liquid_, target_volume_);
 }
 

@@ -1,6 +1,8 @@
 #include "fluid/advection/semi_lagrangian.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <utility>
 
 #include <tbb/parallel_for.h>
 
@@ -158,13 +160,16 @@ std::vector<Location> trace_feet(const FluidMesh& vel_mesh, const PointLocator& 
   return feet;
 }
 
-/// Boundary face (index into m.boundary_faces) through which a trace cut at `foot` left the fluid,
-/// -1 if not found (see semi_lagrangian.hpp: nearest boundary face of the foot's tet, within 0.01).
-int exit_face(const FluidMesh& m, const std::vector<int>& face_of, const Location& foot) {
+/// Boundary face (index into the old mesh's boundary_faces; face_of: (4 tet + local face, face),
+/// sorted) through which a trace cut at `foot` left the fluid, -1 if not found (see
+/// semi_lagrangian.hpp: nearest boundary face of the foot's tet, within 0.01).
+int exit_face(const std::vector<std::pair<std::int64_t, int>>& face_of, const Location& foot) {
   int best = -1;
   double best_bary = 0.01;
   for (int k = 0; k < 4; ++k) {
-    const int f = face_of[4 * static_cast<size_t>(foot.tet) + k];
+    const std::pair<std::int64_t, int> key{4 * static_cast<std::int64_t>(foot.tet) + k, -1};
+    const auto it = std::lower_bound(face_of.begin(), face_of.end(), key);
+    const int f = it != face_of.end() && it->first == key.first ? it->second : -1;
     if (f >= 0 && foot.bary[k] <= best_bary) {
       best_bary = foot.bary[k];
       best = f;
@@ -201,13 +206,16 @@ struct CutFoot {
 /// velocity; those that left through an inflow face (ExitRule::kInflow) take its velocity.
 void apply_exits(const FluidMesh& old_mesh, const BoundaryExits& exits, const std::vector<CutFoot>& cut_feet,
                  TetVectors& velocity, AdvectionReport& rep) {
-  std::vector<int> face_of(4 * static_cast<size_t>(old_mesh.num_tets()), -1);
+  if (cut_feet.empty()) return;
+  // (4 tet + local face, boundary face), sorted: the boundary faces are few beside 4 per tet.
+  std::vector<std::pair<std::int64_t, int>> face_of(old_mesh.boundary_faces.size());
   for (size_t f = 0; f < old_mesh.boundary_faces.size(); ++f) {
     const BoundaryFace& bf = old_mesh.boundary_faces[f];
-    face_of[4 * static_cast<size_t>(bf.tet) + bf.local_face] = static_cast<int>(f);
+    face_of[f] = {4 * static_cast<std::int64_t>(bf.tet) + bf.local_face, static_cast<int>(f)};
   }
+  std::sort(face_of.begin(), face_of.end());
   for (const CutFoot& c : cut_feet) {
-    const int f = exit_face(old_mesh, face_of, c.foot);
+    const int f = exit_face(face_of, c.foot);
     if (f < 0 || exits.rule[f] == ExitRule::kClamp) continue;
     Eigen::Vector3d& u = velocity[c.tet];
     if (exits.rule[f] == ExitRule::kInflow) {
@@ -372,21 +380,20 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   return advected;
 }
 
-FluidFields advect_to_centroids(const FluidMesh& old_mesh, const FluidFields& old_fields,
-                                const std::vector<Eigen::Vector3d>& new_centroids, double h, AdvectionReport* report,
-                                AdvectionScheme scheme, const BoundaryExits* exits,
-                                const std::vector<double>* node_weight, const PointLocator* given_locator) {
+FluidFields advect_onto_moved(const FluidMesh& old_mesh, const FluidFields& old_fields, const mesh::TetMesh& moved,
+                              double h, AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
+                              const std::vector<double>* node_weight, const PointLocator* given_locator) {
   if (scheme == AdvectionScheme::kBfecc)
-    throw std::invalid_argument("advect_to_centroids: BFECC needs the new mesh (advect())");
-  if (static_cast<int>(new_centroids.size()) != old_mesh.num_tets())
-    throw std::invalid_argument("advect_to_centroids: one centroid per tet of the old mesh expected");
+    throw std::invalid_argument("advect_onto_moved: BFECC needs the new mesh (advect())");
+  if (moved.num_vertices() != static_cast<int>(old_mesh.mesh_vertex_to_node.size()))
+    throw std::invalid_argument("advect_onto_moved: the moved mesh has another vertex count than the old one");
   check_advection_inputs(old_mesh, old_fields, exits, node_weight);
   AdvectionReport rep;
   std::optional<PointLocator> own_locator;
   if (!given_locator) own_locator.emplace(old_mesh);
   const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
   FluidFields advected = advect_samples(
-      old_mesh, old_fields, old_mesh.num_tets(), [&](int t) -> const Eigen::Vector3d& { return new_centroids[t]; },
+      old_mesh, old_fields, old_mesh.num_tets(), [&](int t) { return moved_centroid(moved, old_mesh, t); },
       [](int t) { return t; }, h, rep, scheme, exits, node_weight, old_locator);
   if (report) *report = rep;
   return advected;

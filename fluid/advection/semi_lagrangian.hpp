@@ -77,17 +77,18 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
                    const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr,
                    const PointLocator* old_locator = nullptr);
 
-/// advect() onto a new mesh that is old_mesh moved (the same tets, numbered alike), given by its
-/// tet centroids only (one per old tet, computed as build_fluid_mesh does): the new mesh need not
-/// exist yet, so a caller can move old_mesh in place afterwards (FluidSolver::predict keeps one
-/// fluid mesh instead of two). Sample t's walk starts at old tet t. Bit for bit advect() onto the
-/// moved mesh. @throws std::invalid_argument for kBfecc (its reverse step reads the new mesh) or
-/// a count mismatch
-FluidFields advect_to_centroids(const FluidMesh& old_mesh, const FluidFields& old_fields,
-                                const std::vector<Eigen::Vector3d>& new_centroids, double h,
-                                AdvectionReport* report = nullptr, AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
-                                const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr,
-                                const PointLocator* old_locator = nullptr);
+/// advect() onto old_mesh's tets at the positions of `moved` (the TetMesh old_mesh was built from,
+/// moved: the same tets and labels): the new fluid mesh need not exist, its tets' centroids are
+/// read from `moved` (moved_centroid), so a caller can move old_mesh in place afterwards
+/// (FluidSolver::predict keeps one fluid mesh instead of two). Sample t's walk starts at old tet
+/// t. Bit for bit advect() onto the moved fluid mesh.
+/// @throws std::invalid_argument for kBfecc (its reverse step reads the new mesh) or a vertex
+///         count mismatch
+FluidFields advect_onto_moved(const FluidMesh& old_mesh, const FluidFields& old_fields, const mesh::TetMesh& moved,
+                              double h, AdvectionReport* report = nullptr,
+                              AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
+                              const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr,
+                              const PointLocator* old_locator = nullptr);
 
 /// Advects a nodal (P1) field such as the level set of a liquid (liquid/level_set.hpp) from
 /// `old_mesh` to the nodes of `new_mesh` over h [s]: each new node is traced back (RK2) through

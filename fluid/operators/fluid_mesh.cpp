@@ -234,18 +234,6 @@ void update_fluid_mesh_geometry(std::vector<Eigen::Vector3d> nodes, FluidMesh& f
   compute_dual_volumes(fm);
 }
 
-std::vector<Eigen::Vector3d> moved_centroids(const mesh::TetMesh& mesh, const FluidMesh& fm) {
-  std::vector<Eigen::Vector3d> centroids(fm.num_tets());
-  tbb::parallel_for(tbb::blocked_range<int>(0, fm.num_tets()), [&](const tbb::blocked_range<int>& range) {
-    for (int t = range.begin(); t < range.end(); ++t) {
-      const auto& v = fm.tets[t];
-      auto x = [&](int k) -> const Eigen::Vector3d& { return mesh.vertices[fm.node_to_mesh_vertex[v[k]]]; };
-      centroids[t] = 0.25 * (x(0) + x(1) + x(2) + x(3));  // as compute_tet_geometry
-    }
-  });
-  return centroids;
-}
-
 std::vector<int> matching_tets(const FluidMesh& from, const FluidMesh& to) {
   if (from.num_tets() != to.num_tets()) return {};
   std::vector<int> match(to.num_tets());
