@@ -50,15 +50,17 @@ struct MeshUpdateOptions {
   mesh::MeshMotionOptions motion;  ///< how the fluid vertices follow the solids
   /// The motion's solver. A factorization costs seconds once per mesh at a million fluid tets
   /// (2.1 s at 409k, 6.7-7.2 s at 962k on 2 cores) and is the largest item of the step's memory
-  /// (190 MB of 776 MB of heap at 409k fluid tets, growing faster than the mesh), but then moves the
+  /// (190 MB at 409k fluid tets; at 962k about 640 MB, where the rest of the step's peak is 1.1 GB:
+  /// it grows as the mesh's n^{4/3} under nested dissection), but then moves the
   /// mesh in about 0.07 s per step at 409k and 0.2 s at 962k (with the quality check); the AMG
   /// solve needs neither, at about 0.1 s per step at 409k and 0.31-0.46 s at 962k (5 iterations
   /// per component at 409k, MeshMotionOptions::step_reduction; docs/scaling.md).
   MotionSolver motion_solver = MotionSolver::kAuto;
   /// kAuto: the fluid tet count above which the motion is solved by AMG. Below it the factorization
-  /// has paid for itself within 20-60 steps (99k, 409k fluid tets) and is the faster choice for a
-  /// run of hundreds of steps between remeshes; above it its memory and set-up dominate.
-  int amg_motion_above_tets = 1'500'000;
+  /// has paid for itself within 20-60 steps (99k, 409k fluid tets) and its memory is a modest part
+  /// of the step's; above it the factor would be the step's largest item (about 60% more memory at
+  /// 962k) for about 0.1 s per step less once its 7 s set-up has been paid.
+  int amg_motion_above_tets = 500'000;
   /// kRemeshWhenNeeded: remesh when the moved fluid's minimum dihedral angle is below this [deg]
   /// (or below half the angle the step started from, whichever is smaller, so that a mesh that
   /// starts with a 7° sliver is not remeshed every step for it).

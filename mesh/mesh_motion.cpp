@@ -10,6 +10,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
+#include <limits>
 #include <cmath>
 #include <utility>
 
@@ -35,23 +37,24 @@ Eigen::Matrix<double, 4, 3> p1_gradients(const std::array<Eigen::Vector3d, 4>& x
 
 /// The matrix Σ_t k_t over the fluid tets, restricted to rows `row_of[v]` >= 0 (num_rows of them)
 /// and to the columns of the vertices in `column_vertex` (column c: vertex column_vertex[c]), where
-/// k_t = block[block_of[t]] couples the tet's four vertices (block_of[t] = -1: not a fluid tet).
-/// Column c sums its vertex's tets in ascending order (column_gather.hpp), the order in which
-/// setFromTriplets on triplets pushed tet by tet sums them: each entry is that sum bit for bit.
+/// column b of k_t, k_t e_b = stiffness_column(t, b), couples the tet's four vertices with its b-th
+/// (only fluid tets: is_fluid(t)). Column c sums its vertex's tets in ascending order
+/// (column_gather.hpp), the order in which setFromTriplets on triplets pushed tet by tet sums
+/// them: each entry is that sum bit for bit.
+template <class IsFluid, class StiffnessColumn>
 Eigen::SparseMatrix<double> gather_block_columns(const TetMesh& mesh, const VertexIncidence& incidence,
-                                                 const std::vector<int>& block_of,
-                                                 const std::vector<Eigen::Matrix4d>& block,
+                                                 const IsFluid& is_fluid, const StiffnessColumn& stiffness_column,
                                                  const std::vector<int>& row_of, int num_rows,
                                                  const std::vector<int>& column_vertex) {
   return gather_columns(num_rows, static_cast<int>(column_vertex.size()), [&](int c, const auto& emit) {
     const int v = column_vertex[c];
     for (int e = incidence.start[v]; e < incidence.start[v + 1]; ++e) {
       const int t = incidence.element[e], b = incidence.local[e];
-      if (block_of[t] < 0) continue;
-      const Eigen::Matrix4d& kt = block[block_of[t]];
+      if (!is_fluid(t)) continue;
+      const Eigen::Vector4d kt_b = stiffness_column(t, b);
       for (int a = 0; a < 4; ++a) {
         const int r = row_of[mesh.tets[t][a]];
-        if (r >= 0) emit(r, [&] { return kt(a, b); });
+        if (r >= 0) emit(r, [&] { return kt_b[a]; });
       }
     }
   });
@@ -78,39 +81,43 @@ MeshMotion::MeshMotion(const TetMesh& mesh, const MeshMotionOptions& options)
     if (kind_[v] == 1) prescribed_.push_back(v);
   }
   double v_max = 0;
-  std::vector<int> block_of(mesh.num_tets(), -1);
-  int num_fluid = 0;
+  auto is_fluid = [&](int t) { return mesh.subdomain[t] == kFluidSubdomain; };
   for (int t = 0; t < mesh.num_tets(); ++t)
-    if (mesh.subdomain[t] == kFluidSubdomain) {
-      v_max = std::max(v_max, signed_volume(mesh, t));
-      block_of[t] = num_fluid++;
-    }
-  // k_t = s_t V_t G_t G_tᵀ with s_t = (V_max / V_t)^χ, each tet on its own (in parallel); the
-  // first flat or inverted tet is found afterwards, so the error names the same tet every time.
-  std::vector<Eigen::Matrix4d> block(num_fluid);
-  std::vector<double> volume(num_fluid);
+    if (is_fluid(t)) v_max = std::max(v_max, signed_volume(mesh, t));
+  auto p1_gradients_of = [&](int t, double& volume) {
+    const auto& tet = mesh.tets[t];
+    return p1_gradients({mesh.vertices[tet[0]], mesh.vertices[tet[1]], mesh.vertices[tet[2]], mesh.vertices[tet[3]]},
+                        volume);
+  };
+  // The first flat or inverted fluid tet (the lowest index, whatever the thread count).
+  std::atomic<int> first_flat{std::numeric_limits<int>::max()};
   tbb::parallel_for(tbb::blocked_range<int>(0, mesh.num_tets()), [&](const tbb::blocked_range<int>& range) {
     for (int t = range.begin(); t < range.end(); ++t) {
-      if (block_of[t] < 0) continue;
-      const auto& tet = mesh.tets[t];
-      double& v = volume[block_of[t]];
-      const auto g = p1_gradients({mesh.vertices[tet[0]], mesh.vertices[tet[1]], mesh.vertices[tet[2]],
-                                   mesh.vertices[tet[3]]},
-                                  v);
-      block[block_of[t]] = (std::pow(v_max / v, options.stiffening_exponent) * v) * g * g.transpose();
+      double v = 0;
+      if (!is_fluid(t)) continue;
+      p1_gradients_of(t, v);
+      for (int cur = first_flat.load(); !(v > 0) && t < cur && !first_flat.compare_exchange_weak(cur, t);) {}
     }
   });
-  for (int t = 0; t < mesh.num_tets(); ++t)
-    if (block_of[t] >= 0 && !(volume[block_of[t]] > 0))
-      throw MeshError("mesh motion: fluid tet " + std::to_string(t) + " is flat or inverted");
+  if (first_flat.load() != std::numeric_limits<int>::max())
+    throw MeshError("mesh motion: fluid tet " + std::to_string(first_flat.load()) + " is flat or inverted");
+  // Column b of k_t = s_t V_t G_t G_tᵀ with s_t = (V_max / V_t)^χ, computed where the gather reads
+  // it (four times per tet) rather than stored: the stored 4 x 4 blocks were 128 bytes per tet, the
+  // largest allocation of a remesh at a million tets.
+  auto stiffness_column = [&](int t, int b) -> Eigen::Vector4d {
+    double v = 0;
+    const auto g = p1_gradients_of(t, v);
+    const Eigen::Matrix4d kt = (std::pow(v_max / v, options.stiffening_exponent) * v) * g * g.transpose();
+    return kt.col(b);
+  };
   // Free-free and free-prescribed blocks; box-boundary vertices (kind 2) never move and
   // contribute nothing.
   const VertexIncidence incidence = vertex_incidence(mesh);
   std::vector<int> free_vertex(m);
   for (int v = 0; v < n; ++v)
     if (unknown_[v] >= 0) free_vertex[unknown_[v]] = v;
-  K_ff_ = gather_block_columns(mesh, incidence, block_of, block, unknown_, m, free_vertex);
-  K_fp_ = gather_block_columns(mesh, incidence, block_of, block, unknown_, m, prescribed_);
+  K_ff_ = gather_block_columns(mesh, incidence, is_fluid, stiffness_column, unknown_, m, free_vertex);
+  K_fp_ = gather_block_columns(mesh, incidence, is_fluid, stiffness_column, unknown_, m, prescribed_);
   // CG with a diagonal preconditioner: K_ff is SPD; the tolerance is relative to the right-hand
   // side (the prescribed motion), so a rigid-body step converges to round-off.
   solver_->cg.setTolerance(options.tolerance);

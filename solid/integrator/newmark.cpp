@@ -94,7 +94,8 @@ void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& 
   const double theta = settings_.scheme == NewmarkScheme::kChentanez ? 1.0 : 0.5;
   const double alpha = settings_.rayleigh_alpha, beta = settings_.rayleigh_beta;
   // A = (1/h + theta alpha) M + theta (beta + h/2) K'
-  A = K_tangent_ * (theta * (beta + 0.5 * h));
+  A = K_tangent_;  // then scaled in place: no temporary of the expression beside the copy
+  A *= theta * (beta + 0.5 * h);
   const double mass_coef = 1.0 / h + theta * alpha;
   for (int v = 0; v < model_.num_nodes(); ++v)
     for (int a = 0; a < 3; ++a) A.coeffRef(3 * v + a, 3 * v + a) += mass_coef * m[v];

@@ -59,8 +59,8 @@ Field coupling() {
                          "largest item in memory. `amg`: conjugate gradients with a BoomerAMG V-cycle from the "
                          "extrapolated motion of the last two steps, to 1e-3 of that guess's residual; no "
                          "factorization and no factor, at about twice the per-step cost of the factor's "
-                         "solves (docs/scaling.md has both measured). `auto`: `cholesky` up to 1.5 million "
-                         "fluid tets, `amg` above.")
+                         "solves (docs/scaling.md has both measured). `auto`: `cholesky` up to 500,000 "
+                         "fluid tets, `amg` above (where the factor would be the largest item in memory).")
           .def("auto"),
       Field::boolean("wall_contact",
                      "The container's walls are contact obstacles for every solid (the container's faces, "
