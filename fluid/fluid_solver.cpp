@@ -212,11 +212,13 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     spare_ = SpareMesh();
     AdvectionReport adv;
     const BoundaryExits exits = boundary_exits(*mesh_, bc);
-    fields_ = std::make_shared<FluidFields>(advect_onto_moved(*mesh_, *fields_, mesh, h, &adv, params_.advection, &exits));
+    // The moved nodes gathered once (in node order: the centroids then read neighbouring nodes).
+    std::vector<Eigen::Vector3d> nodes = moved_nodes(mesh, *mesh_);
+    fields_ = std::make_shared<FluidFields>(advect_onto_moved(*mesh_, *fields_, nodes, h, &adv, params_.advection, &exits));
     rep.clamped_traces = adv.clamped + adv.outside_start;
     rep.advect_seconds = now() - t0;
     t0 = now();
-    update_fluid_mesh_geometry(mesh, *mesh_);
+    update_fluid_mesh_geometry(std::move(nodes), *mesh_);
     rep.assemble_seconds += now() - t0;
     if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_->velocity);
     return add_forces(bc, h, rep);

@@ -380,20 +380,21 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
   return advected;
 }
 
-FluidFields advect_onto_moved(const FluidMesh& old_mesh, const FluidFields& old_fields, const mesh::TetMesh& moved,
-                              double h, AdvectionReport* report, AdvectionScheme scheme, const BoundaryExits* exits,
+FluidFields advect_onto_moved(const FluidMesh& old_mesh, const FluidFields& old_fields,
+                              const std::vector<Eigen::Vector3d>& moved_nodes, double h, AdvectionReport* report,
+                              AdvectionScheme scheme, const BoundaryExits* exits,
                               const std::vector<double>* node_weight, const PointLocator* given_locator) {
   if (scheme == AdvectionScheme::kBfecc)
     throw std::invalid_argument("advect_onto_moved: BFECC needs the new mesh (advect())");
-  if (moved.num_vertices() != static_cast<int>(old_mesh.mesh_vertex_to_node.size()))
-    throw std::invalid_argument("advect_onto_moved: the moved mesh has another vertex count than the old one");
+  if (static_cast<int>(moved_nodes.size()) != old_mesh.num_nodes())
+    throw std::invalid_argument("advect_onto_moved: one moved position per node of the old mesh expected");
   check_advection_inputs(old_mesh, old_fields, exits, node_weight);
   AdvectionReport rep;
   std::optional<PointLocator> own_locator;
   if (!given_locator) own_locator.emplace(old_mesh);
   const PointLocator& old_locator = given_locator ? *given_locator : *own_locator;
   FluidFields advected = advect_samples(
-      old_mesh, old_fields, old_mesh.num_tets(), [&](int t) { return moved_centroid(moved, old_mesh, t); },
+      old_mesh, old_fields, old_mesh.num_tets(), [&](int t) { return centroid_at(old_mesh, moved_nodes, t); },
       [](int t) { return t; }, h, rep, scheme, exits, node_weight, old_locator);
   if (report) *report = rep;
   return advected;

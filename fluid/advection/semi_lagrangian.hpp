@@ -77,15 +77,16 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
                    const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr,
                    const PointLocator* old_locator = nullptr);
 
-/// advect() onto old_mesh's tets at the positions of `moved` (the TetMesh old_mesh was built from,
-/// moved: the same tets and labels): the new fluid mesh need not exist, its tets' centroids are
-/// read from `moved` (moved_centroid), so a caller can move old_mesh in place afterwards
-/// (FluidSolver::predict keeps one fluid mesh instead of two). Sample t's walk starts at old tet
-/// t. Bit for bit advect() onto the moved fluid mesh.
-/// @throws std::invalid_argument for kBfecc (its reverse step reads the new mesh) or a vertex
-///         count mismatch
-FluidFields advect_onto_moved(const FluidMesh& old_mesh, const FluidFields& old_fields, const mesh::TetMesh& moved,
-                              double h, AdvectionReport* report = nullptr,
+/// advect() onto old_mesh's tets with its nodes moved to `moved_nodes` (one per node; moved_nodes()
+/// of fluid_mesh.hpp reads them from the moved TetMesh): the new fluid mesh need not exist, its
+/// tets' centroids are computed from the nodes as it would compute them (centroid_at), so a caller
+/// can move old_mesh in place afterwards (FluidSolver::predict keeps one fluid mesh instead of
+/// two). Sample t's walk starts at old tet t. Bit for bit advect() onto the moved fluid mesh.
+/// @throws std::invalid_argument for kBfecc (its reverse step reads the new mesh) or a node count
+///         mismatch
+FluidFields advect_onto_moved(const FluidMesh& old_mesh, const FluidFields& old_fields,
+                              const std::vector<Eigen::Vector3d>& moved_nodes, double h,
+                              AdvectionReport* report = nullptr,
                               AdvectionScheme scheme = AdvectionScheme::kSemiLagrangian,
                               const BoundaryExits* exits = nullptr, const std::vector<double>* node_weight = nullptr,
                               const PointLocator* old_locator = nullptr);

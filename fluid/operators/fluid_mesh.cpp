@@ -80,7 +80,7 @@ void compute_tet_geometry(FluidMesh& fm) {
   tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
     for (int t = range.begin(); t < range.end(); ++t) {
       const auto& v = fm.tets[t];
-      fm.centroids[t] = 0.25 * (fm.nodes[v[0]] + fm.nodes[v[1]] + fm.nodes[v[2]] + fm.nodes[v[3]]);
+      fm.centroids[t] = centroid_at(fm, fm.nodes, t);
       Eigen::Matrix3d e;
       e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
       e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];
@@ -222,6 +222,12 @@ void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm) {
   compute_tet_geometry(fm);
   for (BoundaryFace& f : fm.boundary_faces) set_face_geometry(fm.nodes, f);
   compute_dual_volumes(fm);
+}
+
+std::vector<Eigen::Vector3d> moved_nodes(const mesh::TetMesh& mesh, const FluidMesh& fm) {
+  std::vector<Eigen::Vector3d> nodes(fm.num_nodes());
+  for (int i = 0; i < fm.num_nodes(); ++i) nodes[i] = mesh.vertices[fm.node_to_mesh_vertex[i]];
+  return nodes;
 }
 
 void update_fluid_mesh_geometry(std::vector<Eigen::Vector3d> nodes, FluidMesh& fm) {

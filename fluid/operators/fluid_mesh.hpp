@@ -69,12 +69,14 @@ void update_fluid_mesh_geometry(const mesh::TetMesh& mesh, FluidMesh& fm);
 /// The same with the node positions given directly (one per node of fm) [m].
 void update_fluid_mesh_geometry(std::vector<Eigen::Vector3d> nodes, FluidMesh& fm);
 
-/// The centroid of fm's tet t with its nodes at the positions of `mesh` (fm's topology moved), bit
-/// for bit the one update_fluid_mesh_geometry(mesh, fm) would give, without changing fm [m].
-inline Eigen::Vector3d moved_centroid(const mesh::TetMesh& mesh, const FluidMesh& fm, int t) {
+/// The positions in `mesh` (fm's TetMesh moved) of fm's nodes, in fm's node order [m].
+std::vector<Eigen::Vector3d> moved_nodes(const mesh::TetMesh& mesh, const FluidMesh& fm);
+
+/// The centroid of tet t of fm with its nodes at `nodes`, bit for bit as the fluid mesh computes
+/// it (compute_tet_geometry in fluid_mesh.cpp) [m].
+inline Eigen::Vector3d centroid_at(const FluidMesh& fm, const std::vector<Eigen::Vector3d>& nodes, int t) {
   const auto& v = fm.tets[t];
-  auto x = [&](int k) -> const Eigen::Vector3d& { return mesh.vertices[fm.node_to_mesh_vertex[v[k]]]; };
-  return 0.25 * (x(0) + x(1) + x(2) + x(3));  // as compute_tet_geometry (fluid_mesh.cpp)
+  return 0.25 * (nodes[v[0]] + nodes[v[1]] + nodes[v[2]] + nodes[v[3]]);
 }
 
 /// For each tet of `to`, the tet of `from` built from the same TetMesh tet with the same TetMesh

@@ -163,6 +163,50 @@ TEST(FluidSolver, ACopySharesTheMeshAndKeepsItsStateWhileTheOriginalSteps) {
   EXPECT_EQ(again.fields().velocity, s.fields().velocity);
 }
 
+TEST(FluidSolver, AMeshMovedInPlaceIsUndoneBitForBit) {
+  // With nothing else holding the mesh, a step onto the mesh moved moves the one fluid mesh in
+  // place (no second mesh); the undo point taken before it keeps the node positions, and undo()
+  // gives back the mesh's geometry and the fields bit for bit, after which the step repeats exactly.
+  const mesh::TetMesh base = mesh::structured_box(kLo, kHi, 5, 5, 5);
+  FluidSolver s(FluidParams{});
+  s.initialize(base);
+  for (int t = 0; t < s.mesh().num_tets(); ++t) {
+    const Eigen::Vector3d c = s.mesh().centroid(t);
+    s.fields().velocity[t] = Eigen::Vector3d(std::sin(3 * c.y()), std::cos(2 * c.z()), c.x());
+  }
+  std::mt19937 rng(7);
+  const mesh::TetMesh moved = testing::jittered(base, kLo, kHi, 1.0 / 5, 0.1, rng);
+  const FluidMesh mesh_before = s.mesh();
+  const FluidFields fields_before = s.fields();
+  const FluidMesh* storage = &s.mesh();
+  FluidSolver::UndoPoint undo = s.undo_point(moved);
+  EXPECT_FALSE(undo.nodes.empty()) << "the undo point holds node positions, not the mesh";
+  s.predict(moved, {}, 0.05);
+  EXPECT_EQ(&s.mesh(), storage) << "moved in place";
+  FluidMesh expected = mesh_before;
+  update_fluid_mesh_geometry(moved, expected);
+  EXPECT_EQ(s.mesh().nodes, expected.nodes);
+  EXPECT_EQ(s.mesh().volume, expected.volume);
+  EXPECT_NE(s.fields().velocity, fields_before.velocity) << "the step changed the fields";
+  const TetVectors predicted = s.fields().velocity;
+  s.undo(std::move(undo));
+  EXPECT_EQ(s.mesh().nodes, mesh_before.nodes);
+  EXPECT_EQ(s.mesh().volume, mesh_before.volume);
+  EXPECT_EQ(s.mesh().centroids, mesh_before.centroids);
+  EXPECT_EQ(s.mesh().dual_volume, mesh_before.dual_volume);
+  for (int t = 0; t < mesh_before.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(s.mesh().grad[t][k], mesh_before.grad[t][k]) << "tet " << t;
+  for (std::size_t f = 0; f < mesh_before.boundary_faces.size(); ++f) {
+    ASSERT_EQ(s.mesh().boundary_faces[f].normal, mesh_before.boundary_faces[f].normal);
+    ASSERT_EQ(s.mesh().boundary_faces[f].area, mesh_before.boundary_faces[f].area);
+  }
+  EXPECT_EQ(s.fields().velocity, fields_before.velocity);
+  EXPECT_EQ(s.fields().smoke, fields_before.smoke);
+  EXPECT_EQ(s.fields().temperature, fields_before.temperature);
+  s.predict(moved, {}, 0.05);
+  EXPECT_EQ(s.fields().velocity, predicted);
+}
+
 TEST(FluidSolver, NaNAndBadInputAreErrors) {
   const mesh::TetMesh m = mesh::structured_box(kLo, kHi, 3, 3, 3);
   FluidSolver s(FluidParams{});
