@@ -14,6 +14,14 @@ namespace {
 
 const Eigen::Vector3d kLo(0, 0, 0), kHi(1, 1, 1);
 
+/// Sets the velocity of every tet of `s` to (sin 3y, cos 2z, x) at its centroid [m/s].
+void swirl(FluidSolver& s) {
+  for (int t = 0; t < s.mesh().num_tets(); ++t) {
+    const Eigen::Vector3d c = s.mesh().centroid(t);
+    s.fields().velocity[t] = Eigen::Vector3d(std::sin(3 * c.y()), std::cos(2 * c.z()), c.x());
+  }
+}
+
 TEST(FluidSolver, StratifiedBuoyancyIsBalancedByPressure) {
   // T constant on each layer of cells (T = T0 + 10 k/6 on layer k): the Boussinesq force
   // beta (T - T0) e_z is the gradient of a potential that is continuous and linear in z on each layer,
@@ -118,10 +126,7 @@ TEST(FluidSolver, SameInputSameOutput) {
     std::mt19937 rng(8);
     FluidSolver s(FluidParams{});
     s.initialize(base);
-    for (int t = 0; t < s.mesh().num_tets(); ++t) {
-      const Eigen::Vector3d c = s.mesh().centroid(t);
-      s.fields().velocity[t] = Eigen::Vector3d(std::sin(3 * c.y()), std::cos(2 * c.z()), c.x());
-    }
+    swirl(s);
     for (int k = 0; k < 3; ++k) s.step(testing::jittered(base, kLo, kHi, 1.0 / 6, 0.1, rng), {}, 0.05);
     return s.fields().velocity;
   };
@@ -130,17 +135,14 @@ TEST(FluidSolver, SameInputSameOutput) {
 }
 
 TEST(FluidSolver, ACopySharesTheMeshAndKeepsItsStateWhileTheOriginalSteps) {
-  // A copy of the solver (the coupled step's snapshot before a step it may undo) shares the mesh;
-  // the original's steps build their moved meshes elsewhere (the spare of the step before, reused
-  // from the second step on), so the copy keeps its mesh and fields, and then steps exactly as
+  // A copy of the solver shares the mesh; while it does, the original's steps build their moved
+  // meshes elsewhere (the spare of the step before, reused from the second step on) instead of
+  // moving the mesh in place, so the copy keeps its mesh and fields, and then steps exactly as
   // the original did. The reused spare gets the geometry a fresh copy of the mesh would.
   const mesh::TetMesh base = mesh::structured_box(kLo, kHi, 5, 5, 5);
   FluidSolver s(FluidParams{});
   s.initialize(base);
-  for (int t = 0; t < s.mesh().num_tets(); ++t) {
-    const Eigen::Vector3d c = s.mesh().centroid(t);
-    s.fields().velocity[t] = Eigen::Vector3d(std::sin(3 * c.y()), std::cos(2 * c.z()), c.x());
-  }
+  swirl(s);
   const FluidSolver copy = s;
   EXPECT_EQ(&copy.mesh(), &s.mesh()) << "the copy shares the mesh";
   const FluidMesh mesh_before = s.mesh();
@@ -170,10 +172,7 @@ TEST(FluidSolver, AMeshMovedInPlaceIsUndoneBitForBit) {
   const mesh::TetMesh base = mesh::structured_box(kLo, kHi, 5, 5, 5);
   FluidSolver s(FluidParams{});
   s.initialize(base);
-  for (int t = 0; t < s.mesh().num_tets(); ++t) {
-    const Eigen::Vector3d c = s.mesh().centroid(t);
-    s.fields().velocity[t] = Eigen::Vector3d(std::sin(3 * c.y()), std::cos(2 * c.z()), c.x());
-  }
+  swirl(s);
   std::mt19937 rng(7);
   const mesh::TetMesh moved = testing::jittered(base, kLo, kHi, 1.0 / 5, 0.1, rng);
   const FluidMesh mesh_before = s.mesh();
