@@ -228,9 +228,9 @@ class FluidSolver {
   };
 
   FluidParams params_;
-  // The fluid mesh, shared with the copies of the solver (CoupledStepper's snapshot before each
-  // step), so that copying the solver copies no mesh. Never written once set: a step builds its
-  // moved mesh in spare_ (or a new one) and then swaps.
+  // The fluid mesh, shared with the copies of the solver, so that copying the solver copies no
+  // mesh. A step moves it in place only when no copy holds it (moves_in_place; an UndoPoint holds
+  // node positions instead); otherwise it builds the moved mesh in spare_ (or a new one) and swaps.
   std::shared_ptr<FluidMesh> mesh_ = std::make_shared<FluidMesh>();
   SpareMesh spare_;
   // Shared with the copies of the solver, as mesh_ is (replaced, never written, on a new topology).
