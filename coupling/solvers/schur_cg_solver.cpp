@@ -1,6 +1,7 @@
 // The fast path for eq. (7): CG on the SPD pressure Schur complement (see coupled_solver.hpp);
 // from the second solve on, GMRES with the lagged blocks (lagged_gmres.cpp).
 #include <algorithm>
+#include <stdexcept>
 
 #include "coupling/solvers/schur_state.hpp"
 #include "support/conjugate_gradient.hpp"
@@ -11,26 +12,35 @@ namespace tetfsi::coupling::detail {
 SchurCGSolver::SchurCGSolver(CoupledSolverOptions o)
     : options_(std::move(o)),
       factor_(std::make_unique<Factor>()),
-      spare_(std::make_unique<Factor>()),
       lag_(std::make_unique<Lag>()) {}
 SchurCGSolver::~SchurCGSolver() = default;
 
 void SchurCGSolver::request_fresh_solve() { lag_->refresh = true; }
 
 bool SchurCGSolver::refactor(const SparseMatrix& A) {
-  if (!spare_->factorize(A)) return false;
-  std::swap(factor_, spare_);
-  return true;
+  // A failed factorization is rare (a pre-stressed light solid: the bar scene) and a second
+  // numeric factor is large (126 MB at 962k fluid tets on the flagship), so the factor is
+  // overwritten and, on failure, recomputed from the earlier A rather than kept beside the new one.
+  SparseMatrix earlier;
+  const bool had_factor = factor_->valid;
+  if (had_factor) earlier.swap(factor_->matrix);
+  if (factor_->factorize(A)) return true;
+  if (had_factor && !factor_->factorize(earlier))
+    throw std::logic_error("schur_cg: the solid block's earlier factorization failed when repeated");
+  return false;
 }
 
 bool SchurCGSolver::set_up_preconditioner() {
   Lag& lag = *lag_;
+  bool ok = true;
   if (options_.preconditioner_apply) {
     if (options_.preconditioner_setup) options_.preconditioner_setup(lag.S_hat);
-    return true;
+  } else {
+    lag.ic.compute(lag.S_hat);
+    ok = lag.ic.info() == Eigen::Success;
   }
-  lag.ic.compute(lag.S_hat);
-  return lag.ic.info() == Eigen::Success;
+  if (!options_.keep_checkpoint_state) lag.S_hat = SparseMatrix();  // the preconditioner holds its own copy
+  return ok;
 }
 
 void SchurCGSolver::set_preconditioner() {

@@ -63,8 +63,9 @@ class SchurCGSolver final : public CoupledSolver {
  private:
   struct Factor;  // CHOLMOD factor of A, its symbolic analysis kept while A's pattern stays
   struct Lag;     // what the lagged solves keep: Ŝ's pattern and preconditioner, iteration counts
-  /// Factorizes A into spare_ and, if it is SPD, makes that the current factor (swap with
-  /// factor_); otherwise returns false and leaves factor_ as it was.
+  /// Factorizes A in place of the current factor; if A is not SPD, returns false and restores
+  /// the current factor by factorizing its matrix again (the same bits: CHOLMOD is deterministic
+  /// for a given matrix), so that one numeric factor is ever held.
   bool refactor(const SparseMatrix& A);
   /// Sets up Ŝ's preconditioner (the caller's or IC of Ŝ = P + H diag(A)⁻¹ Hᵀ) in lag_ and records
   /// the patterns of P and H it was built for; false if the incomplete Cholesky failed (lag_ is
@@ -83,7 +84,7 @@ class SchurCGSolver final : public CoupledSolver {
   bool solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eigen::VectorXd& p, CoupledSolveReport& report,
                     bool rebuild_preconditioner = false);
   CoupledSolverOptions options_;
-  std::unique_ptr<Factor> factor_, spare_;  // the current factor; the one a refactor() tries
+  std::unique_ptr<Factor> factor_;  // the current factor of A
   std::unique_ptr<Lag> lag_;
 };
 

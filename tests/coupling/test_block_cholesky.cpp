@@ -82,5 +82,26 @@ TEST(BlockCholesky, ABlockThatIsNotPositiveDefiniteFailsTheFactorization) {
   EXPECT_FALSE(cholesky.factorize(A));
 }
 
+TEST(BlockCholesky, AFailedFactorizationIsUndoneBitForBitByFactorizingTheEarlierMatrixAgain) {
+  // SchurCGSolver::refactor overwrites its one factor and, when the new A is not positive definite,
+  // factorizes the earlier A again: the solves must then be those of the earlier factor, bit for bit.
+  std::vector<int> first, second;
+  for (int i = 0; i < 60; ++i) (i % 3 ? first : second).push_back(i);
+  const SparseMatrix A = chains(60, {first, second}, 0.3);
+  SparseMatrix bad = A;
+  for (int i : second) bad.coeffRef(i, i) = -1.0;
+  BlockCholesky cholesky;
+  cholesky.analyze_pattern(A);
+  ASSERT_TRUE(cholesky.factorize(A));
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(60, 0.5, -3.0);
+  Eigen::VectorXd before, after;
+  cholesky.solve(b, before);
+  ASSERT_FALSE(cholesky.factorize(bad));
+  ASSERT_TRUE(cholesky.factorize(A));
+  cholesky.solve(b, after);
+  ASSERT_EQ(after.size(), before.size());
+  for (int i = 0; i < 60; ++i) EXPECT_EQ(after[i], before[i]) << "unknown " << i;
+}
+
 }  // namespace
 }  // namespace tetfsi::coupling::detail
