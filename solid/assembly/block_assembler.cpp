@@ -36,16 +36,16 @@ BlockAssembler::BlockAssembler(int num_nodes, int nodes_per_element, const std::
     a.erase(std::unique(a.begin(), a.end()), a.end());
   }
   const int n = 3 * num_nodes_;
-  pattern_.resize(n, n);
-  std::vector<int> col_nnz(n);
+  pattern_outer_.assign(n + 1, 0);
   for (int v = 0; v < num_nodes_; ++v)
-    for (int c = 0; c < 3; ++c) col_nnz[3 * v + c] = 3 * static_cast<int>(adj[v].size());
-  pattern_.reserve(col_nnz);
+    for (int c = 0; c < 3; ++c) pattern_outer_[3 * v + c + 1] = pattern_outer_[3 * v + c] + 3 * static_cast<int>(adj[v].size());
+  pattern_inner_.resize(pattern_outer_[n]);
   for (int v = 0; v < num_nodes_; ++v)
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
+      int* rows = pattern_inner_.data() + pattern_outer_[3 * v + c];
       for (int u : adj[v])
-        for (int a = 0; a < 3; ++a) pattern_.insert(3 * u + a, 3 * v + c) = 0.0;
-  pattern_.makeCompressed();
+        for (int a = 0; a < 3; ++a) *rows++ = 3 * u + a;
+    }
 
   // Offsets of element blocks: position of node n_i in adj[n_j], times 3.
   block_offset_.resize(static_cast<size_t>(num_elements_) * npe_ * npe_);
@@ -64,19 +64,37 @@ void BlockAssembler::assemble_matrix(const std::vector<double>& ke, Eigen::Spars
   const int nd = 3 * npe_;
   if (ke.size() != static_cast<size_t>(num_elements_) * nd * nd)
     throw SolidError("BlockAssembler: element matrix buffer has the wrong size");
-  if (out.rows() != pattern_.rows() || out.nonZeros() != pattern_.nonZeros() || !out.isCompressed())
-    out = pattern_;
+  add_element_matrices(ke.data(), 0, num_elements_, out);
+}
+
+void BlockAssembler::add_element_matrices(const double* ke, int first, int end, Eigen::SparseMatrix<double>& out) const {
+  const int nd = 3 * npe_;
+  if (first < 0 || end > num_elements_ || first > end)
+    throw SolidError("BlockAssembler: element range outside the mesh");
+  const int n = 3 * num_nodes_;
+  const auto nnz = static_cast<Eigen::Index>(pattern_inner_.size());
+  if (first == 0 && (out.rows() != n || out.cols() != n || out.nonZeros() != nnz || !out.isCompressed())) {
+    out.resize(n, n);  // compressed, no entries
+    out.resizeNonZeros(nnz);
+    std::copy(pattern_outer_.begin(), pattern_outer_.end(), out.outerIndexPtr());
+    std::copy(pattern_inner_.begin(), pattern_inner_.end(), out.innerIndexPtr());  // values: zeroed below
+  }
   double* values = out.valuePtr();
   const auto* outer = out.outerIndexPtr();
   tbb::parallel_for(0, num_nodes_, [&](int v) {
-    for (int c = 0; c < 3; ++c) {
-      const int col = 3 * v + c;
-      std::fill(values + outer[col], values + outer[col + 1], 0.0);
-    }
-    for (int k = incident_start_[v]; k < incident_start_[v + 1]; ++k) {
+    if (first == 0)
+      for (int c = 0; c < 3; ++c) {
+        const int col = 3 * v + c;
+        std::fill(values + outer[col], values + outer[col + 1], 0.0);
+      }
+    // The node's incident elements are sorted: those in [first, end) are one run of them.
+    const int* incident = incident_element_.data();
+    const int lo = static_cast<int>(std::lower_bound(incident + incident_start_[v], incident + incident_start_[v + 1], first) - incident);
+    const int hi = static_cast<int>(std::lower_bound(incident + lo, incident + incident_start_[v + 1], end) - incident);
+    for (int k = lo; k < hi; ++k) {
       const int e = incident_element_[k];
       const int j = incident_local_[k];
-      const double* K = ke.data() + static_cast<size_t>(e) * nd * nd;
+      const double* K = ke + static_cast<size_t>(e - first) * nd * nd;
       const int* off = block_offset_.data() + (static_cast<size_t>(e) * npe_ + j) * npe_;
       for (int c = 0; c < 3; ++c) {
         const int col = 3 * v + c;

@@ -93,14 +93,16 @@ void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& 
   const auto& m = model_.lumped_masses();
   const double theta = settings_.scheme == NewmarkScheme::kChentanez ? 1.0 : 0.5;
   const double alpha = settings_.rayleigh_alpha, beta = settings_.rayleigh_beta;
-  // A = (1/h + theta alpha) M + theta (beta + h/2) K'
-  A = K_tangent_;  // then scaled in place: no temporary of the expression beside the copy
+  // b = (M/h) u - theta (h/2) K' u - (1 - theta)(alpha M + beta K') u - K(d) + M g + f_ext
+  b = -(theta * 0.5 * h + (1 - theta) * beta) * (K_tangent_ * u_) - K_force_ + f_ext_;
+  // A = (1/h + theta alpha) M + theta (beta + h/2) K', made in K''s storage (K' is not needed
+  // after this; the next evaluate() refills whatever matrix K_tangent_ then holds): one copy of
+  // the pattern per solid instead of two.
+  A.swap(K_tangent_);
   A *= theta * (beta + 0.5 * h);
   const double mass_coef = 1.0 / h + theta * alpha;
   for (int v = 0; v < model_.num_nodes(); ++v)
     for (int a = 0; a < 3; ++a) A.coeffRef(3 * v + a, 3 * v + a) += mass_coef * m[v];
-  // b = (M/h) u - theta (h/2) K' u - (1 - theta)(alpha M + beta K') u - K(d) + M g + f_ext
-  b = -(theta * 0.5 * h + (1 - theta) * beta) * (K_tangent_ * u_) - K_force_ + f_ext_;
   const double mass_u_coef = 1.0 / h - (1 - theta) * alpha;
   for (int v = 0; v < model_.num_nodes(); ++v)
     b.segment<3>(3 * v) += m[v] * (mass_u_coef * u_.segment<3>(3 * v) + settings_.gravity);

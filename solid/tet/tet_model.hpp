@@ -58,9 +58,9 @@ class TetModel : public ElasticModel {
   double strain_energy(const Eigen::VectorXd& d) const override;
   std::string last_error() const override { return last_error_; }
   int last_inverted_count() const override { return last_inverted_; }
-  /// Frees the element matrices and vectors evaluate() keeps for its next call (144 + 12 doubles
-  /// per tet), for a caller that evaluates once per step and needs the memory for the rest of it
-  /// (the coupled step, whose peak is in the fluid's advection); the next evaluate() allocates them again.
+  /// Frees the element vectors and matrices evaluate() keeps for its next call (12 doubles per tet
+  /// and 144 per tet of one range of 8192), for a caller that evaluates once per step and needs the
+  /// memory for the rest of it (the coupled step); the next evaluate() allocates them again.
   void release_workspace() const;
 
   /// Deformation gradient of tet t at displacement d.
