@@ -16,7 +16,7 @@ void serialize(A& a, BoundaryFace& f) {
 
 template <class A>
 void serialize(A& a, FluidMesh& m) {
-  a(m.nodes, m.node_to_mesh_vertex, m.mesh_vertex_to_node, m.tets, m.tet_to_mesh_tet, m.volume, m.grad, m.centroids,
+  a(m.nodes, m.node_to_mesh_vertex, m.mesh_vertex_to_node, m.tets, m.tet_to_mesh_tet, m.volume, m.grad.stored,
     m.neighbor, m.boundary_faces, m.dual_volume, m.node_tets);
 }
 

@@ -121,7 +121,7 @@ void for_each_foot(const FluidMesh& vel_mesh, const PointLocator& locator, const
   // the walk starts there (one or two steps) instead of at the previous sample's tet.
   const std::vector<int> match = matching_tets(vel_mesh, targets);
   for_each_foot(
-      vel_mesh, locator, nodal, targets.num_tets(), [&](int t) -> const Eigen::Vector3d& { return targets.centroid(t); },
+      vel_mesh, locator, nodal, targets.num_tets(), [&](int t) -> Eigen::Vector3d { return targets.centroid(t); },
       [&](int t) { return match.empty() ? -1 : match[t]; }, h, rep, visit);
 }
 
@@ -373,7 +373,7 @@ FluidFields advect(const FluidMesh& old_mesh, const FluidFields& old_fields, con
     const std::vector<int> match = matching_tets(old_mesh, new_mesh);
     advected = advect_samples(
         old_mesh, old_fields, new_mesh.num_tets(),
-        [&](int t) -> const Eigen::Vector3d& { return new_mesh.centroid(t); },
+        [&](int t) -> Eigen::Vector3d { return new_mesh.centroid(t); },
         [&](int t) { return match.empty() ? -1 : match[t]; }, h, rep, scheme, exits, node_weight, old_locator);
   }
   if (report) *report = rep;

@@ -67,30 +67,25 @@ std::vector<int> fluid_tets_in_curve_order(const mesh::TetMesh& mesh, const std:
   return order;
 }
 
-/// Volumes, centroids and hat-function gradients of every fluid tet from fm.nodes: with
-/// E = [x1-x0, x2-x0, x3-x0], the rows of E^-1 are grad(phi_1..3) and grad(phi_0) = -sum of the
-/// others (partition of unity). Throws on a tet of non-positive volume.
+/// Volumes and hat-function gradients of every fluid tet from fm.nodes: with E = [x1-x0, x2-x0,
+/// x3-x0], the rows of E^-1 are grad(phi_1..3), stored (grad(phi_0) = -their sum is computed when
+/// read: HatGradients). Throws on a tet of non-positive volume.
 void compute_tet_geometry(FluidMesh& fm) {
   const int nf = fm.num_tets();
   fm.volume.resize(nf);
-  fm.grad.resize(nf);
-  fm.centroids.resize(nf);
+  fm.grad.stored.resize(nf);
   // Each tet on its own (in parallel); the first tet with non-positive volume is found afterwards,
   // so that the error names the same tet whatever the thread count.
   tbb::parallel_for(tbb::blocked_range<int>(0, nf), [&](const tbb::blocked_range<int>& range) {
     for (int t = range.begin(); t < range.end(); ++t) {
       const auto& v = fm.tets[t];
-      fm.centroids[t] = centroid_at(fm, fm.nodes, t);
       Eigen::Matrix3d e;
       e.col(0) = fm.nodes[v[1]] - fm.nodes[v[0]];
       e.col(1) = fm.nodes[v[2]] - fm.nodes[v[0]];
       e.col(2) = fm.nodes[v[3]] - fm.nodes[v[0]];
       fm.volume[t] = e.determinant() / 6.0;
       const Eigen::Matrix3d inv = e.inverse();
-      fm.grad[t][1] = inv.row(0).transpose();
-      fm.grad[t][2] = inv.row(1).transpose();
-      fm.grad[t][3] = inv.row(2).transpose();
-      fm.grad[t][0] = -(fm.grad[t][1] + fm.grad[t][2] + fm.grad[t][3]);
+      for (int k = 0; k < 3; ++k) fm.grad.stored[t][k] = inv.row(k).transpose();  // ∇φ₁, ∇φ₂, ∇φ₃
     }
   });
   for (int t = 0; t < nf; ++t)

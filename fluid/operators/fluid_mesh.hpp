@@ -26,6 +26,22 @@ struct BoundaryFace {
   int other_subdomain = 0;       ///< subdomain label of the tet across (a solid), 0 = outer boundary
 };
 
+/// The gradients ∇φ_k of the four hat functions of every tet [1/m]: ∇φ₁, ∇φ₂, ∇φ₃ are the rows
+/// of the inverse of the edge matrix [x₁ − x₀, x₂ − x₀, x₃ − x₀] and are stored; ∇φ₀ = −(∇φ₁ + ∇φ₂ +
+/// ∇φ₃) (the hat functions sum to one) is computed when read, the same sum, so it has the same bits
+/// as a stored one would (72 instead of 96 bytes per tet). Read as grad[t][k].
+struct HatGradients {
+  std::vector<std::array<Eigen::Vector3d, 3>> stored;  ///< #T: ∇φ₁, ∇φ₂, ∇φ₃
+
+  /// The four gradients of one tet, by value.
+  struct OfTet {
+    const std::array<Eigen::Vector3d, 3>& g;
+    Eigen::Vector3d operator[](int k) const { return k == 0 ? Eigen::Vector3d(-(g[0] + g[1] + g[2])) : g[k - 1]; }
+  };
+  OfTet operator[](int t) const { return {stored[t]}; }
+  int size() const { return static_cast<int>(stored.size()); }
+};
+
 /// Fluid tets (subdomain kFluidSubdomain) of a TetMesh, renumbered compactly.
 struct FluidMesh {
   std::vector<Eigen::Vector3d> nodes;                 ///< #N node positions [m]
@@ -34,8 +50,7 @@ struct FluidMesh {
   std::vector<std::array<int, 4>> tets;               ///< #T fluid node indices, positively oriented
   std::vector<int> tet_to_mesh_tet;                   ///< #T fluid tet -> TetMesh tet
   std::vector<double> volume;                         ///< #T tet volumes V_t [m^3]
-  std::vector<std::array<Eigen::Vector3d, 4>> grad;   ///< #T gradients of the 4 hat functions [1/m]
-  std::vector<Eigen::Vector3d> centroids;             ///< #T tet centroids [m] (point location reads them often)
+  HatGradients grad;                                  ///< #T gradients of the 4 hat functions [1/m], grad[t][k]
   std::vector<std::array<int, 4>> neighbor;           ///< fluid tet across the face opposite vertex k, -1 if none
   std::vector<BoundaryFace> boundary_faces;           ///< every fluid boundary triangle
   std::vector<double> dual_volume;                    ///< #N lumped node volume sum_t V_t / 4 [m^3]
@@ -43,8 +58,9 @@ struct FluidMesh {
 
   int num_nodes() const { return static_cast<int>(nodes.size()); }
   int num_tets() const { return static_cast<int>(tets.size()); }
-  /// Centroid of fluid tet t [m].
-  const Eigen::Vector3d& centroid(int t) const { return centroids[t]; }
+  /// Centroid of fluid tet t [m], (x₀ + x₁ + x₂ + x₃)/4 from its nodes (centroid_at; not stored:
+  /// 24 bytes per tet, and the walks that read it read the nodes' neighbourhood anyway).
+  Eigen::Vector3d centroid(int t) const;
   /// Mean edge length over all fluid tets [m].
   double mean_edge_length() const;
 };
@@ -72,12 +88,14 @@ void update_fluid_mesh_geometry(std::vector<Eigen::Vector3d> nodes, FluidMesh& f
 /// The positions in `mesh` (fm's TetMesh moved) of fm's nodes, in fm's node order [m].
 std::vector<Eigen::Vector3d> moved_nodes(const mesh::TetMesh& mesh, const FluidMesh& fm);
 
-/// The centroid of tet t of fm with its nodes at `nodes`, bit for bit as the fluid mesh computes
-/// it (compute_tet_geometry in fluid_mesh.cpp) [m].
+/// The centroid of tet t of fm with its nodes at `nodes`, bit for bit as FluidMesh::centroid
+/// computes it from fm.nodes [m].
 inline Eigen::Vector3d centroid_at(const FluidMesh& fm, const std::vector<Eigen::Vector3d>& nodes, int t) {
   const auto& v = fm.tets[t];
   return 0.25 * (nodes[v[0]] + nodes[v[1]] + nodes[v[2]] + nodes[v[3]]);
 }
+
+inline Eigen::Vector3d FluidMesh::centroid(int t) const { return centroid_at(*this, nodes, t); }
 
 /// For each tet of `to`, the tet of `from` built from the same TetMesh tet with the same TetMesh
 /// vertices: two fluid meshes of one topology (a moved mesh, or jittered copies of one mesh) whose
