@@ -122,6 +122,8 @@ class CoupledRunner : public Simulation {
     cs.solver_options.tolerance = c.at("tolerance").get<double>();
     cs.solver_options.max_iterations = c.at("max_iterations").get<int>();
     cs.solver_options.reuse_factorization = c.at("reuse_factorization").get<bool>();
+    // A run that writes no checkpoints frees what only a checkpoint needs (schur_cg's Ŝ).
+    cs.solver_options.keep_checkpoint_state = js.at("export").value("checkpoint_every", 0) > 0;
     cs.compare_solvers = c.at("compare_solvers").get<std::vector<std::string>>();
     compare_solvers_ = cs.compare_solvers;
     cs.newmark = c.at("newmark") == "trapezoidal" ? solid::NewmarkScheme::kTrapezoidal

@@ -67,6 +67,11 @@ struct CoupledSolverOptions {
   std::string preconditioner_name;  ///< reported in stats (e.g. "boomeramg")
   /// schur_cg only: keep A's factor and Ŝ's preconditioner from step to step (see above).
   bool reuse_factorization = true;
+  /// schur_cg only: keep Ŝ, the matrix its preconditioner was set up on, for write_state (a
+  /// checkpoint stores it and reading sets the preconditioner up again). A run that writes no
+  /// checkpoints sets false: Ŝ is then freed once its preconditioner is set up (44 MB at 962k
+  /// fluid tets on the flagship) and write_state throws std::logic_error.
+  bool keep_checkpoint_state = true;
 };
 
 /// What a solve did; written to stats.csv by the runner.

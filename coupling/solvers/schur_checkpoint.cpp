@@ -3,12 +3,16 @@
 /// in a checkpoint. The factor and the preconditioner are not stored as such: the matrices they
 /// were computed from are, and reading factorizes and sets up again (the same bits: CHOLMOD, the
 /// incomplete Cholesky and BoomerAMG are deterministic for a given matrix).
+#include <stdexcept>
+
 #include "coupling/solvers/schur_state.hpp"
 #include "support/binary_stream.hpp"
 
 namespace tetfsi::coupling::detail {
 
 void SchurCGSolver::write_state(BinaryWriter& out) const {
+  if (!options_.keep_checkpoint_state)
+    throw std::logic_error("schur_cg: write_state needs CoupledSolverOptions::keep_checkpoint_state (Ŝ was freed)");
   const Lag& lag = *lag_;
   out(factor_->valid);
   if (factor_->valid) out(factor_->matrix);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "coupling/solvers/coupled_solver.hpp"
+#include "support/binary_stream.hpp"
 
 using namespace tetfsi::coupling;
 
@@ -293,6 +294,30 @@ TEST(CoupledSolversReport, SchurCGRebuildsOnceTheLaggedSolvesCostTwoFreshOnes) {
     EXPECT_LT((u - ref.head(u.size())).norm(), 1e-6 * ref.head(u.size()).norm());
     EXPECT_LT((p - ref.tail(p.size())).norm(), 1e-6 * ref.tail(p.size()).norm());
   }
+}
+
+TEST(CoupledSolversReport, SchurCGWithoutCheckpointStateSolvesTheSameAndRefusesToWriteIt) {
+  // keep_checkpoint_state = false frees Ŝ once its preconditioner is set up: the fresh and the
+  // lagged solves must give the same bits as with Ŝ kept, and write_state must refuse.
+  CoupledSolverOptions keep, drop;
+  keep.tolerance = drop.tolerance = 1e-10;
+  drop.keep_checkpoint_state = false;
+  const CoupledSystem first = make_system(30, 12);
+  const CoupledSystem mild = drift(first, kMildDrift);
+  auto kept = make_coupled_solver(CoupledSolverKind::SchurCG, keep);
+  auto dropped = make_coupled_solver(CoupledSolverKind::SchurCG, drop);
+  for (const CoupledSystem* s : {&first, &mild, &mild}) {
+    Eigen::VectorXd u_kept, p_kept, u_dropped, p_dropped;
+    const CoupledSolveReport a = kept->solve(*s, u_kept, p_kept);
+    const CoupledSolveReport b = dropped->solve(*s, u_dropped, p_dropped);
+    EXPECT_EQ(a.solver, b.solver);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(u_kept, u_dropped);
+    EXPECT_EQ(p_kept, p_dropped);
+  }
+  tetfsi::BinaryWriter out;
+  EXPECT_NO_THROW(kept->write_state(out));
+  EXPECT_THROW(dropped->write_state(out), std::logic_error);
 }
 
 TEST(CoupledSolversReport, SchurCGWithoutReuseFactorizesEverySolve) {
