@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "apps/cli/allocator.hpp"
 #include "apps/cli/commands.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/scene/scene.hpp"
@@ -38,6 +39,9 @@ int fail(int code, const std::string& message, bool same_everywhere) {
 
 int main(int argc, char** argv) {
   using namespace tetfsi;
+  // Before anything allocates: undo a library's allocator settings (apps/cli/allocator.hpp).
+  cli::use_huge_pages_or_reexec(argv);
+  cli::restore_large_block_mapping();
   std::string command_line;
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
   try {
