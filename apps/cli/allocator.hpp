@@ -21,7 +21,7 @@ namespace tetfsi::cli {
 /// arguments and glibc.malloc.hugetlb=1 added (execv of /proc/self/exe; the process id stays, so
 /// mpirun and shells see the same process). Returns only if nothing was to be done or the exec
 /// failed (then the run goes on with ordinary pages). Call first thing in main(). A tool that
-/// must see one process from start to end (heaptrack's preload) gets it with
+/// must see one program image from start to end (heaptrack's preload, valgrind) gets it with
 /// GLIBC_TUNABLES=glibc.malloc.hugetlb=0 (or =1) set by the caller.
 void use_huge_pages_or_reexec(char** argv);
 
