@@ -39,7 +39,6 @@ struct HatGradients {
     Eigen::Vector3d operator[](int k) const { return k == 0 ? Eigen::Vector3d(-(g[0] + g[1] + g[2])) : g[k - 1]; }
   };
   OfTet operator[](int t) const { return {stored[t]}; }
-  int size() const { return static_cast<int>(stored.size()); }
 };
 
 /// Fluid tets (subdomain kFluidSubdomain) of a TetMesh, renumbered compactly.

@@ -60,13 +60,6 @@ BlockAssembler::BlockAssembler(int num_nodes, int nodes_per_element, const std::
     }
 }
 
-void BlockAssembler::assemble_matrix(const std::vector<double>& ke, Eigen::SparseMatrix<double>& out) const {
-  const int nd = 3 * npe_;
-  if (ke.size() != static_cast<size_t>(num_elements_) * nd * nd)
-    throw SolidError("BlockAssembler: element matrix buffer has the wrong size");
-  add_element_matrices(ke.data(), 0, num_elements_, out);
-}
-
 void BlockAssembler::add_element_matrices(const double* ke, int first, int end, Eigen::SparseMatrix<double>& out) const {
   const int nd = 3 * npe_;
   if (first < 0 || end > num_elements_ || first > end)
@@ -89,8 +82,9 @@ void BlockAssembler::add_element_matrices(const double* ke, int first, int end, 
       }
     // The node's incident elements are sorted: those in [first, end) are one run of them.
     const int* incident = incident_element_.data();
-    const int lo = static_cast<int>(std::lower_bound(incident + incident_start_[v], incident + incident_start_[v + 1], first) - incident);
-    const int hi = static_cast<int>(std::lower_bound(incident + lo, incident + incident_start_[v + 1], end) - incident);
+    const int* last = incident + incident_start_[v + 1];
+    const int lo = static_cast<int>(std::lower_bound(incident + incident_start_[v], last, first) - incident);
+    const int hi = static_cast<int>(std::lower_bound(incident + lo, last, end) - incident);
     for (int k = lo; k < hi; ++k) {
       const int e = incident_element_[k];
       const int j = incident_local_[k];

@@ -25,17 +25,13 @@ class BlockAssembler {
   int num_elements() const { return num_elements_; }
   int element_dofs() const { return 3 * npe_; }
 
-
-  /// out = sum_e P_e^T K_e P_e. `element_matrices` holds (3 npe)^2 doubles per element, each
-  /// column major over local DOFs [3 i + a]. `out` gets the pattern (3x3 blocks for every pair of
-  /// nodes sharing an element, 3n x 3n, compressed, rows sorted) if it does not have it.
-  void assemble_matrix(const std::vector<double>& element_matrices, Eigen::SparseMatrix<double>& out) const;
-
-  /// The same sum over the elements [first, end) only, added to out (first == 0: out is set to
-  /// zero, with the pattern, before): `element_matrices` holds the (3 npe)^2 doubles of those
-  /// elements, from element `first` on. Called for consecutive ranges 0 = e_0 < e_1 < ... < e_k =
-  /// num_elements(), every entry is the same floating-point sum, in increasing element order, as
-  /// one assemble_matrix(), while only one range's element matrices are held at a time.
+  /// out = sum_e P_e^T K_e P_e over the elements [first, end), added to out (first == 0: out is
+  /// first given the pattern, 3x3 blocks for every pair of nodes sharing an element, 3n x 3n,
+  /// compressed, rows sorted, if it does not have it, and set to zero). `element_matrices` holds
+  /// (3 npe)^2 doubles per element of the range, from element `first` on, each column major over
+  /// local DOFs [3 i + a]. Called for consecutive ranges 0 = e_0 < e_1 < ... < e_k = num_elements(),
+  /// every entry is the same floating-point sum, in increasing element order, as one call over all
+  /// elements, while only one range's element matrices are held at a time.
   void add_element_matrices(const double* element_matrices, int first, int end, Eigen::SparseMatrix<double>& out) const;
 
   /// out = sum_e P_e^T f_e; `element_vectors` holds 3 npe doubles per element.

@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 
 #include "mesh/structured_box.hpp"
+#include "solid/assembly/block_assembler.hpp"
 #include "solid/solid_error.hpp"
 #include "solid/tet/constitutive.hpp"
 #include "solid/tet/tet_model.hpp"
@@ -201,4 +203,37 @@ TEST(TetElement, TangentMatrixMatchesDirectionalDerivative) {
       EXPECT_LT((C.col(k) - dP.reshaped()).norm(), 1e-12 * C.norm());
     }
   }
+}
+
+TEST(BlockAssembler, ElementMatricesSummedRangeByRangeEqualOneSumBitForBit) {
+  // TetModel sums its element matrices into the tangent 8,192 tets at a time; every entry must be
+  // the same floating-point sum as one pass over all elements. Random element matrices on a box of
+  // 4 x 3 x 3 cells (tets of a node in several ranges), ranges of 7 elements against one range.
+  const mesh::TetMesh box = mesh::structured_box(Eigen::Vector3d::Zero(), Eigen::Vector3d(4, 3, 3), 4, 3, 3);
+  std::vector<int> flat;
+  for (const auto& t : box.tets) flat.insert(flat.end(), t.begin(), t.end());
+  const solid::BlockAssembler assembler(box.num_vertices(), 4, flat);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::vector<double> ke(static_cast<std::size_t>(assembler.num_elements()) * 144);
+  for (double& k : ke) k = value(rng);
+  Eigen::SparseMatrix<double> whole, ranged;
+  assembler.add_element_matrices(ke.data(), 0, assembler.num_elements(), whole);
+  ranged = whole;
+  ranged.coeffs().setConstant(42.0);  // first == 0 must start from zero, whatever out held
+  for (int first = 0; first < assembler.num_elements(); first += 7) {
+    const int end = std::min(assembler.num_elements(), first + 7);
+    assembler.add_element_matrices(ke.data() + static_cast<std::size_t>(first) * 144, first, end, ranged);
+  }
+  ASSERT_EQ(ranged.nonZeros(), whole.nonZeros());
+  EXPECT_TRUE(std::equal(whole.innerIndexPtr(), whole.innerIndexPtr() + whole.nonZeros(), ranged.innerIndexPtr()));
+  for (Eigen::Index i = 0; i < whole.nonZeros(); ++i)
+    ASSERT_EQ(ranged.valuePtr()[i], whole.valuePtr()[i]) << "entry " << i;
+  // And the sum is the element matrices' sum: entry (0, 0) gathers K_e(3 i, 3 i) of node 0's tets.
+  double diagonal = 0;
+  for (int e = 0; e < assembler.num_elements(); ++e)
+    for (int i = 0; i < 4; ++i)
+      if (flat[4 * e + i] == 0) diagonal += ke[static_cast<std::size_t>(e) * 144 + (3 * i) * 12 + 3 * i];
+  EXPECT_NEAR(whole.coeff(0, 0), diagonal, 1e-12);
+  EXPECT_THROW(assembler.add_element_matrices(ke.data(), 0, assembler.num_elements() + 1, ranged), SolidError);
 }
