@@ -191,7 +191,18 @@ void MeshMotion::solve_preconditioned(const Eigen::MatrixXd& rhs) {
     // Stops at ‖r‖ ≤ max(tolerance ‖rhs‖, step_reduction ‖r₀‖) (MeshMotionOptions).
     Eigen::VectorXd residual = rhs.col(c) - K_ff_ * d;
     const double target = std::max(tolerance_ * rhs.col(c).norm(), step_reduction_ * residual.norm());
-    auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y.noalias() = K_ff_ * v; };  // no temporary
+    // y = K_ff v column by column in parallel: K_ff is symmetric, so y_j = K_ff(:, j) · v, a gather
+    // (Eigen's product scatters column by column, serially).
+    auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
+      y.resize(v.size());
+      tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(K_ff_.cols())), [&](const tbb::blocked_range<int>& columns) {
+        for (int j = columns.begin(); j < columns.end(); ++j) {
+          double sum = 0;
+          for (Eigen::SparseMatrix<double>::InnerIterator it(K_ff_, j); it; ++it) sum += it.value() * v[it.row()];
+          y[j] = sum;
+        }
+      });
+    };
     const int iterations = preconditioned_cg(apply, precondition_, residual, d, target, max_iterations_);
     if (residual.norm() > target)
       throw MeshError("mesh motion: the stiffened Laplacian did not converge in " + std::to_string(iterations) +

@@ -1,11 +1,48 @@
-// Restarted right-preconditioned GMRES (see gmres.hpp).
+// Restarted flexible right-preconditioned GMRES (see gmres.hpp).
 #include "coupling/solvers/gmres.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace tetfsi::coupling::detail {
+
+namespace {
+
+/// Modified Gram-Schmidt (Saad, Alg. 6.2) of w against V[0..k]: h_i = V_i · w, w ← w − h_i V_i,
+/// i = 0 … k, in parallel over fixed blocks of the vectors. Each subtraction is fused with the next
+/// dot product (one pass over w per basis vector), and the blocks' partial sums are added in block
+/// order, so the result is the same for any number of threads.
+void orthogonalize(const std::vector<Eigen::VectorXd>& V, int k, Eigen::VectorXd& w, Eigen::MatrixXd& Hess) {
+  constexpr Eigen::Index kBlock = 16384;
+  const Eigen::Index size = w.size();
+  const int blocks = static_cast<int>((size + kBlock - 1) / kBlock);
+  std::vector<double> partial(blocks);
+  auto segment = [&](int b) { return std::pair<Eigen::Index, Eigen::Index>(b * kBlock, std::min(kBlock, size - b * kBlock)); };
+  auto ordered_sum = [&] {
+    double sum = 0;
+    for (double p : partial) sum += p;
+    return sum;
+  };
+  tbb::parallel_for(0, blocks, [&](int b) {
+    const auto [first, n] = segment(b);
+    partial[b] = V[0].segment(first, n).dot(w.segment(first, n));
+  });
+  for (int i = 0; i <= k; ++i) {
+    const double h = Hess(i, k) = ordered_sum();
+    tbb::parallel_for(0, blocks, [&](int b) {
+      const auto [first, n] = segment(b);
+      w.segment(first, n) -= h * V[i].segment(first, n);
+      if (i < k) partial[b] = V[i + 1].segment(first, n).dot(w.segment(first, n));
+    });
+  }
+}
+
+}  // namespace
 
 GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& precondition, const Eigen::VectorXd& f,
                                        Eigen::VectorXd& x, double target, int max_iterations, int restart) {
@@ -14,10 +51,11 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
   if (x.size() != size) x = Eigen::VectorXd::Zero(size);
   // Arnoldi basis of K M⁻¹, grown one vector per Krylov step (a solve that converges in 25 steps
   // touches 26 vectors, not restart + 1).
-  std::vector<Eigen::VectorXd> V;
+  std::vector<Eigen::VectorXd> V, Z;  // Z[k] = M⁻¹ V[k], kept (flexible GMRES)
   V.reserve(restart + 1);
+  Z.reserve(restart);
   Eigen::MatrixXd Hess = Eigen::MatrixXd::Zero(restart + 1, restart);
-  Eigen::VectorXd cs(restart), sn(restart), g(restart + 1), w(size), z(size), Kx(size), x_before;
+  Eigen::VectorXd cs(restart), sn(restart), g(restart + 1), w(size), Kx(size), x_before;
   double beta_before = std::numeric_limits<double>::infinity();
   while (true) {
     apply(x, Kx);
@@ -43,14 +81,11 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
     int k = 0;  // Krylov steps in this cycle
     for (; k < restart && result.iterations < max_iterations; ++k) {
       ++result.iterations;
-      precondition(V[k], z);
-      apply(z, w);
+      if (static_cast<int>(Z.size()) == k) Z.emplace_back(size);
+      precondition(V[k], Z[k]);
+      apply(Z[k], w);
       const double w_norm = w.norm();
-      // Modified Gram-Schmidt (Alg. 6.2).
-      for (int i = 0; i <= k; ++i) {
-        Hess(i, k) = V[i].dot(w);
-        w -= Hess(i, k) * V[i];
-      }
+      orthogonalize(V, k, w, Hess);
       Hess(k + 1, k) = w.norm();
       // Breakdown: K M⁻¹ V_k lies in span(V_k) up to rounding, so the least-squares iterate is the
       // solution in this space; normalizing the rounding noise would give a non-orthogonal basis.
@@ -81,13 +116,10 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
       }
     }
     if (k == 0) return result;  // nothing to add (singular at the first step)
-    // x += M⁻¹ V_k y with Hess_k y = g_k (upper triangular after the rotations).
+    // x += Z_k y with Hess_k y = g_k (upper triangular after the rotations).
     const Eigen::VectorXd y =
         Hess.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-    Eigen::VectorXd Vy = y[0] * V[0];
-    for (int i = 1; i < k; ++i) Vy += y[i] * V[i];
-    precondition(Vy, z);
-    x += z;
+    for (int i = 0; i < k; ++i) x += y[i] * Z[i];
   }
 }
 

@@ -18,7 +18,8 @@ void SchurCGSolver::write_state(BinaryWriter& out) const {
   if (factor_->valid) out(factor_->matrix);
   out(bool(lag.precondition));
   if (lag.precondition) out(lag.S_hat, lag.P_pattern.outer, lag.P_pattern.inner, lag.H_pattern.outer, lag.H_pattern.inner);
-  out(lag.fresh_iterations, lag.age, lag.extra_iterations, lag.factor_extra_iterations, lag.refresh);
+  out(lag.fresh_iterations, lag.age, lag.extra_iterations, lag.factor_extra_iterations, lag.refresh, lag.coupling_share,
+      lag.decoupled);
 }
 
 void SchurCGSolver::read_state(BinaryReader& in) {
@@ -38,7 +39,8 @@ void SchurCGSolver::read_state(BinaryReader& in) {
     if (lag.S_hat.rows() > 0 && !set_up_preconditioner()) in.fail("a Schur approximation whose preconditioner fails");
     set_preconditioner();
   }
-  in(lag.fresh_iterations, lag.age, lag.extra_iterations, lag.factor_extra_iterations, lag.refresh);
+  in(lag.fresh_iterations, lag.age, lag.extra_iterations, lag.factor_extra_iterations, lag.refresh, lag.coupling_share,
+     lag.decoupled);
 }
 
 }  // namespace tetfsi::coupling::detail

@@ -40,7 +40,8 @@ struct SparsityPattern {
 /// stays the same from step to step while the solid meshes do (the remesher freezes them), so
 /// they are computed once per pattern and only the numeric factorization is redone, in place (a
 /// failed one is undone by factorizing `matrix` again: SchurCGSolver::refactor), so one numeric
-/// factor is held (42 MB at 48³ in bench_coupling, 126 MB at 962k fluid tets on the flagship).
+/// factor is held (42 MB at 48³ in bench_coupling, 126 MB at 962k fluid tets on the flagship), in
+/// single precision (half that) once it only preconditions the lagged solves.
 struct SchurCGSolver::Factor {
   BlockCholesky cholesky;   // one CHOLMOD factor per solid body, solved in parallel
   SparsityPattern pattern;  // of the A the analysis was made for
@@ -73,6 +74,16 @@ struct SchurCGSolver::Lag {
   int extra_iterations = 0;  // iterations of the lagged solves since the last fresh one beyond fresh_iterations, summed
   int factor_extra_iterations = 0;  // the same, since A was last factorized
   bool refresh = true;       // rebuild both blocks at the next solve
+  /// Mean over the last lagged solve's iterations of ‖H zᵤ‖ / ‖σ_f vₚ‖: how much the solid's
+  /// answer zᵤ = Â⁻¹ σₛvᵤ changes the fluid block's right-hand side in the block-triangular
+  /// preconditioner (lagged_gmres.cpp).
+  double coupling_share = 1.0;
+  /// Precondition with diag(Â, Ŝ), the two blocks side by side, instead of the block triangle:
+  /// set when coupling_share < kDecoupledBelow. Measured on the CI scenes (iterations of the
+  /// lagged solves, triangular → diagonal): smoke on rubber sheets (share 0.006) 391 → 394;
+  /// liquids on solids (share 0.14-0.98) 221 → 525, 1,376 → 1,864, 2,229 → 2,815.
+  bool decoupled = false;
+  static constexpr double kDecoupledBelow = 0.05;
 
   /// Refactorize A alone (Ŝ's preconditioner kept) once the lagged factor's extra iterations add up
   /// to half a fresh solve's: the rent-or-buy rule with A's numeric factorization costing about

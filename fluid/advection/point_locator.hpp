@@ -21,7 +21,7 @@ struct Location {
 
 class PointLocator {
  public:
-  /// Builds the grid (about one cell per two tets over the bounding box). The mesh must outlive this.
+  /// Builds the grid (about one cell per eight tets over the bounding box). The mesh must outlive this.
   explicit PointLocator(const FluidMesh& mesh);
 
   /// Locates x, walking from `hint` (a fluid tet, or -1 to start from the grid).

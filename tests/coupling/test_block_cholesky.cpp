@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <vector>
 
 #include "coupling/solvers/block_cholesky.hpp"
@@ -101,6 +102,78 @@ TEST(BlockCholesky, AFailedFactorizationIsUndoneBitForBitByFactorizingTheEarlier
   cholesky.solve(b, after);
   ASSERT_EQ(after.size(), before.size());
   for (int i = 0; i < 60; ++i) EXPECT_EQ(after[i], before[i]) << "unknown " << i;
+}
+
+/// A 3D vector Laplacian plus mass on two n x n x n grids of nodes with 3 dofs each, the second
+/// grid's dofs interleaved with the first's (two bodies), and a diagonal spread by `spread`
+/// (entry i of body b scaled by spread^(i / size)): supernodes many columns wide, as a tet solid's.
+SparseMatrix two_grids(int n, double spread) {
+  const int nodes = n * n * n, size = 3 * nodes;
+  std::vector<Eigen::Triplet<double>> t;
+  auto dof = [&](int body, int node, int c) { return 2 * (3 * node + c) + body; };
+  for (int body = 0; body < 2; ++body)
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const int node = x + n * (y + n * z);
+          const int nb[3] = {x + 1 < n ? node + 1 : -1, y + 1 < n ? node + n : -1, z + 1 < n ? node + n * n : -1};
+          for (int c = 0; c < 3; ++c) {
+            const int i = dof(body, node, c);
+            t.emplace_back(i, i, (6.0 + 0.5) * std::pow(spread, double(3 * node + c) / size));
+            for (int q : nb)
+              if (q >= 0) {
+                t.emplace_back(i, dof(body, q, c), -1.0);
+                t.emplace_back(dof(body, q, c), i, -1.0);
+              }
+            if (c > 0) {  // couple the components as an elastic stiffness does
+              t.emplace_back(i, dof(body, node, 0), 0.3);
+              t.emplace_back(dof(body, node, 0), i, 0.3);
+            }
+          }
+        }
+  SparseMatrix A(2 * size, 2 * size);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+TEST(BlockCholesky, SolvesInDoubleAndInSinglePrecisionThenFactorizesInDoubleAgain) {
+  // The hand-written supernodal solves (supernodal_solve.hpp) against a dense solve: to round-off
+  // with the double factor, to float's rounding times the condition with the single one (and
+  // visibly not to round-off: the conversion happened), and to round-off after the next factorization.
+  const SparseMatrix A = two_grids(7, 1.0);
+  BlockCholesky cholesky;
+  cholesky.analyze_pattern(A);
+  ASSERT_EQ(cholesky.num_blocks(), 2);
+  ASSERT_TRUE(cholesky.factorize(A));
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), -1.0, 3.0);
+  const Eigen::VectorXd dense = Eigen::MatrixXd(A).llt().solve(b);
+  Eigen::VectorXd x;
+  cholesky.solve(b, x);
+  EXPECT_LT((x - dense).norm(), 1e-12 * dense.norm());
+  ASSERT_TRUE(cholesky.to_single_precision());
+  cholesky.solve(b, x);
+  const double single_error = (x - dense).norm() / dense.norm();
+  EXPECT_LT(single_error, 1e-5);
+  EXPECT_GT(single_error, 1e-12);
+  ASSERT_TRUE(cholesky.factorize(2.0 * A));
+  cholesky.solve(b, x);
+  EXPECT_LT((x - 0.5 * dense).norm(), 1e-12 * dense.norm());
+}
+
+TEST(BlockCholesky, AnIllConditionedBlockStaysInDoublePrecision) {
+  // A diagonal spread over 1e10 makes CHOLMOD's reciprocal condition estimate (min Lᵢᵢ / max Lᵢᵢ)²
+  // about 1e-10, below kSingleAboveReciprocalCondition: the factor is kept in double, and the
+  // solve stays at round-off.
+  const SparseMatrix A = two_grids(5, 1e10);
+  BlockCholesky cholesky;
+  cholesky.analyze_pattern(A);
+  ASSERT_TRUE(cholesky.factorize(A));
+  EXPECT_FALSE(cholesky.to_single_precision());
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(A.rows());
+  const Eigen::VectorXd dense = Eigen::MatrixXd(A).llt().solve(b);
+  Eigen::VectorXd x;
+  cholesky.solve(b, x);
+  EXPECT_LT((x - dense).norm(), 1e-10 * dense.norm());
 }
 
 }  // namespace

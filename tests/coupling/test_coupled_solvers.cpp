@@ -337,6 +337,36 @@ TEST(CoupledSolversReport, SchurCGWithoutReuseFactorizesEverySolve) {
   }
 }
 
+TEST(CoupledSolversReport, SchurCGDecouplesTheBlocksOnlyWhereTheSolidHardlyAnswersThePressure) {
+  // A solid 1e4 times heavier (mass 1 t per node against kg fluxes): its velocity answer to the
+  // pressure forces, H zᵤ, is a tiny part of the fluid block's right-hand side, so from the second
+  // lagged solve on the preconditioner is the block diagonal (its two blocks side by side), with
+  // no more iterations than the block triangle. The system as made (share above 0.05) keeps the
+  // block triangle. Every answer matches the dense LU.
+  CoupledSolverOptions options;
+  options.tolerance = 1e-10;
+  CoupledSystem heavy = make_system(30, 12);
+  heavy.A *= 1e4;
+  for (const bool weak : {true, false}) {
+    const CoupledSystem s = weak ? heavy : make_system(30, 12);
+    const Eigen::VectorXd ref = dense_reference(s);
+    auto solver = make_coupled_solver(CoupledSolverKind::SchurCG, options);
+    std::vector<CoupledSolveReport> reports;
+    for (int k = 0; k < 4; ++k) {
+      Eigen::VectorXd u, p;
+      reports.push_back(solver->solve(s, u, p));
+      EXPECT_LT((u - ref.head(u.size())).norm(), 1e-6 * ref.head(u.size()).norm()) << weak << " " << k;
+      EXPECT_LT((p - ref.tail(p.size())).norm(), 1e-6 * ref.tail(p.size()).norm()) << weak << " " << k;
+    }
+    EXPECT_EQ(reports[0].solver, "schur_cg+ic");
+    EXPECT_EQ(reports[1].solver, "block_gmres+ic") << weak;  // measures the coupling first
+    for (int k = 2; k < 4; ++k) {
+      EXPECT_EQ(reports[k].solver, weak ? "block_diagonal_gmres+ic" : "block_gmres+ic") << k;
+      if (weak) EXPECT_LE(reports[k].iterations, reports[1].iterations + 1) << k;
+    }
+  }
+}
+
 TEST(CoupledSolversReport, PressureOnlySystemIsAPlainProjection) {
   // No solid: eq. (7) reduces to the fluid projection P p = r.
   CoupledSystem s = make_system(30, 8);

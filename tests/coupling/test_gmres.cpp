@@ -92,3 +92,28 @@ TEST(Gmres, StopsAtBreakdownAndNeverReturnsAWorseIterate) {
   singular(x, Kx);
   EXPECT_NEAR((f - Kx).norm(), r.residual, 1e-12);
 }
+
+TEST(Gmres, APreconditionerRoundedToSinglePrecisionCostsNoExtraIterations) {
+  // Flexible GMRES keeps zⱼ = M⁻¹vⱼ and updates x with them, so a preconditioner whose output is
+  // rounded to float (a factor kept in single precision) reaches a residual far below float's
+  // rounding in the iterations the exact one takes (give or take one). Applying M⁻¹ once more to a
+  // combination of the vⱼ (Saad's Alg. 9.5) would leave that rounding, ~1e-7, in the residual
+  // and need another cycle.
+  const int n = 80;
+  const Eigen::MatrixXd K = convection_diffusion(n, 0.5);
+  const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(n, 2.0, -1.0);
+  auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) { y = K * v; };
+  const Eigen::VectorXd diag = K.diagonal();
+  auto jacobi = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) { z = v.cwiseQuotient(diag); };
+  auto rounded = [&](const Eigen::VectorXd& v, Eigen::VectorXd& z) {
+    z = v.cwiseQuotient(diag).cast<float>().cast<double>();
+  };
+  const double target = 1e-12 * f.norm();
+  Eigen::VectorXd x_exact, x_rounded;
+  const auto exact = right_preconditioned_gmres(apply, jacobi, f, x_exact, target, 2000, n);
+  const auto single = right_preconditioned_gmres(apply, rounded, f, x_rounded, target, 2000, n);
+  ASSERT_TRUE(exact.converged);
+  ASSERT_TRUE(single.converged);
+  EXPECT_LE((f - K * x_rounded).norm(), target);
+  EXPECT_LE(single.iterations, exact.iterations + 1) << "exact " << exact.iterations << ", rounded " << single.iterations;
+}
