@@ -191,7 +191,8 @@ void MeshMotion::solve_preconditioned(const Eigen::MatrixXd& rhs) {
     // Stops at ‖r‖ ≤ max(tolerance ‖rhs‖, step_reduction ‖r₀‖) (MeshMotionOptions).
     Eigen::VectorXd residual = rhs.col(c) - K_ff_ * d;
     const double target = std::max(tolerance_ * rhs.col(c).norm(), step_reduction_ * residual.norm());
-    // y = K_ff v column by column in parallel: K_ff is symmetric, so y_j = K_ff(:, j) · v, a gather
+    // y = K_ff v column by column in parallel: K_ff is symmetric (to rounding: each entry is summed
+    // in its column's order), so y_j = K_ff(:, j) · v, a gather
     // (Eigen's product scatters column by column, serially).
     auto apply = [&](const Eigen::VectorXd& v, Eigen::VectorXd& y) {
       y.resize(v.size());

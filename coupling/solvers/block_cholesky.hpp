@@ -33,14 +33,16 @@ class BlockCholesky {
   /// Numeric factorization of every block of A (A's pattern must be the analysed one).
   /// @return false if some block is not positive definite (the factor is then unusable)
   bool factorize(const SparseMatrix& A);
-  /// x = A⁻¹ b with the last factorization.
+  /// x = A⁻¹ b with the last factorization. One call at a time (each block has one set of work
+  /// vectors).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
   /// Keeps each block's factor in single precision only, its double values freed (half the memory,
   /// and solves that read half the bytes), for a factor used as a preconditioner: solve() then
   /// gives A⁻¹ b to about 6e-8 times A's condition number, relative. A block whose reciprocal
-  /// condition estimate (CHOLMOD's (min Lᵢᵢ / max Lᵢᵢ)²) is below kSingleAboveReciprocalCondition
-  /// stays in double. The next factorize() is in double again.
+  /// condition estimate (CHOLMOD's (min Lᵢᵢ / max Lᵢᵢ)², which is at least 1/cond(A): a gate, not a
+  /// bound on the condition) is below kSingleAboveReciprocalCondition stays in double. The next
+  /// factorize() is in double again (CHOLMOD allocates the double values anew).
   /// @return true if every block is now in single precision
   bool to_single_precision();
   static constexpr double kSingleAboveReciprocalCondition = 1e-6;

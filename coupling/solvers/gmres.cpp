@@ -49,8 +49,8 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
   GmresResult result;
   const Eigen::Index size = f.size();
   if (x.size() != size) x = Eigen::VectorXd::Zero(size);
-  // Arnoldi basis of K M⁻¹, grown one vector per Krylov step (a solve that converges in 25 steps
-  // touches 26 vectors, not restart + 1).
+  // Arnoldi basis of K M⁻¹ and the preconditioned vectors, grown one vector each per Krylov step
+  // (a solve that converges in 25 steps touches 26 + 25 vectors, not 2 restart + 1).
   std::vector<Eigen::VectorXd> V, Z;  // Z[k] = M⁻¹ V[k], kept (flexible GMRES)
   V.reserve(restart + 1);
   Z.reserve(restart);
@@ -87,7 +87,7 @@ GmresResult right_preconditioned_gmres(const LinearMap& apply, const LinearMap& 
       const double w_norm = w.norm();
       orthogonalize(V, k, w, Hess);
       Hess(k + 1, k) = w.norm();
-      // Breakdown: K M⁻¹ V_k lies in span(V_k) up to rounding, so the least-squares iterate is the
+      // Breakdown: K Z_k lies in span(V_k) up to rounding, so the least-squares iterate is the
       // solution in this space; normalizing the rounding noise would give a non-orthogonal basis.
       const bool breakdown = !(Hess(k + 1, k) > 1e-14 * w_norm);
       if (breakdown) Hess(k + 1, k) = 0;

@@ -35,7 +35,7 @@ struct GmresResult {
 /// @param x         initial guess in, solution out (same size as f)
 /// @param target    absolute residual ‖f − K x‖₂ to reach
 /// @param max_iterations  cap on Krylov steps over all restarts
-/// @param restart   Krylov subspace size before a restart (memory: restart + 1 vectors)
+/// @param restart   Krylov subspace size before a restart (memory: 2 restart + 1 vectors)
 /// A cycle ends early at a breakdown (the new Krylov vector is rounding noise, below 1e-14 of its
 /// norm before orthogonalization); a cycle that does not reduce the true residual is undone and
 /// GMRES returns (stagnation), so the returned x is the best iterate seen at a cycle boundary.

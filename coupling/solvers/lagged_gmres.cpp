@@ -22,8 +22,9 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
   if ((rebuild_preconditioner || !lag.P_pattern.matches(s.P) || !lag.H_pattern.matches(s.H)) &&
       !build_schur_preconditioner(s))
     return false;
-  // Â⁻¹ is a preconditioner here: its factor in single precision reads half the bytes per solve.
-  factor_->cholesky.to_single_precision();
+  // Â⁻¹ is a preconditioner here: its factor in single precision reads half the bytes per solve
+  // (unless a lagged solve with it missed its cap before: Lag::double_factor).
+  const bool single = !lag.double_factor && factor_->cholesky.to_single_precision();
   report.solver = (lag.decoupled ? "block_diagonal_gmres+" : "block_gmres+") + lag.preconditioner_name;
   report.factor_age = lag.age + 1;
   report.setup_seconds += clock.lap();
@@ -91,7 +92,9 @@ bool SchurCGSolver::solve_lagged(const CoupledSystem& s, Eigen::VectorXd& u, Eig
       [&] { return report.residual.max() <= options_.tolerance; });
   report.solve_seconds = clock.lap();
   lag.coupling_share = coupling_count > 0 ? coupling_sum / coupling_count : 0.0;
-  lag.decoupled = lag.coupling_share < Lag::kDecoupledBelow;
+  // A missed cap never repeats the same choice: the block triangle, and the factor in double.
+  lag.decoupled = converged && lag.coupling_share < Lag::kDecoupledBelow;
+  if (!converged && single) lag.double_factor = true;
   if (!converged) return false;
   u = x.head(n);
   p = x.tail(m);

@@ -177,7 +177,8 @@ CoupledSolveReport SchurCGSolver::solve_fresh(const CoupledSystem& s, Eigen::Vec
   report.solve_seconds = clock.lap();
   if (!u.allFinite() || !p.allFinite()) throw CoupledSolveError("schur_cg: non-finite iterate");
   require_converged(report, options_.tolerance);
-  if (n > 0) factor_->cholesky.to_single_precision();  // from now on a preconditioner (lagged_gmres.cpp)
+  // From now on Â only preconditions the lagged solves (lagged_gmres.cpp), if there are any.
+  if (n > 0 && options_.reuse_factorization && !lag.double_factor) factor_->cholesky.to_single_precision();
   lag.fresh_iterations = it;
   lag.age = 0;
   lag.extra_iterations = 0;

@@ -19,7 +19,7 @@ void SchurCGSolver::write_state(BinaryWriter& out) const {
   out(bool(lag.precondition));
   if (lag.precondition) out(lag.S_hat, lag.P_pattern.outer, lag.P_pattern.inner, lag.H_pattern.outer, lag.H_pattern.inner);
   out(lag.fresh_iterations, lag.age, lag.extra_iterations, lag.factor_extra_iterations, lag.refresh, lag.coupling_share,
-      lag.decoupled);
+      lag.decoupled, lag.double_factor);
 }
 
 void SchurCGSolver::read_state(BinaryReader& in) {
@@ -40,7 +40,7 @@ void SchurCGSolver::read_state(BinaryReader& in) {
     set_preconditioner();
   }
   in(lag.fresh_iterations, lag.age, lag.extra_iterations, lag.factor_extra_iterations, lag.refresh, lag.coupling_share,
-     lag.decoupled);
+     lag.decoupled, lag.double_factor);
 }
 
 }  // namespace tetfsi::coupling::detail

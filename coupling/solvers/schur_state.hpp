@@ -41,7 +41,8 @@ struct SparsityPattern {
 /// they are computed once per pattern and only the numeric factorization is redone, in place (a
 /// failed one is undone by factorizing `matrix` again: SchurCGSolver::refactor), so one numeric
 /// factor is held (42 MB at 48³ in bench_coupling, 126 MB at 962k fluid tets on the flagship), in
-/// single precision (half that) once it only preconditions the lagged solves.
+/// single precision (half that) once it only preconditions the lagged solves; a factorization
+/// after that allocates the double values again, and the conversion holds both for a moment.
 struct SchurCGSolver::Factor {
   BlockCholesky cholesky;   // one CHOLMOD factor per solid body, solved in parallel
   SparsityPattern pattern;  // of the A the analysis was made for
@@ -84,6 +85,9 @@ struct SchurCGSolver::Lag {
   /// liquids on solids (share 0.14-0.98) 221 → 525, 1,376 → 1,864, 2,229 → 2,815.
   bool decoupled = false;
   static constexpr double kDecoupledBelow = 0.05;
+  /// Keep Â's factor in double: a lagged solve with it in single precision missed its cap
+  /// (BlockCholesky's condition gate is only a bound; the run does not try single again).
+  bool double_factor = false;
 
   /// Refactorize A alone (Ŝ's preconditioner kept) once the lagged factor's extra iterations add up
   /// to half a fresh solve's: the rent-or-buy rule with A's numeric factorization costing about

@@ -47,7 +47,7 @@ struct SupernodalWorkspace {
 };
 
 /// x = A⁻¹ b with the factor `L` of A (see the file comment), in L's precision. b and x: n entries
-/// each, may not alias.
+/// each (b is read whole before x is written, so they may be the same array).
 template <class Scalar>
 void supernodal_solve(const SupernodalFactorView<Scalar>& L, const double* b, double* x,
                       SupernodalWorkspace<Scalar>& work);
