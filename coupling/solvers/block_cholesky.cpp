@@ -167,15 +167,13 @@ bool BlockCholesky::factorize(const SparseMatrix& A) {
 bool BlockCholesky::to_single_precision() {
   if (!factorized_) return false;
   std::vector<char> converted(blocks_.size(), 0);
-  std::vector<double> rcond(blocks_.size(), 0.0);
   tbb::parallel_for(0, num_blocks(), [&](int c) {
     Block& block = *blocks_[c];
     if (!block.single.empty()) {
       converted[c] = 1;
       return;
     }
-    rcond[c] = block.llt.reciprocal_condition();
-    if (rcond[c] < kSingleAboveReciprocalCondition) return;
+    if (block.llt.reciprocal_condition() < kSingleAboveReciprocalCondition) return;
     block.llt.move_to_single_precision(block.single);
     converted[c] = 1;
   });
