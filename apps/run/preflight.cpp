@@ -285,7 +285,7 @@ class Checker {
       const auto kind = probes[i].at("kind").get<std::string>();
       const auto& kinds = runner_->probe_kinds;
       const bool supported = kinds.empty() || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
-      if (!supported || (any_static && kind == "total_energy")) {
+      if (!supported || (any_static && (kind == "total_energy" || kind == "contact_force"))) {
         std::string list;
         for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
         add(fmt::format("/probes/{}/kind", i),
@@ -300,9 +300,23 @@ class Checker {
   /// that film would be pushed out of it in its first step. Checked when the gap is given (its
   /// default follows the meshed edge length, known only after meshing).
   void check_contact_gap(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-    if (runner_->name != "coupled" || !js_.contains("coupling") || js_["domain"].contains("container")) return;
+    if (runner_->name != "coupled" || !js_.contains("coupling")) return;
     const auto& c = js_["coupling"];
     const double gap = c.value("contact_gap", 0.0);
+    // A film given for contacts that are all off contradicts itself.
+    if (gap > 0 && !c.value("wall_contact", true)) {
+      bool pairs = c.value("solid_contact", true) && js_["solids"].size() > 1;
+      for (const auto& s : js_["solids"]) pairs = pairs || s.value("self_contact", false);
+      const auto& obstacles = js_.value("obstacles", Json::object());
+      const bool others = !obstacles.value("planes", Json::array()).empty() || !obstacles.value("boxes", Json::array()).empty();
+      if (!pairs && !others)
+        add("/coupling/contact_gap",
+            fmt::format("a fluid film of {:g} m is given, but no contact keeps it: /coupling/wall_contact is false and "
+                        "there is no contact between solids (/coupling/solid_contact with two or more solids, "
+                        "/solids/*/self_contact) and no /obstacles; remove contact_gap or turn a contact on",
+                        gap));
+    }
+    if (js_["domain"].contains("container")) return;
     if (!c.value("wall_contact", true) || !(gap > 0)) return;
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       const auto& p = placed_[i];

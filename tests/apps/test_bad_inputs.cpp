@@ -326,6 +326,14 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
          return s;
        },
        "/coupling/contact_gap"},
+      {"contact_gap_without_any_contact",  // a film that no contact keeps: contradictory keys
+       [] {
+         auto s = coupled_scene();
+         s["coupling"]["contact_gap"] = 0.01;
+         s["coupling"]["wall_contact"] = false;
+         return s;
+       },
+       "/coupling/contact_gap"},
       {"self_contact_on_a_kinematic_solid",  // it deforms nothing, so it cannot fold onto itself
        [] {
          auto s = solid_scene();
