@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include "mesh/closest_point.hpp"
-
 #include <tbb/parallel_for.h>
+
+#include "mesh/closest_point.hpp"
 
 namespace tetfsi::fluid {
 namespace {
