@@ -305,7 +305,7 @@ CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const Sol
     t.area_normal = f.area * f.normal;  // out of the fluid, into the solid
     if (surface) {  // the pressure on the wet part only, as in the liquid's rows (interface_maps.hpp)
       const Eigen::VectorXd& phi = fluid_.level_set();
-      t.mass = fluid::wet_face_mass({phi[f.nodes[0]], phi[f.nodes[1]], phi[f.nodes[2]]}, f.nodes);
+      t.mass = fluid::wet_face_mass({phi[f.nodes[0]], phi[f.nodes[1]], phi[f.nodes[2]]});
     }
     if (mean) {
       const Eigen::Vector3d& a = mid[t.vertices[0]];

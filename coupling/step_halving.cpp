@@ -6,6 +6,7 @@
 
 #include "coupling/coupled_stepper.hpp"
 #include "mesh/complex_mesher.hpp"  // MeshError
+#include "support/number_text.hpp"
 
 namespace tetfsi::coupling {
 
@@ -17,7 +18,7 @@ CoupledStepReport CoupledStepper::step(double h) {
     if (settings_.max_step_halvings == 0) throw;
     throw mesh::MeshError(std::string(e.what()) + " (also with the step halved " +
                           std::to_string(settings_.max_step_halvings) + " times, to " +
-                          std::to_string(h / (1 << settings_.max_step_halvings)) +
+                          number_text(h / (1 << settings_.max_step_halvings)) +
                           " s; simulation.max_step_halvings allows more)");
   }
 }

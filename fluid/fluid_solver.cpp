@@ -102,6 +102,7 @@ void FluidSolver::set_liquid(Eigen::VectorXd level_set, LiquidOptions options) {
   if (options.extension_layers < 0) throw std::invalid_argument("FluidSolver::set_liquid: extension_layers < 0");
   liquid_options_ = options;
   snap_to_surface(*mesh_, level_set);
+  wet_enclosed_zeros(*mesh_, level_set);
   // The sampled distance is made the distance to its zero set once; the steps then keep the cut
   // tets' values, which hold the surface, and redistance the other nodes only.
   redistance(*mesh_, level_set, options.band);
@@ -123,6 +124,7 @@ void FluidSolver::extend_liquid_velocity() {
 
 void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
   snap_to_surface(*mesh_, phi);
+  wet_enclosed_zeros(*mesh_, phi);
   redistance(*mesh_, phi, liquid_options_.band, true);
   const double tracked = liquid_volume(*mesh_, phi);
   rep.volume_drift = (tracked - target_volume_) / target_volume_;

@@ -73,8 +73,7 @@ class CoupledRunner : public Simulation {
     // A free surface with surface_edge_length: finer near the liquid (surface_refinement.hpp).
     refinement_ = surface_refinement(js);
     if (refinement_.on())
-      sizing.size_at = refinement_.field(
-          liquid_region_distance(js.at("fluid").at("regions"), vec3(js.at("simulation").at("gravity"))));
+      sizing.size_at = refinement_.field(liquid_region_distance(js));
     sizing_ = sizing;
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;

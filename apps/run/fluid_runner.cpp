@@ -88,8 +88,7 @@ class FluidRunner : public Simulation {
     // A free surface with surface_edge_length: finer near the liquid (surface_refinement.hpp).
     refinement_ = surface_refinement(js);
     if (refinement_.on())
-      sizing.size_at =
-          refinement_.field(liquid_region_distance(f.at("regions"), vec3(js.at("simulation").at("gravity"))));
+      sizing.size_at = refinement_.field(liquid_region_distance(js));
     std::vector<mesh::SurfaceMesh> surfaces;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());

@@ -9,6 +9,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
 #include "apps/run/preflight_container.hpp"
+#include "apps/run/preflight_liquid.hpp"
 #include "apps/run/preflight_models.hpp"
 #include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
@@ -57,6 +58,7 @@ class Checker {
     read_solids();
     read_liquid_regions();
     check_placements();
+    check_liquid_regions();
     check_runner();
     for (auto& issue : checkpoint_issues(scene_, *runner_)) issues_.push_back(std::move(issue));
     check_load_boxes();
@@ -195,11 +197,6 @@ class Checker {
         Eigen::Vector3d lo, hi;
         mesh::bounding_box(surface, lo, hi);
         check_magnitude(ptr, max_abs(lo, hi), "a placed vertex");
-        if (js_.contains("domain")) {
-          const Eigen::Vector3d dlo = vec3(js_["domain"]["lo"]), dhi = vec3(js_["domain"]["hi"]);
-          if (!((lo.array() < dhi.array()).all() && (hi.array() > dlo.array()).all()))
-            add(ptr, "the liquid region lies outside the domain box: there is no liquid");
-        }
       } catch (const std::exception& e) {
         add(ptr, e.what());
       }
@@ -215,6 +212,15 @@ class Checker {
     for (std::size_t i = 0; i < placed_.size(); ++i)
       solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
     for (auto& issue : container_issues(js_, solids)) issues_.push_back(std::move(issue));
+  }
+
+  /// Every liquid region holds liquid (preflight_liquid.hpp), once the surfaces read so far are fine.
+  void check_liquid_regions() {
+    if (!issues_.empty() || !meshes_fluid()) return;
+    std::vector<ContainedSolid> solids;
+    for (std::size_t i = 0; i < placed_.size(); ++i)
+      solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
+    for (auto& issue : liquid_region_issues(js_, solids)) issues_.push_back(std::move(issue));
   }
 
   void check_placements() {

@@ -4,6 +4,7 @@
 
 #include "solid/solid_error.hpp"
 #include "support/stopwatch.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::solid {
 
@@ -84,7 +85,7 @@ void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& 
   if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
   const int next = step_ + 1;
   if (!model_.evaluate(d_, K_force_, &K_tangent_))
-    throw SolidError("solid step " + std::to_string(next) + " (t = " + std::to_string(time_) +
+    throw SolidError("solid step " + std::to_string(next) + " (t = " + number_text(time_) +
                      " s): " + model_.last_error());
   const auto& X = model_.reference_positions();
   for (const auto& s : springs_) {

@@ -1,6 +1,6 @@
 // Standing wave in a rectangular tank (free-surface acceptance): the first sloshing mode must
 // oscillate at the linear-theory frequency omega^2 = g k tanh(k H) (apps/bench/fluid/
-// standing_wave.hpp). The period error converges at first order (measured +5.4%, +2.4%, +1.2% at
+// standing_wave.hpp). The period error converges at first order (measured +5.4%, +2.6%, +1.4% at
 // 16, 32 and 64 cells per tank length: bench_fluid --standing-wave); at 32 cells (9.2k tets, 90
 // steps) it must be within 3% of theory, and the amplitude must decay by less than 10% per period.
 #include <gtest/gtest.h>

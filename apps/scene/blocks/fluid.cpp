@@ -100,7 +100,10 @@ Field liquid_regions() {
       .check(lo_below_hi());
   return Field::array("regions",
                       "With `fill: regions`: the liquid at t = 0, the union of these shapes (within the domain); "
-                      "the rest of the domain is air, which is void (p = 0 on the free surface).",
+                      "the rest of the domain is air, which is void (p = 0 on the free surface). A box's faces "
+                      "that lie on the domain's walls are walls, not surface (a column may stand on the floor "
+                      "against the walls). Each region must hold liquid: some of it inside the domain box, the "
+                      "container and outside every solid.",
                       std::move(region))
       .def(Json::array());
 }
