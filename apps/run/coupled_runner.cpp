@@ -40,6 +40,7 @@
 #include "apps/run/watchdog.hpp"
 #include "apps/run/container.hpp"
 #include "apps/run/coupled_energy.hpp"
+#include "apps/run/fluid_columns.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -214,8 +215,7 @@ class CoupledRunner : public Simulation {
 
   std::vector<std::string> phases() const override {
     std::vector<std::string> p = {"remesh", "advect", "solid_assemble", "interface", "solve"};
-    if (stepper_->fluid().has_free_surface()) p.insert(p.begin() + 1, "surface");
-    if (stepper_->fluid().viscous()) p.push_back("viscosity");
+    add_fluid_phases(stepper_->fluid(), p);
     return p;
   }
   std::vector<std::string> columns() const override {
@@ -223,8 +223,7 @@ class CoupledRunner : public Simulation {
                                   "solver_iterations", "solver_residual", "solver_factor_age",
                                   "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential",
                                   "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps"};
-    if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
-    if (stepper_->fluid().viscous()) c.push_back("viscous_iterations");
+    add_fluid_columns(stepper_->fluid(), c);
     for (const std::string& name : compare_solvers_)
       c.insert(c.end(), {"compare_" + name + "_seconds", "compare_" + name + "_iterations"});
     return c;
@@ -287,14 +286,7 @@ class CoupledRunner : public Simulation {
                   double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
                   r.solid_strain, r.solid_gravity_potential, r.fluid_gravity_potential, r.total_energy(),
                   double(r.solve.contacts), double(r.solve.contact_rounds), double(r.substeps)};
-    if (stepper_->fluid().has_free_surface()) {
-      out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
-      out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});
-    }
-    if (stepper_->fluid().viscous()) {
-      out.phase_seconds.push_back(r.fluid.viscosity_seconds);
-      out.values.push_back(double(r.fluid.viscous_iterations));
-    }
+    add_fluid_values(stepper_->fluid(), r.fluid, out.phase_seconds, out.values);
     for (const coupling::ComparedSolve& c : r.compared) {  // -1 iterations: it missed its tolerance
       if (!c.failure.empty()) log_->warn("t = {} s: compare_solvers: {}", r.time, c.failure);
       out.values.insert(out.values.end(), {c.seconds, c.failure.empty() ? double(c.iterations) : -1.0});
