@@ -54,6 +54,7 @@ CoupledStepReport CoupledStepper::step_or_halve(double h, int halvings) {
   second.fluid.advect_seconds += first.fluid.advect_seconds;
   second.fluid.forces_seconds += first.fluid.forces_seconds;
   second.fluid.surface_seconds += first.fluid.surface_seconds;
+  second.fluid.particle_seconds += first.fluid.particle_seconds;
   second.fluid.assemble_seconds += first.fluid.assemble_seconds;
   second.solid_assemble_seconds += first.solid_assemble_seconds;
   second.interface_seconds += first.interface_seconds;

@@ -28,7 +28,7 @@
 
 namespace tetfsi::run {
 
-constexpr std::uint32_t kCheckpointVersion = 6;
+constexpr std::uint32_t kCheckpointVersion = 7;
 
 /// FNV-1a 64-bit hash of a text.
 std::uint64_t fnv1a(const std::string& text);

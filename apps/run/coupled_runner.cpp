@@ -40,6 +40,7 @@
 #include "apps/run/watchdog.hpp"
 #include "apps/run/container.hpp"
 #include "apps/run/coupled_energy.hpp"
+#include "apps/run/fluid_columns.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -214,8 +215,7 @@ class CoupledRunner : public Simulation {
 
   std::vector<std::string> phases() const override {
     std::vector<std::string> p = {"remesh", "advect", "solid_assemble", "interface", "solve"};
-    if (stepper_->fluid().has_free_surface()) p.insert(p.begin() + 1, "surface");
-    if (stepper_->fluid().viscous()) p.push_back("viscosity");
+    add_fluid_phases(stepper_->fluid(), p);
     return p;
   }
   std::vector<std::string> columns() const override {
@@ -225,8 +225,7 @@ class CoupledRunner : public Simulation {
                                   "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps",
                                   "closed_volume_error", "closed_volume_correction"};
     if (stepper_->has_obstacles()) c.push_back("wall_clearance");
-    if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
-    if (stepper_->fluid().viscous()) c.push_back("viscous_iterations");
+    add_fluid_columns(stepper_->fluid(), c);
     for (const std::string& name : compare_solvers_)
       c.insert(c.end(), {"compare_" + name + "_seconds", "compare_" + name + "_iterations"});
     return c;
@@ -294,14 +293,7 @@ class CoupledRunner : public Simulation {
                   double(r.solve.contacts), double(r.solve.contact_rounds), double(r.substeps),
                   r.closed_volume_error, r.closed_volume.correction};
     if (stepper_->has_obstacles()) out.values.push_back(r.obstacle_clearance);
-    if (stepper_->fluid().has_free_surface()) {
-      out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
-      out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});
-    }
-    if (stepper_->fluid().viscous()) {
-      out.phase_seconds.push_back(r.fluid.viscosity_seconds);
-      out.values.push_back(double(r.fluid.viscous_iterations));
-    }
+    add_fluid_values(stepper_->fluid(), r.fluid, out.phase_seconds, out.values);
     for (const coupling::ComparedSolve& c : r.compared) {  // -1 iterations: it missed its tolerance
       if (!c.failure.empty()) log_->warn("t = {} s: compare_solvers: {}", r.time, c.failure);
       out.values.insert(out.values.end(), {c.seconds, c.failure.empty() ? double(c.iterations) : -1.0});

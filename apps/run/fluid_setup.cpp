@@ -37,6 +37,14 @@ fluid::FluidParams fluid_params(const scene::Json& js, spdlog::logger& log) {
   params.advection = adv == "bfecc"             ? fluid::AdvectionScheme::kBfecc
                      : adv == "semi_lagrangian" ? fluid::AdvectionScheme::kSemiLagrangian
                                                 : fluid::AdvectionScheme::kLinear;
+  params.particles.transfer = adv == "apic"   ? fluid::ParticleTransfer::kApic
+                              : adv == "flip" ? fluid::ParticleTransfer::kFlip
+                                              : fluid::ParticleTransfer::kNone;
+  params.particles.flip_ratio = f.at("flip_ratio").get<double>();
+  params.particles.per_tet = f.at("particles_per_tet").get<int>();
+  if (params.particles.enabled())
+    log.info("velocity on particles: {}, {} per tet{}", adv, params.particles.per_tet,
+             adv == "flip" ? fmt::format(", FLIP share {}", params.particles.flip_ratio) : "");
   params.solver.backend = fluid::parse_solver_backend(f.at("solver").at("type").get<std::string>());
   params.solver.tolerance = f.at("solver").at("tolerance").get<double>();
   params.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();

@@ -11,6 +11,7 @@
 #include "apps/run/preflight_container.hpp"
 #include "apps/run/preflight_liquid.hpp"
 #include "apps/run/preflight_models.hpp"
+#include "apps/run/preflight_particles.hpp"
 #include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_params.hpp"
@@ -428,6 +429,7 @@ class Checker {
                       opt_.max_tets ? "--max-tets" : "half of this machine's memory", worst_key_));
     }
     check_voxels();
+    if (issues_.empty()) report_.particles = particle_count(js_, report_.tets, issues_);
     const double end = sim.at("end_time").get<double>();
     const double frame_rate = sim.at("frame_rate").get<double>();
     report_.frames = std::floor(end * frame_rate * (1 + 1e-12)) + 1;

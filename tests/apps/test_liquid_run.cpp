@@ -559,6 +559,12 @@ TEST(LiquidRun, BadFreeSurfaceKeysExitTwoInValidateAndRunAlike) {
        "/fluid/regions/0: the region lies outside the domain box"},
       {"dam_break_ci.json", R"({"fluid": {"regions": [{"type": "mesh", "file": "cube.obj", "unit_scale": 0}]}})",
        "/fluid/regions/0/unit_scale"},
+      // Velocity on particles: a count beyond memory, and values out of range.
+      {"dam_break_ci.json", R"({"fluid": {"advection": "apic", "particles_per_tet": 1000000000}})",
+       "/fluid/particles_per_tet"},
+      {"dam_break_ci.json", R"({"fluid": {"advection": "flip", "particles_per_tet": 0}})", "/fluid/particles_per_tet"},
+      {"dam_break_ci.json", R"({"fluid": {"advection": "flip", "flip_ratio": 1.5}})", "/fluid/flip_ratio"},
+      {"dam_break_ci.json", R"({"fluid": {"advection": "apick"}})", "/fluid/advection"},
   };
   TempDir dir("liquid_bad_keys");
   std::ofstream(dir.path() / "open.obj") << "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nf 1 2 3\n";
