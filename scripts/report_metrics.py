@@ -114,6 +114,20 @@ def ball_rise(run):
     return Result(a / exact - 1, f"a = {a:.4f} m/s^2 (exact {exact:.4f})", unknowns(run, "coupled"), steps, sim)
 
 
+def floor_force(run):
+    """Wall force of a heavy ball at rest on a tank's floor against Archimedes, (rho_s - rho_f) V g with
+    the ball's meshed volume V at the end (contact_force and solid_volume probes)."""
+    fluid = run.scene["fluid"]["density"]
+    solid = run.scene["solids"][0]["material"]["density"]
+    rows = read_csv(os.path.join(run.out, "probes.csv"))
+    volume, force = float(rows[-1]["ball_volume"]), float(rows[-1]["floor_force_y"])
+    exact = (solid - fluid) * volume * G
+    volume_change = max(abs(float(r["ball_volume"]) / float(rows[0]["ball_volume"]) - 1) for r in rows)
+    steps, sim = steps_and_time(run)
+    return Result(force / exact - 1, f"F = {force:.4f} N (Archimedes {exact:.4f} N), ball volume within "
+                  f"{volume_change:.1e}", unknowns(run, "coupled"), steps, sim)
+
+
 def rod_frequency(run):
     exact, _, ratio = bench_coaxial_rod.reference(run.scene)
     f = bench_coaxial_rod.crossing_frequency(os.path.join(run.out, "probes.csv"))
@@ -289,6 +303,6 @@ def settling_speed(run):
                   unknowns(run, "coupled"), steps, sim)
 
 
-METRICS = {f.__name__: f for f in (pipe_axis, tet_cantilever_tip, ring_castigliano, ball_rise, rod_frequency,
+METRICS = {f.__name__: f for f in (pipe_axis, tet_cantilever_tip, ring_castigliano, ball_rise, floor_force, rod_frequency,
                                    gas_radius, floating_draft, potential_flow_cp, standing_wave_period, cavity_ghia,
                                    settling_speed, sloshing_mode, dam_break_martin_moyce, liquid_volume_kept)}

@@ -109,6 +109,7 @@ void SurfaceContact::begin_step(double h, const Eigen::VectorXd& x, const Eigen:
   u_start_ = u;
   candidates_.clear();
   active_.clear();
+  released_.assign(X_.size() / 3, 0);
   if (!enabled() || triangles_.empty()) return;
   // Reach: a node within this distance of a triangle may close the gap δ in the step (speeds up
   // to twice the largest surface speed at tⁿ).
@@ -224,6 +225,7 @@ bool SurfaceContact::update(const Eigen::VectorXd& u_next) {
     changed = changed || std::abs(friction - p.friction) > 0.01 * std::max(friction, p.friction);
     p.friction = friction;
     if (p.force < 0) {
+      released_[p.node] = 1;
       active_[k] = active_.back();
       active_.pop_back();
       changed = true;
@@ -234,7 +236,8 @@ bool SurfaceContact::update(const Eigen::VectorXd& u_next) {
   }
   for (const Pair& p : candidates_) {
     if (is_active[p.node]) continue;
-    if (!(p.gap + 0.5 * h_ * (p.relative_velocity + relative_velocity(p, u_next)) < 0)) continue;
+    const double depth = released_[p.node] ? kReleasedDepth * settings_.gap : 0.0;
+    if (!(p.gap + 0.5 * h_ * (p.relative_velocity + relative_velocity(p, u_next)) < -depth)) continue;
     activate(p);
     changed = true;
   }

@@ -86,7 +86,11 @@ class SurfaceContact {
   /// @return true if any was activated.
   bool warm_start();
   /// Releases pulling pairs and activates the candidates whose predicted end-of-step gap under
-  /// u_next is negative. @return true if the active set changed.
+  /// u_next is negative; a node released earlier in this step only if its gap would end below
+  /// −kReleasedDepth δ. A grazing node's force is zero to within the solve's tolerance times κ,
+  /// and re-activating it after each release spent every contact round on one node (two balls
+  /// meeting: 9 rounds in a step); the depth lets it end at most 1% of the film inside the film.
+  /// @return true if the active set changed.
   bool update(const Eigen::VectorXd& u_next);
   /// A += κ G Gᵀ + c_t T_Gᵀ T_G and b += κ target G over the active pairs (A: the matrix without
   /// contact rows, b its right-hand side; prescribed dofs as in the file comment).
@@ -142,6 +146,10 @@ class SurfaceContact {
   double h_ = 0;
   std::vector<char> prescribed_;
   std::vector<Pair> candidates_, active_;
+  std::vector<char> released_;  // per node: released in this step (update)
+  /// A node released in a step is activated again in it only if it would end deeper than this
+  /// fraction of the film δ inside it (update).
+  static constexpr double kReleasedDepth = 0.01;
   std::vector<int> touching_;
   std::vector<double> touching_force_;
   Eigen::VectorXd u_start_;                    // uⁿ of begin_step
