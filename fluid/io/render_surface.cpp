@@ -1,0 +1,100 @@
+#include "fluid/io/render_surface.hpp"
+
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "fluid/advection/point_locator.hpp"
+#include "fluid/io/level_set_voxels.hpp"
+#include "fluid/io/surface_voxels.hpp"
+#include "fluid/io/vdb_surface.hpp"
+#include "fluid/liquid/level_set.hpp"
+
+namespace tetfsi::fluid {
+namespace {
+
+/// Vertices per chunk of the parallel velocity interpolation; fixed, so that each chunk's walk
+/// (from the chunk's previous vertex) does not depend on the thread count.
+constexpr int kChunk = 512;
+
+/// Area-weighted vertex normals of a closed, outward-oriented surface (unit; zero if degenerate).
+std::vector<Eigen::Vector3d> vertex_normals(const mesh::SurfaceMesh& s) {
+  std::vector<Eigen::Vector3d> n(s.vertices.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : s.triangles) {
+    const Eigen::Vector3d a = (s.vertices[t[1]] - s.vertices[t[0]]).cross(s.vertices[t[2]] - s.vertices[t[0]]);
+    for (int k = 0; k < 3; ++k) n[t[k]] += a;
+  }
+  for (auto& v : n)
+    if (v.norm() > 0) v.normalize();
+  return n;
+}
+
+std::vector<Eigen::Vector3d> vertex_velocity(const FluidMesh& mesh, const TetVectors& velocity,
+                                             const mesh::SurfaceMesh& surface, double voxel_size) {
+  const TetVectors nodal = average_to_nodes(mesh, velocity);
+  const PointLocator locator(mesh);
+  const std::vector<Eigen::Vector3d> normal = vertex_normals(surface);
+  const int n = static_cast<int>(surface.vertices.size()), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<Eigen::Vector3d> out(n, Eigen::Vector3d::Zero());
+  std::vector<char> found(n, 0);
+  tbb::parallel_for(0, chunks, [&](int c) {
+    int hint = -1;
+    for (int v = c * kChunk; v < std::min(n, (c + 1) * kChunk); ++v) {
+      Location l = locator.locate(surface.vertices[v], hint);
+      // A vertex on a wall or a solid may lie outside the fluid by round-off or by the mesher's
+      // linear crossings: try half a voxel inside the surface.
+      if (!l.inside) l = locator.locate(surface.vertices[v] - 0.5 * voxel_size * normal[v], -1);
+      if (!l.inside) continue;
+      hint = l.tet;
+      const auto& t = mesh.tets[l.tet];
+      for (int k = 0; k < 4; ++k) out[v] += l.bary[k] * nodal[t[k]];
+      found[v] = 1;
+    }
+  });
+  // Vertices still outside (on the edge where the surface meets a sloping wall, whose normal
+  // points into the wall): the mean of their neighbours', a ring at a time.
+  std::vector<std::vector<int>> ring(n);
+  for (const auto& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) ring[t[k]].push_back(t[(k + 1) % 3]);
+  for (int pass = 0; pass < 4; ++pass) {
+    std::vector<std::pair<int, Eigen::Vector3d>> filled;
+    for (int v = 0; v < n; ++v) {
+      if (found[v]) continue;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int count = 0;
+      for (int w : ring[v])
+        if (found[w]) sum += out[w], ++count;
+      if (count) filled.emplace_back(v, sum / count);
+    }
+    if (filled.empty()) break;
+    for (const auto& [v, u] : filled) out[v] = u, found[v] = 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+RenderSurface render_surface(const FluidMesh& mesh, const Eigen::VectorXd& phi, const TetVectors& velocity,
+                             const RenderSurfaceOptions& options) {
+  if (!(options.voxel_size > 0)) throw std::invalid_argument("render_surface: the voxel size must be positive");
+  if (!(options.smoothing >= 0)) throw std::invalid_argument("render_surface: the smoothing must be >= 0");
+  if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("render_surface: phi does not match the mesh");
+  RenderSurface out;
+  out.liquid_volume = liquid_volume(mesh, phi);
+  // One voxel beyond the smoothing's band, so that every fluid voxel next to one in it is sampled.
+  const double band = (smoothing_band_voxels(options.smoothing / options.voxel_size) + 1) * options.voxel_size;
+  VdbSurfaceOptions vdb;
+  vdb.target_volume = out.liquid_volume;
+  vdb.volume_tolerance = options.volume_tolerance;
+  const BoundaryTriangles walls = boundary_near_liquid(mesh, phi, band);
+  VdbSurface s = mesh_liquid_voxels(
+      smooth_level_set(sample_level_set_voxels(mesh, phi, options.voxel_size, band), walls, options.smoothing), walls,
+      vdb);
+  out.surface = std::move(s.surface);
+  out.enclosed_volume = s.enclosed_volume;
+  out.iso_shift = s.iso_shift;
+  out.velocity = vertex_velocity(mesh, velocity, out.surface, options.voxel_size);
+  return out;
+}
+
+}  // namespace tetfsi::fluid
