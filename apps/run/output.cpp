@@ -143,7 +143,7 @@ Output::Output(fs::path dir, scene::Json export_cfg)
   smooth_surface_ = surface.value("type", "smooth") == "smooth";
   if (surface.contains("smoothing")) {  // else both wait for the first frame (liquid_surface_scale)
     surface_scale_.smoothing = surface["smoothing"].get<double>();
-    surface_scale_.voxel_size = surface.value("voxel_size", 0.5 * surface_scale_.smoothing);
+    surface_scale_.voxel_size = surface.value("voxel_size", 0.25 * surface_scale_.smoothing);
   }
   std::error_code ec;
   fs::create_directories(dir_, ec);
@@ -211,7 +211,7 @@ Output::SurfaceScale Output::liquid_surface_scale(double cut_edge) {
   const scene::Json surface = cfg_.value("liquid_surface", scene::Json::object());
   if (surface_scale_.voxel_size == 0 && cut_edge > 0) {  // the first frame with a cut tet fixes the defaults
     if (!surface.contains("smoothing")) surface_scale_.smoothing = cut_edge;
-    surface_scale_.voxel_size = surface.value("voxel_size", 0.5 * (surface_scale_.smoothing > 0 ? surface_scale_.smoothing : cut_edge));
+    surface_scale_.voxel_size = surface.value("voxel_size", 0.25 * (surface_scale_.smoothing > 0 ? surface_scale_.smoothing : cut_edge));
     if (!(surface_scale_.smoothing <= scene::kMaxSmoothingVoxels * surface_scale_.voxel_size))
       throw InputError(fmt::format("/export/liquid_surface/smoothing: {:.4g} m is more than {:g} voxels of {:.4g} m "
                                    "(/export/liquid_surface/voxel_size): raise voxel_size or lower smoothing",

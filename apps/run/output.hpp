@@ -65,8 +65,8 @@ class Output {
   /// export.liquid_surface's voxel_size and smoothing; where absent, fixed at the first call with a
   /// positive `cut_edge` (write_fluid_frame passes the 10th percentile of the mean edge lengths of
   /// the tets the surface cuts: the finest the simulation resolves the surface, in a mesh refined
-  /// near solids or at the surface) [m]: smoothing = cut_edge, voxel_size = smoothing / 2
-  /// (cut_edge / 2 with smoothing 0), kept for the rest of the run.
+  /// near solids or at the surface) [m]: smoothing = cut_edge, voxel_size = smoothing / 4
+  /// (cut_edge / 4 with smoothing 0), kept for the rest of the run.
   /// @throws InputError naming /export/liquid_surface/smoothing if it exceeds
   ///         scene::kMaxSmoothingVoxels voxels
   SurfaceScale liquid_surface_scale(double cut_edge);

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
-#include <unordered_set>
 
+#include <openvdb/openvdb.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -17,11 +17,6 @@ constexpr double kInsideTolerance = 1e-10;
 
 /// Tets per chunk of the parallel sampling; fixed, so the chunks do not depend on the threads.
 constexpr int kChunk = 256;
-
-std::uint64_t voxel_key(const Eigen::Vector3i& c) {
-  const auto u = [](int v) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(v) & 0x1fffffu); };
-  return u(c.x()) | u(c.y()) << 21 | u(c.z()) << 42;
-}
 
 bool near_liquid(const std::array<int, 4>& tet, const Eigen::VectorXd& phi, double band) {
   for (int k = 0; k < 4; ++k)
@@ -61,31 +56,72 @@ void sample_tet(const FluidMesh& mesh, const Eigen::VectorXd& phi, int t, double
 
 }  // namespace
 
+std::vector<char> tets_near_zero(const FluidMesh& mesh, const Eigen::VectorXd& values, double band, bool walls) {
+  if (values.size() != mesh.num_nodes()) throw std::invalid_argument("tets_near_zero: values do not match the mesh");
+  std::vector<char> on_boundary(walls ? mesh.num_nodes() : 0, 0);
+  for (const BoundaryFace& f : mesh.boundary_faces)
+    for (int n : f.nodes)
+      if (walls) on_boundary[n] = 1;
+  std::vector<char> out(mesh.num_tets(), 0);
+  tbb::parallel_for(0, mesh.num_tets(), [&](int t) {
+    double lo = values[mesh.tets[t][0]], hi = lo;
+    bool boundary = false;
+    for (int n : mesh.tets[t]) {
+      lo = std::min(lo, values[n]);
+      hi = std::max(hi, values[n]);
+      boundary = boundary || (walls && on_boundary[n]);
+    }
+    out[t] = lo < band && (hi > -band || boundary);
+  });
+  return out;
+}
+
+std::vector<char> tets_below(const FluidMesh& mesh, const Eigen::VectorXd& values, double level) {
+  if (values.size() != mesh.num_nodes()) throw std::invalid_argument("tets_below: values do not match the mesh");
+  std::vector<char> out(mesh.num_tets(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    double hi = values[mesh.tets[t][0]];
+    for (int n : mesh.tets[t]) hi = std::max(hi, values[n]);
+    out[t] = hi < level;
+  }
+  return out;
+}
+
+std::vector<char> liquid_tets(const FluidMesh& mesh, const Eigen::VectorXd& phi, double band) {
+  if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("liquid_tets: phi does not match the mesh");
+  std::vector<char> out(mesh.num_tets(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t) out[t] = near_liquid(mesh.tets[t], phi, band);
+  return out;
+}
+
 LevelSetVoxels sample_level_set_voxels(const FluidMesh& mesh, const Eigen::VectorXd& phi, double voxel_size,
-                                       double band) {
-  if (!(voxel_size > 0) || !(band > 0))
-    throw std::invalid_argument("sample_level_set_voxels: voxel size and band must be positive");
-  if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("sample_level_set_voxels: phi does not match the mesh");
+                                       double clamp, const std::vector<char>& tets) {
+  if (!(voxel_size > 0) || !(clamp > 0))
+    throw std::invalid_argument("sample_level_set_voxels: voxel size and clamp must be positive");
+  if (phi.size() != mesh.num_nodes() || tets.size() != mesh.tets.size())
+    throw std::invalid_argument("sample_level_set_voxels: phi or the tet selection does not match the mesh");
   const int chunks = (mesh.num_tets() + kChunk - 1) / kChunk;
   std::vector<LevelSetVoxels> part(chunks);
   tbb::parallel_for(0, chunks, [&](int c) {
     for (int t = c * kChunk; t < std::min(mesh.num_tets(), (c + 1) * kChunk); ++t)
-      if (near_liquid(mesh.tets[t], phi, band)) sample_tet(mesh, phi, t, voxel_size, band, part[c]);
+      if (tets[t]) sample_tet(mesh, phi, t, voxel_size, clamp, part[c]);
   });
   LevelSetVoxels out;
   out.voxel_size = voxel_size;
   std::size_t total = 0;
   for (const auto& p : part) total += p.size();
-  std::unordered_set<std::uint64_t> seen;
-  seen.reserve(total);
   out.index.reserve(total);
   out.phi.reserve(total);
+  openvdb::MaskTree seen;
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> acc(seen);
   for (const auto& p : part)
-    for (std::size_t v = 0; v < p.size(); ++v)
-      if (seen.insert(voxel_key(p.index[v])).second) {
-        out.index.push_back(p.index[v]);
-        out.phi.push_back(p.phi[v]);
-      }
+    for (std::size_t v = 0; v < p.size(); ++v) {
+      const openvdb::Coord c(p.index[v].x(), p.index[v].y(), p.index[v].z());
+      if (acc.isValueOn(c)) continue;
+      acc.setValueOn(c);
+      out.index.push_back(p.index[v]);
+      out.phi.push_back(p.phi[v]);
+    }
   return out;
 }
 

@@ -3,10 +3,9 @@
 /// The liquid's nodal level set phi sampled at the voxel centres of a uniform lattice, the input of
 /// the render surface (render_surface.hpp, vdb_surface.hpp). Voxel (i, j, k) is centred at
 /// x = (i, j, k) h, as in voxel_sampling.hpp (OpenVDB's linear transform of voxel size h). Every
-/// voxel centre inside a fluid tet T that holds liquid or lies near it (a node of T with
-/// phi < band) gets the P1 value
+/// voxel centre inside a selected fluid tet T gets the P1 value
 ///   phi(x) = sum_k lambda_k(x) phi_{n_k},  lambda = barycentric coordinates of x in T,
-/// clamped to [-band, band]: the field whose zero set the marching-tets surface draws.
+/// clamped: the field whose zero set the marching-tets surface draws.
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -24,11 +23,22 @@ struct LevelSetVoxels {
   std::size_t size() const { return index.size(); }
 };
 
-/// Samples phi (one value per node of `mesh`) at the voxel centres inside the tets with a node
-/// where phi < band (the liquid and the air within `band` of it) [m].
-/// @throws std::invalid_argument if voxel_size or band is not positive or phi does not match the mesh
+/// The tets with a node where phi < band (the liquid and the air within `band` of it).
+std::vector<char> liquid_tets(const FluidMesh& mesh, const Eigen::VectorXd& phi, double band);
+
+/// The tets where `values` (one per node) come within `band` of zero: a node below band and one
+/// above -band; with `walls`, also those with a node below band and a node on the fluid's boundary
+/// (the liquid along its walls, however deep).
+std::vector<char> tets_near_zero(const FluidMesh& mesh, const Eigen::VectorXd& values, double band, bool walls);
+
+/// The tets where `values` (one per node) are below `level` at every node.
+std::vector<char> tets_below(const FluidMesh& mesh, const Eigen::VectorXd& values, double level);
+
+/// Samples phi (one value per node of `mesh`) at the voxel centres inside the tets marked in `tets`,
+/// clamped to [-clamp, clamp] [m].
+/// @throws std::invalid_argument if voxel_size or clamp is not positive or phi or tets do not match the mesh
 LevelSetVoxels sample_level_set_voxels(const FluidMesh& mesh, const Eigen::VectorXd& phi, double voxel_size,
-                                       double band);
+                                       double clamp, const std::vector<char>& tets);
 
 /// The fluid's boundary faces (walls, open faces, solid interfaces) with a node where phi < band:
 /// where the liquid, or the air next to it, meets the end of the fluid. Vertices are the faces'

@@ -1,5 +1,6 @@
 #include "fluid/io/render_surface.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -16,6 +17,10 @@ namespace {
 /// Vertices per chunk of the parallel velocity interpolation; fixed, so that each chunk's walk
 /// (from the chunk's previous vertex) does not depend on the thread count.
 constexpr int kChunk = 512;
+
+/// Half-width of the band of mesh voxels around the smoothed surface [voxels]: the iso shift stays
+/// within half of it (vdb_surface.hpp).
+constexpr double kMeshBand = 6;
 
 /// Area-weighted vertex normals of a closed, outward-oriented surface (unit; zero if degenerate).
 std::vector<Eigen::Vector3d> vertex_normals(const mesh::SurfaceMesh& s) {
@@ -81,15 +86,31 @@ RenderSurface render_surface(const FluidMesh& mesh, const Eigen::VectorXd& phi, 
   if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("render_surface: phi does not match the mesh");
   RenderSurface out;
   out.liquid_volume = liquid_volume(mesh, phi);
-  // One voxel beyond the smoothing's band, so that every fluid voxel next to one in it is sampled.
-  const double band = (smoothing_band_voxels(options.smoothing / options.voxel_size) + 1) * options.voxel_size;
+  // The smoothing runs on voxels of at most sigma / 2 (surface_voxels.hpp: its cost grows as
+  // (sigma / h)^5) over its band; the mesh on voxels of the size asked for, within kMeshBand of
+  // the smoothed surface and along the walls the liquid touches. Samples reach one voxel beyond
+  // the smoothing's band, so that every fluid voxel next to one in it is sampled.
+  const double h = options.voxel_size, coarse_h = std::max(h, 0.5 * options.smoothing);
+  const double band = (smoothing_band_voxels(options.smoothing / coarse_h) + 1) * coarse_h;
+  const BoundaryTriangles walls = boundary_near_liquid(mesh, phi, band);
+  // The liquid beyond the band: tets below -band at every node (of phi_s at the nodes, on fine voxels).
+  auto deep = [&](const Eigen::VectorXd& values, double level) {
+    return sample_level_set_voxels(mesh, phi, h, band, tets_below(mesh, values, level)).index;
+  };
+  const std::vector<char> coarse_tets = tets_near_zero(mesh, phi, band, coarse_h == h);
+  SurfaceVoxels voxels = smooth_level_set(sample_level_set_voxels(mesh, phi, coarse_h, band, coarse_tets), walls,
+                                          options.smoothing, coarse_h == h ? deep(phi, -band) : std::vector<Eigen::Vector3i>{});
+  if (coarse_h > h) {
+    const Eigen::VectorXd smoothed = smoothed_at(voxels, mesh.nodes, phi);
+    voxels = resample(
+        voxels, sample_level_set_voxels(mesh, phi, h, band, tets_near_zero(mesh, smoothed, kMeshBand * h, true)),
+        walls, deep(smoothed, -kMeshBand * h));
+  }
   VdbSurfaceOptions vdb;
   vdb.target_volume = out.liquid_volume;
   vdb.volume_tolerance = options.volume_tolerance;
-  const BoundaryTriangles walls = boundary_near_liquid(mesh, phi, band);
-  VdbSurface s = mesh_liquid_voxels(
-      smooth_level_set(sample_level_set_voxels(mesh, phi, options.voxel_size, band), walls, options.smoothing), walls,
-      vdb);
+  vdb.max_shift = coarse_h > h ? 0.5 * kMeshBand * h : 0.5 * band;
+  VdbSurface s = mesh_liquid_voxels(voxels, walls, vdb);
   out.surface = std::move(s.surface);
   out.enclosed_volume = s.enclosed_volume;
   out.iso_shift = s.iso_shift;

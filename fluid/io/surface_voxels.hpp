@@ -19,7 +19,8 @@
 /// Only voxels within the band |phi| < W = (ceil(3 sigma / h) + 2) h move (beyond it the Gaussian's
 /// weight on the surface is below 1e-3); voxels outside the band keep their sampled values.
 ///
-/// Continuation: the voxels next to the fluid (two layers of neighbours, of 26) get phi
+/// Continuation: the voxels next to the sampled ones (two layers of neighbours, of 26; not the
+/// deep liquid) get phi
 /// continued linearly from the fluid along each axis (the mean of 2 phi(a) - phi(b) over the axes
 /// with two fluid voxels a, b in a row), else the mean of their known neighbours: the mesher reads
 /// the free surface's zero crossing on edges that cross a wall from it.
@@ -45,6 +46,9 @@ struct SurfaceVoxels {
   std::vector<float> wall;             ///< D [m], in [-W, W]
   std::vector<int> nearest;            ///< nearest boundary triangle within 2 voxels, else -1
   std::vector<char> inside;            ///< 1: voxel centre in the fluid (sampled), 0: continuation
+  /// Voxels deep in the liquid (beyond the band; not in `index`): inside, psi = -W for the mesher.
+  /// Every voxel with phi_s < 0 in the fluid is in `index` or here; the others are outside.
+  std::vector<Eigen::Vector3i> deep;
   int steps = 0;                       ///< heat-equation steps taken
   std::size_t size() const { return index.size(); }
 };
@@ -54,8 +58,24 @@ int smoothing_steps(double sigma_voxels);
 int smoothing_band_voxels(double sigma_voxels);
 
 /// Smooths `voxels` (sampled with band >= smoothing_band_voxels(sigma / h) h + h, so that every
-/// fluid voxel next to one in the band is sampled) as the file doc says.
+/// fluid voxel next to one in the band is sampled) as the file doc says; `deep` (the liquid's
+/// voxels beyond the band, SurfaceVoxels::deep) is kept out of the continuation.
 /// @throws std::invalid_argument if smoothing < 0
-SurfaceVoxels smooth_level_set(const LevelSetVoxels& voxels, const BoundaryTriangles& walls, double smoothing);
+SurfaceVoxels smooth_level_set(const LevelSetVoxels& voxels, const BoundaryTriangles& walls, double smoothing,
+                               std::vector<Eigen::Vector3i> deep = {});
+
+/// phi_s of `coarse` at `points` [m]: trilinear in the coarse voxels around each; a corner not
+/// sampled (beyond the band) counts as -W or W by the sign of `fallback` there (phi itself).
+Eigen::VectorXd smoothed_at(const SurfaceVoxels& coarse, const std::vector<Eigen::Vector3d>& points,
+                            const Eigen::VectorXd& fallback);
+
+/// The smoothed level set `coarse` carried to the finer voxels `fine_samples` (sampled with the
+/// band coarse.band + their voxel size): phi_s trilinear in the coarse voxels around each fine one
+/// (corners behind the plane of the fine voxel's nearest boundary triangle left out: the other side
+/// of a thin wall), D and the continuation layers made anew at the fine voxel size. The smoothing
+/// costs the same at any fine voxel size, and the mesh resolves liquid thinner than a coarse
+/// voxel (a 3 cm layer on a floor under 3.5 cm voxels, which no voxel centre inside it would hold).
+SurfaceVoxels resample(const SurfaceVoxels& coarse, const LevelSetVoxels& fine_samples, const BoundaryTriangles& walls,
+                       std::vector<Eigen::Vector3i> deep = {});
 
 }  // namespace tetfsi::fluid

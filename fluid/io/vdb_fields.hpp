@@ -14,6 +14,7 @@ struct Fields {
   openvdb::FloatGrid::Ptr wall;   ///< D: signed distance to the boundary near the liquid, clamped to the band [m]
   openvdb::Int32Grid::Ptr nearest;  ///< the boundary triangle nearest each voxel of D's band (-1: none)
   openvdb::MaskGrid::Ptr known;   ///< the voxels where phi_s and D are set
+  openvdb::FloatGrid::Ptr deep;   ///< -band at the deep liquid's voxels (SurfaceVoxels::deep), else +band
   std::vector<Eigen::Vector3d> wall_normal;  ///< per boundary triangle: unit normal out of the fluid
   std::vector<Eigen::Vector3d> wall_point;   ///< per boundary triangle: a vertex, index coordinates
   double h = 0;     ///< voxel size [m]

@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include "fluid/io/vdb_fields.hpp"
@@ -24,7 +23,9 @@ using openvdb::FloatGrid;
 using openvdb::MaskGrid;
 
 /// Stores v, clamped to [-band, band], at c: active inside the band, inactive (the level set's
-/// inside or outside value) beyond it.
+/// inside or outside value) beyond it. The grids are not pruned: a leaf of inactive voxels of both
+/// signs (known ones at -band beside unknown ones at the background +band) would become one tile of
+/// the first voxel's sign.
 template <class Accessor>
 void set_band_value(Accessor& a, const Coord& c, float v, float band) {
   v = std::clamp(v, -band, band);
@@ -63,7 +64,11 @@ Fields grids(const SurfaceVoxels& voxels, const BoundaryTriangles& walls) {
     set_band_value(da, c, voxels.wall[v], g.band);
     if (voxels.nearest[v] >= 0) na.setValue(c, voxels.nearest[v]);
   }
-  openvdb::tools::pruneLevelSet(g.phi->tree());
+  g.deep = level_set_grid(xf, g.band);
+  {
+    auto ea = g.deep->getAccessor();
+    for (const auto& c : voxels.deep) ea.setValueOff(Coord(c.x(), c.y(), c.z()), -g.band);
+  }
   g.wall_normal = walls.normals;
   for (const auto& t : walls.triangles) g.wall_point.push_back(walls.points[t[0]] / g.h);
   return g;
@@ -72,17 +77,19 @@ Fields grids(const SurfaceVoxels& voxels, const BoundaryTriangles& walls) {
 /// Steps 3 and 4 at one delta: the mesh of psi = max(phi_s - delta, D) and the area of its part off
 /// the walls (triangles whose centroid has D < -h / 4) [m^2].
 mesh::SurfaceMesh mesh_at(const Fields& g, float delta, double& free_area) {
-  const FloatGrid::Ptr psi = level_set_grid(g.phi->transformPtr(), g.band);
+  const FloatGrid::Ptr psi = g.deep->deepCopy();  // the deep liquid at -band
   {
     auto sa = psi->getAccessor();
     auto pa = g.phi->getConstAccessor();
     auto da = g.wall->getConstAccessor();
+    // Every known voxel active, within the band's values; every other voxel is deep liquid (-band)
+    // or outside (the background, +band): surface_voxels.hpp.
+    const float cap = 0.999f * g.band;
     for (auto it = g.known->cbeginValueOn(); it; ++it) {
       const Coord c = it.getCoord();
-      set_band_value(sa, c, std::max(pa.getValue(c) - delta, da.getValue(c)), g.band);
+      sa.setValue(c, std::clamp(std::max(pa.getValue(c) - delta, da.getValue(c)), -cap, cap));
     }
   }
-  openvdb::tools::pruneLevelSet(psi->tree());
   std::vector<openvdb::Vec3s> points;
   std::vector<openvdb::Vec3I> triangles;
   std::vector<openvdb::Vec4I> quads;
@@ -155,7 +162,7 @@ VdbSurface mesh_liquid_voxels(const SurfaceVoxels& voxels, const BoundaryTriangl
   VdbSurface best = mesh(0.0);
   const double target = options.target_volume;
   if (target >= 0 && !best.surface.triangles.empty()) {
-    const double tol = options.volume_tolerance * target, limit = 0.5 * g.band;
+    const double tol = options.volume_tolerance * target, limit = std::min(options.max_shift, 0.5 * double(g.band));
     double d0 = 0, v0 = best.enclosed_volume;
     double d1 = free_area > 0 ? std::clamp((target - v0) / free_area, -limit, limit) : 0.0;
     for (int k = 1; k < options.max_meshings && std::abs(best.enclosed_volume - target) > tol && d1 != d0; ++k) {

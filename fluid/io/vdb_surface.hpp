@@ -27,6 +27,7 @@ struct VdbSurfaceOptions {
   double target_volume = -1;       ///< volume the mesh must enclose [m^3]; < 0: delta = 0
   double volume_tolerance = 1e-4;  ///< relative, on the enclosed volume
   int max_meshings = 8;            ///< secant steps (each meshes the zero set once)
+  double max_shift = 1e300;        ///< largest |delta| [m] (and half the band): where the voxels hold phi_s
 };
 
 struct VdbSurface {

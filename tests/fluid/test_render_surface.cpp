@@ -40,30 +40,37 @@ TEST(RenderSurface, StillPoolIsFlatToOnePercentOfTheEdgeAndEndsOnTheWalls) {
   EXPECT_NEAR(edge, 1.26 * h, 0.15 * h);
   EXPECT_LE(cut_tet_edge_length(mesh, phi, 0.0), edge);
   EXPECT_GE(cut_tet_edge_length(mesh, phi, 1.0), edge);
-  RenderSurfaceOptions options;
-  options.smoothing = edge;  // the run's defaults (apps/run/output.hpp)
-  options.voxel_size = edge / 2;
-  const RenderSurface s = render_surface(mesh, phi, TetVectors(mesh.num_tets(), Eigen::Vector3d::Zero()), options);
-  ASSERT_GT(s.surface.num_triangles(), 0);
-  EXPECT_EQ(testing::open_or_nonmanifold_edges(s.surface), 0);
-  const double pool = 0.6 * H * 0.3;
-  EXPECT_NEAR(s.liquid_volume, pool, 1e-12);
-  EXPECT_NEAR(s.enclosed_volume, testing::enclosed_volume(s.surface), 1e-12);
-  EXPECT_NEAR(s.enclosed_volume, pool, 1e-4 * pool);  // the iso shift's tolerance
-  // The top: every vertex of a triangle facing up, crease vertices on the walls included.
-  double worst = 0, top_area = 0;
-  for (const auto& t : s.surface.triangles) {
-    const Eigen::Vector3d n = testing::normal(s.surface, t);
-    if (n.y() < 0.5) continue;
-    top_area += testing::area(s.surface, t);
-    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(s.surface.vertices[t[k]].y() - H));
-  }
-  std::printf("still pool: %d triangles, top flat to %.3g of the edge (%.3g m), volume %+.2e, iso shift %.3g m\n",
-              s.surface.num_triangles(), worst / edge, worst, s.enclosed_volume / pool - 1, s.iso_shift);
-  EXPECT_LT(worst, 0.01 * edge);
-  EXPECT_NEAR(top_area, 0.6 * 0.3, 1e-6);  // the top spans the tank: it ends on the walls
-  for (const auto& x : s.surface.vertices) {  // nothing beyond the walls (float coordinates)
-    EXPECT_TRUE(((x - lo).array() > -1e-6).all() && ((hi - x).array() > -1e-6).all()) << x.transpose();
+  // The run's defaults (apps/run/output.hpp: voxels of a quarter of the smoothing, which is then
+  // made on voxels of half of it), and one resolution for both (voxels of half the smoothing).
+  for (const double voxels_per_sigma : {4.0, 2.0}) {
+    SCOPED_TRACE(voxels_per_sigma);
+    RenderSurfaceOptions options;
+    options.smoothing = edge;
+    options.voxel_size = edge / voxels_per_sigma;
+    const RenderSurface s = render_surface(mesh, phi, TetVectors(mesh.num_tets(), Eigen::Vector3d::Zero()), options);
+    ASSERT_GT(s.surface.num_triangles(), 0);
+    EXPECT_EQ(testing::open_or_nonmanifold_edges(s.surface), 0);
+    const double pool = 0.6 * H * 0.3;
+    EXPECT_NEAR(s.liquid_volume, pool, 1e-12);
+    EXPECT_NEAR(s.enclosed_volume, testing::enclosed_volume(s.surface), 1e-12);
+    EXPECT_NEAR(s.enclosed_volume, pool, 1e-4 * pool);  // the iso shift's tolerance
+    // The top: every vertex of a triangle facing up, crease vertices on the walls included.
+    double worst = 0, top_area = 0;
+    for (const auto& t : s.surface.triangles) {
+      const Eigen::Vector3d n = testing::normal(s.surface, t);
+      if (n.y() < 0.5) continue;
+      top_area += testing::area(s.surface, t);
+      for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(s.surface.vertices[t[k]].y() - H));
+    }
+    std::printf("still pool, voxel = smoothing / %g: %d triangles, top flat to %.3g of the edge (%.3g m), volume "
+                "%+.2e, iso shift %.3g m\n",
+                voxels_per_sigma, s.surface.num_triangles(), worst / edge, worst, s.enclosed_volume / pool - 1,
+                s.iso_shift);
+    EXPECT_LT(worst, 0.01 * edge);
+    EXPECT_NEAR(top_area, 0.6 * 0.3, 1e-6);  // the top spans the tank: it ends on the walls
+    for (const auto& x : s.surface.vertices) {  // nothing beyond the walls (float coordinates)
+      EXPECT_TRUE(((x - lo).array() > -1e-6).all() && ((hi - x).array() > -1e-6).all()) << x.transpose();
+    }
   }
 }
 
@@ -106,7 +113,7 @@ TEST(RenderSurface, SmoothingStepsMakeUpTheGaussianVariance) {
 TEST(RenderSurface, VoxelsOfTheLevelSetAreItsP1ValuesOnce) {
   const FluidMesh mesh = jittered_box(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0.3, 0.3), 0.05, 3);
   const Eigen::VectorXd phi = sample_level_set(mesh, [](const Eigen::Vector3d& x) { return x.x() + 2 * x.y() - 0.3; });
-  const LevelSetVoxels v = sample_level_set_voxels(mesh, phi, 0.01, 0.1);
+  const LevelSetVoxels v = sample_level_set_voxels(mesh, phi, 0.01, 0.1, liquid_tets(mesh, phi, 0.1));
   std::map<std::array<int, 3>, int> seen;
   for (std::size_t k = 0; k < v.size(); ++k) {
     const Eigen::Vector3d x = v.index[k].cast<double>() * 0.01;
