@@ -17,26 +17,13 @@ import csv
 import json
 import os
 import re
-import subprocess
 import sys
 import tempfile
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+from bench_liquid_steps import run  # noqa: E402
 from blender_import import read_ply  # noqa: E402  (numpy, Debian's python3-numpy)
-
-
-def run(tetfsi, scene, out, end_time, threads):
-    path = out + ".json"
-    with open(path, "w") as f:
-        json.dump(scene, f)
-    start = time.monotonic()
-    p = subprocess.run([tetfsi, "run", path, "--out", out, "--quiet", "--end-time", str(end_time),
-                        "--threads", str(threads)], capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(f"{path}: tetfsi run failed:\n{p.stdout}{p.stderr}")
-    return time.monotonic() - start
 
 
 def summarize(out, wall):
@@ -88,7 +75,7 @@ def main():
             sc.setdefault("export", {})["vtu"] = False
             sc["export"]["liquid_surface"] = {"type": kind}
             out = os.path.join(outdir, f"{name}_{kind}")
-            r = summarize(out, run(args.tetfsi, sc, out, args.end_time, args.threads))
+            r = summarize(out, run(args.tetfsi, sc, out, args.end_time, args.threads)[0])
             print(f"| {name} | {kind} | {r['tets']:,} | {r['steps']} | {r['frames']} | {r['step']:.3f} | "
                   f"{r['output']:.3f} ({r['output_max']:.3f}) | {r['triangles']:,} | {r['volume']} | {r['wall']:.1f} |",
                   flush=True)
