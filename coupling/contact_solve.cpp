@@ -30,6 +30,21 @@ void CoupledStepper::enable_surface_contact(const solid::SurfaceContactSettings&
                                 i < self_contact.size() && self_contact[i]);
 }
 
+Eigen::VectorXd CoupledStepper::end_solid_positions(double h, const Eigen::VectorXd& u) const {
+  Eigen::VectorXd x(num_solid_dofs_);
+  for (const Solid& s : solids_) {
+    const int n = 3 * s.model->num_nodes();
+    x.segment(s.dof_offset, n) = s.model->reference_positions() + s.integrator->end_displacement(h, u.segment(s.dof_offset, n));
+  }
+  return x;
+}
+
+Eigen::Vector3d CoupledStepper::contact_force(int i) const {
+  Eigen::Vector3d f = solids_[i].integrator->contact_force();
+  if (surface_contact_) f += surface_contact_->contact_force(i);
+  return f;
+}
+
 CoupledSolveReport CoupledStepper::solve_with_contact(double h, CoupledSystem& sys, const std::vector<int>& unknown,
                                                       Eigen::VectorXd& u, Eigen::VectorXd& p) {
   const bool pairs = has_surface_contact();
@@ -40,7 +55,6 @@ CoupledSolveReport CoupledStepper::solve_with_contact(double h, CoupledSystem& s
   SparseMatrix A_free;
   Eigen::VectorXd b_free;
   bool kept = false;
-  const auto without_contact = [&]() -> const SparseMatrix& { return kept ? A_free : sys.A; };
   const auto with_contact_rows = [&] {
     if (!kept) A_free = sys.A, b_free = sys.b, kept = true;
     sys.A = A_free;
@@ -49,15 +63,15 @@ CoupledSolveReport CoupledStepper::solve_with_contact(double h, CoupledSystem& s
     if (pairs) surface_contact_->add_rows(sys.A, sys.b);
   };
   bool warm = false;
-  for (Solid& s : solids_) warm = s.integrator->warm_start_contacts(h, sys.A, s.dof_offset) || warm;
-  if (pairs) warm = surface_contact_->warm_start(sys.A) || warm;
+  for (Solid& s : solids_) warm = s.integrator->warm_start_contacts(h) || warm;
+  if (pairs) warm = surface_contact_->warm_start() || warm;
   if (warm) with_contact_rows();
   CoupledSolveReport report = solve(sys, unknown, u, p);
   report.contact_rounds = 1;
   for (int round = 0; round < kMaxContactRounds; ++round) {
     bool changed = false;
-    for (Solid& s : solids_) changed = s.integrator->update_contacts(h, without_contact(), u, s.dof_offset) || changed;
-    if (pairs) changed = surface_contact_->update(without_contact(), u) || changed;
+    for (Solid& s : solids_) changed = s.integrator->update_contacts(h, u, s.dof_offset) || changed;
+    if (pairs) changed = surface_contact_->update(u) || changed;
     if (!changed) break;
     with_contact_rows();
     solver_->request_fresh_solve();  // the penalty rows changed A far beyond a step's drift

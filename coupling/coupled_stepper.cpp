@@ -261,26 +261,37 @@ void CoupledStepper::add_viscous_drag(SolidRows& rows) {
   }
 }
 
+std::vector<int> CoupledStepper::pressure_unknowns(int& count) const {
+  const fluid::FluidMesh& fm = fluid_.mesh();
+  std::vector<int> unknown(fm.num_nodes(), -1);
+  const bool surface = free_surface();
+  count = 0;
+  for (int i = 0; i < fm.num_nodes(); ++i)
+    if (fluid_.boundary().node_kind[i] != fluid::NodeKind::kOpen && (!surface || fluid_.liquid().is_liquid[i]))
+      unknown[i] = count++;
+  return unknown;
+}
+
+std::vector<int> CoupledStepper::solid_node_of_vertex() const {
+  std::vector<int> node(mesh_.num_vertices(), -1);
+  for (const Solid& s : solids_)
+    for (int a = 0; a < s.model->num_nodes(); ++a) node[s.submesh.to_parent_vertex[a]] = s.dof_offset / 3 + a;
+  return node;
+}
+
 CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const SolidRows& solid,
                                                              CoupledStepReport& report) const {
   const fluid::FluidMesh& fm = fluid_.mesh();
   const int n = num_solid_dofs_;
   Interface interface;
-  // Pressure unknowns: every fluid node without a prescribed pressure (p = 0 at open nodes and,
-  // for a liquid with a free surface, at the air nodes).
-  interface.unknown.assign(fm.num_nodes(), -1);
-  const bool surface = free_surface();
   int m = 0;
-  for (int i = 0; i < fm.num_nodes(); ++i)
-    if (fluid_.boundary().node_kind[i] != fluid::NodeKind::kOpen && (!surface || fluid_.liquid().is_liquid[i]))
-      interface.unknown[i] = m++;
+  interface.unknown = pressure_unknowns(m);
+  const bool surface = free_surface();
 
   InterfaceDofs dofs;
   dofs.pressure_index.assign(mesh_.num_vertices(), -1);
-  dofs.solid_node.assign(mesh_.num_vertices(), -1);
+  dofs.solid_node = solid_node_of_vertex();
   for (int i = 0; i < fm.num_nodes(); ++i) dofs.pressure_index[fm.node_to_mesh_vertex[i]] = interface.unknown[i];
-  for (const Solid& s : solids_)
-    for (int a = 0; a < s.model->num_nodes(); ++a) dofs.solid_node[s.submesh.to_parent_vertex[a]] = s.dof_offset / 3 + a;
   // With the mean constraint H is taken on the predicted mid-step interface xⁿ + (h/2) uⁿ
   // (CoupledSettings::mean_constraint); the interface vertices are all solid vertices.
   const bool mean = mean_constraint();
@@ -294,7 +305,7 @@ CoupledStepper::Interface CoupledStepper::assemble_interface(double h, const Sol
     t.area_normal = f.area * f.normal;  // out of the fluid, into the solid
     if (surface) {  // the pressure on the wet part only, as in the liquid's rows (interface_maps.hpp)
       const Eigen::VectorXd& phi = fluid_.level_set();
-      t.mass = fluid::wet_face_mass({phi[f.nodes[0]], phi[f.nodes[1]], phi[f.nodes[2]]}, f.nodes);
+      t.mass = fluid::wet_face_mass({phi[f.nodes[0]], phi[f.nodes[1]], phi[f.nodes[2]]});
     }
     if (mean) {
       const Eigen::Vector3d& a = mid[t.vertices[0]];
@@ -407,6 +418,7 @@ void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::Vec
   // Eq. (5): the solid displacement from the new velocity.
   for (Solid& s : solids_) {
     s.integrator->advance(h, u.segment(s.dof_offset, 3 * s.model->num_nodes()));
+    report.obstacle_clearance = std::min(report.obstacle_clearance, s.integrator->obstacle_clearance());
     const solid::StepStats e = s.integrator->energies();
     report.solid_kinetic += e.kinetic;
     report.solid_strain += e.strain;
@@ -415,7 +427,7 @@ void CoupledStepper::update(double h, const Eigen::VectorXd& u, const Eigen::Vec
   }
 }
 
-CoupledStepReport CoupledStepper::step_once(double h) {
+CoupledStepReport CoupledStepper::step_once(double h, bool guard_energy) {
   CoupledStepReport report;
   report.min_substep = h;
   if (settings_.before_step) settings_.before_step(time_, h);  // kinematic solids' velocities
@@ -424,6 +436,8 @@ CoupledStepReport CoupledStepper::step_once(double h) {
   fluid_.keep_advected_divergence(mean_constraint());  // read by assemble_fluid_rows
   report.fluid = fluid_.predict(mesh_, boundary_, h);  // v*: advection, viscosity, body forces
   {
+    int num_unknowns = 0;
+    begin_closed_volumes(h, pressure_unknowns(num_unknowns), report);  // uⁿ keeps the closed volumes
     // The step's rows and system live in this block only, so that they are freed before the mesh
     // update (whose factorization of the mesh motion, at the second step on a mesh, is the step's
     // largest allocation).
@@ -432,6 +446,10 @@ CoupledStepReport CoupledStepper::step_once(double h) {
     const Stopwatch clock;
     Interface interface = assemble_interface(h, solid, report);   // sec. 3.4: H, J = Hᵀ
     FluidRows fluid = assemble_fluid_rows(h, interface);          // eq. (6): (h/ρ) L, r
+    Eigen::VectorXd volume_source = Eigen::VectorXd::Zero(fluid.r.size());  // V(x^{n+1}) = V₀ in each closed region
+    if (!closed_volumes_.regions().empty())
+      closed_volumes_.add_volume_source(h, fluid_.mesh(), interface.unknown, volume_source, report.closed_volume);
+    fluid.r += volume_source;
     // Swapped, not moved: Eigen 3.4's SparseMatrix has no move constructor, and a copy of A, H and P
     // would stay in memory for the whole step.
     CoupledSystem sys;
@@ -444,15 +462,27 @@ CoupledStepReport CoupledStepper::step_once(double h) {
     report.pressure_unknowns = sys.num_pressures();
     Eigen::VectorXd u, p;
     report.solve = solve_with_contact(h, sys, interface.unknown, u, p);  // eq. (7) with contact
-    if (comparison_)  // the same system from the same guess, before update() moves either
+    restore_closed_volumes(h, sys, interface.unknown, u, p, report);     // V(x^{n+1}) = V₀
+    if (comparison_) {  // eq. (7) of the same step from the same guess, before update() moves either
+      sys.r -= volume_source;  // the fluid-only projection has the solids as walls: no dilatation
       report.compared =
           comparison_->run(sys, solid_velocities(), previous_pressure(interface.unknown, sys.num_pressures()));
+      sys.r += volume_source;
+    }
     const Eigen::VectorXd pressure_forces = interface.H_all.transpose() * p;  // J p^{n+1}, fixed nodes too
     pressure_force_.assign(solids_.size(), Eigen::Vector3d::Zero());
     for (std::size_t i = 0; i < solids_.size(); ++i)
       for (int a = 0; a < solids_[i].model->num_nodes(); ++a)
         pressure_force_[i] += pressure_forces.segment<3>(solids_[i].dof_offset + 3 * a);
     update(h, u, p, interface.unknown, report);                         // eqs. (8) and (5)
+    if (!closed_volumes_.regions().empty())
+      report.closed_volume_error = closed_volumes_.relative_error(mesh_vertices_at(solid_positions()));
+    if (guard_energy && energy_guard_gain_ > 0) {
+      report.fluid_gravity_potential = fluid_gravity_potential(report);  // as after the mesh update
+      if (report.total_energy() - energy_guard_energy_ > energy_guard_gain_)
+        throw EnergyGainError("coupled step: the energy rose by " +
+                              std::to_string(report.total_energy() - energy_guard_energy_) + " J");
+    }
     fluid_rows_pattern_.swap(sys.P);
   }
   report.mesh_update = update_mesh_to_solids();  // x^{n+1}: the fluid mesh follows the solids
@@ -470,8 +500,10 @@ double CoupledStepper::fluid_gravity_potential(const CoupledStepReport& report) 
   // to first order (adding h ∫ v^{n+1} dV for the next advection overshot: data/scenes/
   // dam_break_ci.json went from +0.98% to +1.7% above its first step's energy).
   if (!params.apply_gravity || fluid_.has_free_surface()) return report.fluid.gravity_potential;
-  // The fluid fills its region: the fluid tets of the mesh that now conforms to the solids.
-  const Eigen::Vector3d moment = fluid_moments(mesh_.vertices).second;  // ∫ x dV at t^{n+1}
+  // The fluid fills its region: the fluid tets with the solid vertices at x^{n+1}. The first moment
+  // depends on the region's boundary alone, so this holds before the mesh update moves the fluid
+  // vertices (the energy guard, step_once) as after it.
+  const Eigen::Vector3d moment = fluid_moments(mesh_vertices_at(solid_positions())).second;  // ∫ x dV at t^{n+1}
   return -params.density * params.gravity.dot(moment);
 }
 

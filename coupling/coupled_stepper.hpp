@@ -39,10 +39,12 @@
 /// (the added-mass instability of Causin, Gerbeau & Nobile 2005) and the simultaneous system does not.
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
 
+#include "coupling/closed_regions.hpp"
 #include "coupling/mesh_update.hpp"
 #include "coupling/solver_comparison.hpp"
 #include "coupling/solvers/coupled_solver.hpp"
@@ -78,6 +80,11 @@ struct CoupledSettings {
   /// step, and on the open-jet bar (data/scenes/bar_compare.json, h = 1/30 s) the bar's swing
   /// grew with alternating sign until the run stopped at 0.77 s; eq. (7) stays bounded there.
   bool mean_constraint = false;
+  /// Simultaneous scheme: keep the volume of every closed fluid region (no open face, no free
+  /// surface, no inflow) whose boundary moves with the solids, by the start-velocity projection and
+  /// the volume source of closed_regions.hpp. Off: the region drifts by O(h²) per step and by more
+  /// where contact changes the solids' velocity (the paper's eq. 7 alone).
+  bool keep_closed_volumes = true;
   /// How the fluid mesh follows the solids (move only, remesh when needed, remesh every step).
   MeshUpdateOptions mesh_update;
   /// A step whose solid motion would invert or flatten fluid tets (even with the fluid vertices
@@ -107,6 +114,11 @@ struct CoupledStepReport {
   double fluid_kinetic = 0;         ///< ½ ρ Σ V_t |v_t|² [J]
   double fluid_gravity_potential = 0;  ///< −ρ g · ∫ x dV over the fluid (liquid part) at t^{n+1} [J]
   double solid_kinetic = 0, solid_strain = 0, spring_energy = 0, solid_gravity_potential = 0;  ///< [J]
+  ClosedVolumeReport closed_volume; ///< the closed regions' corrections (closed_regions.hpp)
+  double closed_volume_error = 0;   ///< (V − V₀)/V₀ of the closed region furthest off, at t^{n+1}
+  /// The smallest signed distance of a solid node to its obstacles (the container's walls set back
+  /// by the film, planes, boxes) at t^{n+1} [m]; negative: a node inside; +infinity: none.
+  double obstacle_clearance = std::numeric_limits<double>::infinity();
   int substeps = 1;                 ///< steps actually taken (more when the step was halved)
   double min_substep = 0;           ///< the shortest of them [s]
   double total_energy() const {
@@ -141,6 +153,18 @@ class CoupledStepper {
   void set_size_field(SizeFieldRequest request);
   /// See CoupledSettings::before_step.
   void set_before_step(std::function<void(double t, double h)> f) { settings_.before_step = std::move(f); }
+  /// Energy guard of step halving: a step (or part of a halved one) whose total energy
+  /// (CoupledStepReport::total_energy) ends more than `max_gain` [J] above that of the state it
+  /// started from is undone and taken in halves, as a step whose motion spoils the mesh is (within
+  /// max_step_halvings; the last halving keeps its result). For scenes whose loads are all
+  /// conservative, where a rise is energy from nowhere: the rotation of a stiff body that turns by
+  /// ω h per step along eq. (5)'s straight lines stretches it by (ω h)²/2 (a ball of 10 kg/m³ and
+  /// E = 1e8 Pa hitting a lid through water at h = 1/30 s gained 5 J in a step); each halving cuts
+  /// that fourfold. `energy` [J] is the total energy of the current state; max_gain ≤ 0: off.
+  void set_energy_guard(double energy, double max_gain) {
+    energy_guard_energy_ = energy;
+    energy_guard_gain_ = max_gain;
+  }
   const fluid::FluidSolver& fluid() const { return fluid_; }
   /// Positions [m] of the fluid solver's nodes (fluid().mesh().nodes order) at time(), t^{n+1}.
   /// fluid().mesh() is the mesh the last step ran on, whose vertices are at the solids' positions
@@ -161,6 +185,9 @@ class CoupledStepper {
   Eigen::Vector3d viscous_force(int i) const {
     return i < static_cast<int>(viscous_force_.size()) ? viscous_force_[i] : Eigen::Vector3d::Zero();
   }
+  /// The contact force on solid i in the last step [N]: its obstacle contacts' (the container's
+  /// walls, planes, boxes) and its pairs with other solids' normal constraint forces, f n each.
+  Eigen::Vector3d contact_force(int i) const;
   /// Walls, open patches, inflows and sources of the fluid (solid interfaces are handled here).
   fluid::BoundaryConditions& fluid_boundary() { return boundary_; }
   const mesh::TetMesh& mesh() const { return mesh_; }
@@ -205,6 +232,7 @@ class CoupledStepper {
     std::vector<solid::NewmarkIntegrator::State> solids;
     std::vector<double> previous_vertex_pressure;
     std::vector<int> surface_contact_nodes;
+    std::vector<double> surface_contact_forces;
     double time = 0;
     int step = 0;
   };
@@ -212,8 +240,14 @@ class CoupledStepper {
   void restore(Snapshot snapshot);
   /// step(h) with `halvings` halvings left.
   CoupledStepReport step_or_halve(double h, int halvings);
-  /// One step of length h without retry: the numbered list of the file comment, then the mesh update.
-  CoupledStepReport step_once(double h);
+  /// One step of length h without retry: the numbered list of the file comment, then the mesh
+  /// update. With `guard_energy`, throws EnergyGainError before the mesh update when the step's
+  /// end state has more energy than set_energy_guard allows (the step can still be undone).
+  CoupledStepReport step_once(double h, bool guard_energy = false);
+  /// Thrown by step_once for a step that gained energy beyond set_energy_guard's bound.
+  struct EnergyGainError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+  };
   SolidRows assemble_solid_rows(double h, CoupledStepReport& report);
   Interface assemble_interface(double h, const SolidRows& solid, CoupledStepReport& report) const;
   FluidRows assemble_fluid_rows(double h, const Interface& interface);
@@ -227,10 +261,30 @@ class CoupledStepper {
   /// while the active set changes (at most kMaxContactRounds more solves). Modifies sys.A, sys.b.
   CoupledSolveReport solve_with_contact(double h, CoupledSystem& sys, const std::vector<int>& unknown,
                                         Eigen::VectorXd& u, Eigen::VectorXd& p);
+public:
+  /// Whether some solid has obstacles (the container's walls, planes, boxes) to touch.
   bool has_obstacles() const;
+
+ private:
   bool has_surface_contact() const { return surface_contact_ && surface_contact_->enabled(); }
   /// Per solid dof: its velocity is prescribed (fixed, driven or kinematic nodes).
   std::vector<char> prescribed_dofs() const;
+  /// Fluid node -> pressure unknown, −1 where the pressure is prescribed (open nodes and, for a
+  /// liquid with a free surface, the air nodes); `count` gets the number of unknowns.
+  std::vector<int> pressure_unknowns(int& count) const;
+  /// TetMesh vertex -> system solid node id (dof / 3), −1 for fluid-only vertices.
+  std::vector<int> solid_node_of_vertex() const;
+  /// Closed regions (closed_regions.hpp): finds them on the step's mesh and projects the solids'
+  /// start velocity uⁿ onto the velocities that keep their volumes.
+  void begin_closed_volumes(double h, const std::vector<int>& unknown, CoupledStepReport& report);
+  /// Correction 3 of closed_regions.hpp: where the solution (u, p) of sys leaves a closed region's
+  /// volume at the step's end off V₀ by more than closed_volume_tolerance, adds the multiples of
+  /// the responses to the regions' unit dilatations that put it back. sys is left as it was.
+  void restore_closed_volumes(double h, CoupledSystem& sys, const std::vector<int>& unknown, Eigen::VectorXd& u,
+                              Eigen::VectorXd& p, CoupledStepReport& report);
+  /// 1e-4 of the smaller of closed region c's reference volume and the volume of the solids on its
+  /// boundary [m³].
+  double closed_volume_tolerance(int c) const;
   /// −ρ g · ∫ x dV over the fluid at t^{n+1}, after the step's mesh update: for a fluid that fills
   /// its region, from the mesh that conforms to the solids at t^{n+1} (the fluid solver's own
   /// figure in report.fluid is on the mesh of tⁿ, one step behind the solids, which showed as
@@ -253,6 +307,9 @@ class CoupledStepper {
   /// Eqs. (8) and (5): the fluid takes the pressure p, the solids the velocity u.
   void update(double h, const Eigen::VectorXd& u, const Eigen::VectorXd& p, const std::vector<int>& unknown,
               CoupledStepReport& report);
+  /// The solids' node positions at the step's end for u^{n+1} = u (all solids, dof order): eq. (5)
+  /// (NewmarkIntegrator::end_displacement).
+  Eigen::VectorXd end_solid_positions(double h, const Eigen::VectorXd& u) const;
   /// The solids' node positions Xⁿ + dⁿ and velocities uⁿ, all solids in dof order (3 per node).
   Eigen::VectorXd solid_positions() const;
   Eigen::VectorXd solid_velocities() const;
@@ -281,6 +338,8 @@ class CoupledStepper {
   double min_dihedral_deg_ = 0;                   // of the fluid tets of mesh_
   std::unique_ptr<MeshUpdater> mesh_updater_;     // caches the mesh motion operator between remeshes
   std::unique_ptr<solid::SurfaceContact> surface_contact_;  // solid-solid and self contact, or none
+  ClosedVolumes closed_volumes_;                  // reference volumes of the closed fluid regions
+  double energy_guard_energy_ = 0, energy_guard_gain_ = 0;  // set_energy_guard
   std::vector<Eigen::Vector3d> pressure_force_;  // per solid, of the last step [N]
   std::vector<Eigen::Vector3d> viscous_force_;   // per solid, of the last step [N]
   // The vertices of the mesh fluid_ last stepped on, moved to the solids at t^{n+1}

@@ -37,7 +37,11 @@ void CoupledStepper::write_state(BinaryWriter& out) const {
   mesh_updater_->write_state(out);
   out(previous_vertex_pressure_, min_dihedral_deg_, pressure_force_, fluid_mesh_moved_vertices_, time_, step_,
       bool(surface_contact_));
-  if (surface_contact_) out(surface_contact_->touching_nodes());
+  if (surface_contact_) out(surface_contact_->touching_nodes(), surface_contact_->touching_forces());
+  std::vector<int> keys;
+  std::vector<double> volumes;
+  for (const auto& [key, volume] : closed_volumes_.reference_volumes()) keys.push_back(key), volumes.push_back(volume);
+  out(keys, volumes);
 }
 
 void CoupledStepper::read_state(BinaryReader& in) {
@@ -59,11 +63,19 @@ void CoupledStepper::read_state(BinaryReader& in) {
   if (contact != bool(surface_contact_)) in.fail("a coupled state with another surface-contact setting");
   if (surface_contact_) {
     std::vector<int> touching;
-    in(touching);
-    surface_contact_->set_touching_nodes(std::move(touching));
+    std::vector<double> forces;
+    in(touching, forces);
+    surface_contact_->set_touching_nodes(std::move(touching), std::move(forces));
   }
   if (previous_vertex_pressure_.size() != static_cast<std::size_t>(mesh_.num_vertices()))
     in.fail("a previous pressure of another mesh");
+  std::vector<int> keys;
+  std::vector<double> volumes;
+  in(keys, volumes);
+  if (keys.size() != volumes.size()) in.fail("closed-region volumes without their keys");
+  std::map<int, double> reference;
+  for (std::size_t k = 0; k < keys.size(); ++k) reference[keys[k]] = volumes[k];
+  closed_volumes_.set_reference_volumes(std::move(reference));
 }
 
 }  // namespace tetfsi::coupling

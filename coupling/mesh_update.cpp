@@ -94,17 +94,22 @@ MeshUpdateResult MeshUpdater::update(const mesh::TetMesh& mesh, const std::vecto
   result.report.motion_iterations = motion_->last_iterations();
   // One pass for the fluid's angles and flat/inverted count; the solid tets only need the latter.
   const mesh::AngleCheck fluid_quality = mesh::min_dihedral_check(result.mesh, mesh::kFluidSubdomain);
-  int spoiled = fluid_quality.flat_or_inverted;
+  int spoiled_solid = 0;
   for (int t = 0; t < result.mesh.num_tets(); ++t) {
     if (result.mesh.subdomain[t] == mesh::kFluidSubdomain) continue;
     const auto& v = result.mesh.tets[t];
     const auto& x = result.mesh.vertices;
-    spoiled += mesh::flat_or_inverted(x[v[0]], x[v[1]], x[v[2]], x[v[3]]) &&
+    spoiled_solid += mesh::flat_or_inverted(x[v[0]], x[v[1]], x[v[2]], x[v[3]]) &&
                !mesh::flat_or_inverted(mesh.vertices[v[0]], mesh.vertices[v[1]], mesh.vertices[v[2]], mesh.vertices[v[3]]);
   }
-  if (spoiled > 0)
-    throw mesh::MeshError("the solid motion of this step inverts or flattens " + std::to_string(spoiled) +
-                          " tets even with the fluid vertices following; take a smaller time step");
+  if (fluid_quality.flat_or_inverted > 0 || spoiled_solid > 0)
+    throw mesh::MeshError(
+        spoiled_solid > 0
+            ? "the solid motion of this step inverts or flattens " + std::to_string(spoiled_solid) +
+                  " of the solids' own tets (and " + std::to_string(fluid_quality.flat_or_inverted) +
+                  " fluid tets); take a smaller time step, or a stiffer or finer solid"
+            : "the solid motion of this step inverts or flattens " + std::to_string(fluid_quality.flat_or_inverted) +
+                  " fluid tets even with the fluid vertices following; take a smaller time step");
   const double moved_fluid_min = fluid_quality.min_dihedral_deg;
   result.report.check_seconds = clock.lap();
 

@@ -35,7 +35,8 @@ FluidFields& FluidSolver::writable_fields() {
 }
 
 bool FluidSolver::moves_in_place(const mesh::TetMesh& mesh) const {
-  return built_from(mesh) && !free_surface_ && params_.advection != AdvectionScheme::kBfecc;
+  return built_from(mesh) && !free_surface_ && params_.advection != AdvectionScheme::kBfecc &&
+         !params_.particles.enabled();
 }
 
 FluidSolver::UndoPoint FluidSolver::undo_point(const mesh::TetMesh& mesh) const {
@@ -102,6 +103,7 @@ void FluidSolver::set_liquid(Eigen::VectorXd level_set, LiquidOptions options) {
   if (options.extension_layers < 0) throw std::invalid_argument("FluidSolver::set_liquid: extension_layers < 0");
   liquid_options_ = options;
   snap_to_surface(*mesh_, level_set);
+  wet_enclosed_zeros(*mesh_, level_set);
   // The sampled distance is made the distance to its zero set once; the steps then keep the cut
   // tets' values, which hold the surface, and redistance the other nodes only.
   redistance(*mesh_, level_set, options.band);
@@ -113,16 +115,22 @@ void FluidSolver::set_liquid(Eigen::VectorXd level_set, LiquidOptions options) {
   extend_liquid_velocity();
 }
 
+std::vector<char> FluidSolver::kept_tets() const {
+  std::vector<char> keep(mesh_->num_tets(), 1);
+  if (free_surface_)
+    for (int t = 0; t < mesh_->num_tets(); ++t)
+      keep[t] = liquid_.liquid_volume[t] > 0.0 &&
+                liquid_.liquid_volume[t] >= liquid_options_.min_kept_fraction * mesh_->volume[t];
+  return keep;
+}
+
 void FluidSolver::extend_liquid_velocity() {
-  std::vector<char> keep(mesh_->num_tets());
-  for (int t = 0; t < mesh_->num_tets(); ++t)
-    keep[t] = liquid_.liquid_volume[t] > 0.0 &&
-              liquid_.liquid_volume[t] >= liquid_options_.min_kept_fraction * mesh_->volume[t];
-  extend_velocity(*mesh_, keep, liquid_options_.extension_layers, writable_fields().velocity);
+  extend_velocity(*mesh_, kept_tets(), liquid_options_.extension_layers, writable_fields().velocity);
 }
 
 void FluidSolver::update_liquid(Eigen::VectorXd phi, StepReport& rep) {
   snap_to_surface(*mesh_, phi);
+  wet_enclosed_zeros(*mesh_, phi);
   redistance(*mesh_, phi, liquid_options_.band, true);
   const double tracked = liquid_volume(*mesh_, phi);
   rep.volume_drift = (tracked - target_volume_) / target_volume_;
@@ -238,21 +246,27 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     for (int t = 0; t < mesh_->num_tets(); ++t)
       weight[t] = std::max(liquid_.liquid_volume[t], liquid_options_.air_weight * mesh_->volume[t]);
   }
-  // One point locator of the old mesh serves the level set's and the fields' back-traces.
+  // One point locator of the old mesh serves the level set's, the particles' and the fields' traces.
   std::optional<PointLocator> old_locator;
-  if (free_surface_) {
-    old_locator.emplace(*mesh_);
+  if (free_surface_ || params_.particles.enabled()) old_locator.emplace(*mesh_);
+  if (free_surface_)
     phi = (liquid_options_.bfecc ? advect_nodal_bfecc : advect_nodal)(*mesh_, fields_->velocity, level_set_, new_mesh,
                                                                       h, nullptr, &weight, &*old_locator);
-  }
   rep.surface_seconds = now() - t0;
+  std::shared_ptr<ParticleSet> moved;
+  std::vector<int> old_to_new;  // the particles' walks start at their tets' images on a moved mesh
+  if (params_.particles.enabled()) {
+    t0 = now();
+    moved = advected_particles(free_surface_ ? &weight : nullptr, *old_locator, h);
+    if (same_topology) old_to_new = matching_tets(*mesh_, new_mesh);
+    rep.particle_seconds = now() - t0;
+  }
   t0 = now();
   AdvectionReport adv;
   const BoundaryExits exits = boundary_exits(*mesh_, bc);
   fields_ = std::make_shared<FluidFields>(advect(*mesh_, *fields_, new_mesh, h, &adv, params_.advection, &exits, free_surface_ ? &weight : nullptr,
                    old_locator ? &*old_locator : nullptr));
   set_mesh(mesh, std::move(new_mesh_storage), same_topology);
-  if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_->velocity);
   rep.clamped_traces = adv.clamped + adv.outside_start;
   rep.advect_seconds = now() - t0;
   if (free_surface_) {
@@ -260,6 +274,8 @@ StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditi
     update_liquid(std::move(phi), rep);
     rep.surface_seconds += now() - t0;
   }
+  if (moved) transfer_to_mesh(std::move(moved), old_to_new, rep);
+  if (keep_advected_divergence_) advected_divergence_ = gradient_transpose_volume(*mesh_, fields_->velocity);
 
   return add_forces(bc, h, rep);
 }
@@ -347,6 +363,7 @@ StepReport FluidSolver::apply_pressure(Eigen::VectorXd pressure, double h, StepR
     const double scale = h / params_.density;
     for (int t = 0; t < mesh_->num_tets(); ++t) writable_fields().velocity[t] -= scale * grad_p[t];
   }
+  transfer_to_particles(rep);
   for (const auto& u : fields_->velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");
@@ -389,6 +406,7 @@ StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport r
     rep.surface_seconds += now() - t0;
     rep.liquid_volume = liquid_.total_volume();
   }
+  transfer_to_particles(rep);
   for (const auto& u : fields_->velocity)
     if (!u.allFinite()) throw std::runtime_error("FluidSolver: velocity became NaN/Inf (diverged)");
   if (!pressure_.allFinite()) throw std::runtime_error("FluidSolver: pressure became NaN/Inf (diverged)");

@@ -18,6 +18,7 @@
 #include "fluid/forces/body_forces.hpp"
 #include "fluid/liquid/free_surface_projection.hpp"
 #include "fluid/operators/fluid_mesh.hpp"
+#include "fluid/particles/particles.hpp"
 #include "fluid/projection/projection.hpp"
 #include "fluid/viscosity/implicit_viscosity.hpp"
 #include "mesh/tet_mesh.hpp"
@@ -36,6 +37,9 @@ struct FluidParams {
   BuoyancyParams buoyancy;
   double vorticity_epsilon = 0.0;
   AdvectionScheme advection = AdvectionScheme::kLinear;  ///< see semi_lagrangian.hpp and the TG test
+  /// Velocity carried on particles (APIC or FLIP, particles/particles.hpp) instead of by `advection`,
+  /// which then carries only smoke and temperature (and the velocity of a smoke's tets without particles).
+  ParticleOptions particles;
   SolverOptions solver;
   /// Dynamic viscosity mu [Pa s]; > 0: the implicit viscous step of implicit_viscosity.hpp before
   /// the body forces; 0: inviscid (no viscous step, bit-identical to a solver without one).
@@ -83,6 +87,11 @@ struct StepReport {
   double surface_seconds = 0.0;   ///< level set advection, redistancing, volume restoration, cut tets
   double liquid_volume = 0.0;     ///< sum_t |Omega_t| after the step [m^3]
   double volume_drift = 0.0;      ///< (V_tracked - V_target) / V_target before the restoration [-]
+  // Particles only (FluidParams::particles):
+  double particle_seconds = 0.0;  ///< particle motion, location, reseeding, P2G and G2P
+  int num_particles = 0;          ///< after the step
+  int particles_added = 0;        ///< by reseeding in the step
+  int particles_removed = 0;      ///< by reseeding (crowded tets) and outside the liquid
 };
 
 class FluidSolver {
@@ -166,6 +175,9 @@ class FluidSolver {
   /// Its 3x3 derivative block per fluid node, -d(force)/d(node velocity) (ViscosityReport::wall_stiffness).
   const std::vector<Eigen::Matrix3d>& viscous_node_stiffness() const { return viscous_stiffness_; }
 
+  /// The particles carrying the velocity (FluidParams::particles; null before the first step).
+  const ParticleSet* particles() const { return particles_.get(); }
+
   /// Fills rep's energies for the current state: kinetic_energy and gravity_potential [J].
   void report_energies(StepReport& rep) const;
 
@@ -194,6 +206,20 @@ class FluidSolver {
   /// The liquid's velocity on the tets that hold at least min_kept_fraction of liquid, extended
   /// over the others.
   void extend_liquid_velocity();
+  /// Per tet: 1 where the velocity is the fluid's own (all tets; a liquid: those holding at least
+  /// min_kept_fraction of liquid), 0 where it is extended.
+  std::vector<char> kept_tets() const;
+  // ---- particles (fluid_solver_particles.cpp; particles/particles.hpp) ----
+  /// The first seeding, on the current mesh and velocity, if there are no particles yet.
+  void seed_particles();
+  /// The particles of the step, moved through the current (old) mesh's velocity over h.
+  std::shared_ptr<ParticleSet> advected_particles(const std::vector<double>* weight, const PointLocator& old_locator,
+                                                  double h);
+  /// Steps 1-3 of particles.hpp on the new mesh (after set_mesh and the liquid's update): find,
+  /// keep in the liquid, reseed, P2G into fields_->velocity.
+  void transfer_to_mesh(std::shared_ptr<ParticleSet> moved, const std::vector<int>& old_to_new, StepReport& rep);
+  /// Step 5 of particles.hpp (G2P) after the pressure, if this step carried particles to the mesh.
+  void transfer_to_particles(StepReport& rep);
   StepReport finish(const BoundaryConditions& bc, double h, StepReport rep);
   /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
   /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
@@ -252,6 +278,11 @@ class FluidSolver {
   std::vector<Eigen::Matrix3d> viscous_stiffness_;  // per fluid node, see viscous_node_stiffness()
   // The viscous step's fit rings (viscosity/node_fit.hpp) of mesh_, kept while its topology holds.
   std::vector<std::vector<int>> viscous_rings_;
+  // The particles (shared with the copies of the solver until a step replaces or writes them).
+  std::shared_ptr<ParticleSet> particles_;
+  // v^{P2G} of this step (FLIP's G2P reads v^{n+1} - v^{P2G}); cleared by the G2P.
+  TetVectors transferred_velocity_;
+  bool particles_on_mesh_ = false;  // this step's P2G done and its G2P not yet
 };
 
 struct FluidSolver::UndoPoint {

@@ -59,10 +59,33 @@ void serialize(BinaryReader& a, std::shared_ptr<const FluidSolver::SourceTopolog
   s = std::move(read);
 }
 
+template <class A>
+void serialize(A& a, ParticleSet& s) {
+  a(s.x, s.v, s.grad_v, s.tet, s.seed_count);
+}
+
+// The particles (shared with the solver's copies; none before the first step): a flag, then the set.
+void serialize(BinaryWriter& a, std::shared_ptr<ParticleSet>& s) {
+  a(static_cast<bool>(s));
+  if (s) a(*s);
+}
+void serialize(BinaryReader& a, std::shared_ptr<ParticleSet>& s) {
+  bool present = false;
+  a(present);
+  s.reset();
+  if (!present) return;
+  auto read = std::make_shared<ParticleSet>();
+  a(*read);
+  const std::size_t n = read->x.size();
+  if (read->v.size() != n || read->tet.size() != n || (!read->grad_v.empty() && read->grad_v.size() != n))
+    a.fail("particle arrays of different sizes");
+  s = std::move(read);
+}
+
 template <class Archive>
 void FluidSolver::state(Archive& a) {
   a(mesh_, source_, fields_, advected_divergence_,
-    pressure_, boundary_, initialized_, free_surface_, level_set_, liquid_, target_volume_);
+    pressure_, boundary_, initialized_, free_surface_, level_set_, liquid_, target_volume_, particles_);
 }
 
 void FluidSolver::write_state(BinaryWriter& out) const { const_cast<FluidSolver*>(this)->state(out); }
@@ -73,6 +96,15 @@ void FluidSolver::read_state(BinaryReader& in) {
   spare_ = SpareMesh();    // of the mesh before the read
   viscous_rings_.clear();  // of the mesh before the read; remade from the restored one
   if (free_surface_ != liquid) in.fail("a fluid state with another kind of fluid (smoke or liquid)");
+  if (particles_) {
+    const bool apic = params_.particles.transfer == ParticleTransfer::kApic;
+    if (!params_.particles.enabled() || (apic ? particles_->grad_v.size() != particles_->x.size() : !particles_->grad_v.empty()))
+      in.fail("particles of another transfer (fluid.advection)");
+    for (int t : particles_->tet)
+      if (t < 0 || t >= mesh_->num_tets()) in.fail("a particle in a tet the mesh does not have");
+  }
+  transferred_velocity_.clear();
+  particles_on_mesh_ = false;
 }
 
 }  // namespace tetfsi::fluid

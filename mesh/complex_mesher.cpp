@@ -35,6 +35,7 @@
 #include "mesh/features.hpp"
 #include "mesh/primitives.hpp"
 #include "mesh/surface_checks.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::mesh {
 namespace {
@@ -105,7 +106,7 @@ struct SizingField {
 
 void check_sizing(const MeshSizing& s) {
   if (!(s.edge_length > 0.0) || !std::isfinite(s.edge_length))
-    throw MeshError("mesh sizing: edge_length must be > 0 (got " + std::to_string(s.edge_length) + ")");
+    throw MeshError("mesh sizing: edge_length must be > 0 (got " + number_text(s.edge_length) + ")");
   if (s.edge_length_near_solids < 0.0 || s.grading_distance < 0.0 || s.facet_distance < 0.0)
     throw MeshError("mesh sizing: edge_length_near_solids, grading_distance, facet_distance must be >= 0");
 }

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "support/number_text.hpp"
+
 namespace tetfsi::mesh {
 namespace {
 
@@ -167,10 +169,10 @@ std::vector<std::string> validate_surface(SurfaceMesh& s, const std::string& nam
   bounding_box(s, lo, hi);
   const double scale = (hi - lo).norm();
   if (!(std::abs(volume) > 1e-12 * scale * scale * scale))
-    throw MeshError(name + ": encloses zero volume (" + std::to_string(volume) + " m^3)");
+    throw MeshError(name + ": encloses zero volume (" + number_text(volume) + " m^3)");
   if (volume < 0.0) {
     flip_orientation(s);
-    warnings.push_back(name + ": surface was oriented inward (enclosed volume " + std::to_string(volume) +
+    warnings.push_back(name + ": surface was oriented inward (enclosed volume " + number_text(volume) +
                        " m^3); flipped it to outward");
   }
   const SelfIntersections si = find_self_intersections(s);

@@ -10,6 +10,7 @@
 #include "mesh/interface.hpp"
 #include "mesh/io/msh_reader.hpp"
 #include "mesh/io/vtu_reader.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::mesh {
 namespace {
@@ -75,8 +76,8 @@ void check_volume_mesh(TetMesh& m, const std::string& label, std::vector<std::st
   for (int t = 0; t < m.num_tets(); ++t) {  // orientation and degeneracy
     const double vol = signed_volume(m, t), l = longest_edge(m, t);
     if (!(std::fabs(vol) > kDegenerateTet * l * l * l))
-      throw MeshError(label + ": tet " + std::to_string(t) + " is degenerate (volume " + std::to_string(vol) +
-                      " m^3 for a longest edge of " + std::to_string(l) + " m)");
+      throw MeshError(label + ": tet " + std::to_string(t) + " is degenerate (volume " + number_text(vol) +
+                      " m^3 for a longest edge of " + number_text(l) + " m)");
     negative[t] = vol < 0;
   }
   if (cells::all_negative(negative, label, "tet", "a tangled mesh")) {

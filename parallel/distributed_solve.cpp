@@ -10,6 +10,7 @@
 
 #include "parallel/mpi_session.hpp"
 #include "support/stopwatch.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::parallel {
 namespace {
@@ -158,7 +159,7 @@ DistributedSolveReport solve_spd_distributed(const Eigen::SparseMatrix<double>& 
   TETFSI_PETSC(KSPGetIterationNumber(ksp, &report.iterations));
   if (reason < 0)
     throw PetscError("PETSc CG with BoomerAMG did not converge (" + std::string(KSPConvergedReasons[reason]) + ") after " +
-                     std::to_string(report.iterations) + " iterations (tolerance " + std::to_string(tolerance) + ")");
+                     std::to_string(report.iterations) + " iterations (tolerance " + number_text(tolerance) + ")");
   solution.get_whole(x);
   report.solve_seconds = clock.lap();
   return report;

@@ -2,6 +2,7 @@
 """The speed-against-error report: every model's validation cases at three or more resolutions.
 
     scripts/report.py [--quick] [--out DIR] [--build DIR] [--threads N] [--cases a,b] [--work DIR]
+                      [--no-peer]
 
 Runs the cases of data/report/cases.json (fluid, solid tet FEM, hex8 Total Lagrangian, coupling,
 MPM + membranes, free-surface liquid), each through `tetfsi run` on its scene or through a
@@ -14,6 +15,16 @@ set-up included. Every case states its reference and, per resolution, the band i
 must lie in; the script exits 1 if any run fails or any error lies outside its band (`--quick`
 runs only the resolutions marked quick: 19 runs in about 45 s; the full report 38 runs in about
 4.5 minutes on the 2-core machine at load 1-2).
+
+Peer: a case with a `peer` entry (the sloshing tank, the dam break) is also run by OpenFOAM's
+interFoam at the peer's resolutions (scripts/openfoam_peer.py), on one core, and its rows sit
+beside tetfsi's in the table and the plots (peer_<problem>.png: error against wall time, both
+codes, cell counts stated). Only where OpenFOAM is installed (Debian: `apt-get install openfoam`;
+scripts/setup.sh does not install it) and never with --quick or --no-peer; the page says which.
+A case's `threads` runs its tetfsi levels on that many threads (1 for the cases compared with the
+single-core peer). A case's `also` lists further errors measured on the same runs (the metric
+returns them), each a case of its own in the table, at the levels that give it a band (`also` of
+the level).
 """
 
 import argparse
@@ -29,6 +40,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
+import openfoam_peer  # noqa: E402
 import report_metrics  # noqa: E402
 import report_output  # noqa: E402
 
@@ -70,8 +82,9 @@ def absolute_files(doc, folder):
             absolute_files(v, folder)
 
 
-def run_process(cmd, log_path):
-    """Runs cmd; returns (exit status, wall time [s], peak resident memory [MB], stdout)."""
+def run_process(cmd, log_path, usage_out=None):
+    """Runs cmd; returns (exit status, wall time [s], peak resident memory [MB], stdout). The
+    process's CPU time (user + system) [s] is stored in usage_out["cpu"] if given."""
     start = time.monotonic()
     with open(log_path, "w") as log:
         p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -80,11 +93,30 @@ def run_process(cmd, log_path):
         log.write(out)
     wall = time.monotonic() - start
     code = os.waitstatus_to_exitcode(status)
+    if usage_out is not None:
+        usage_out["cpu"] = usage.ru_utime + usage.ru_stime
     return code, wall, usage.ru_maxrss / 1024.0, out
 
 
+def also_rows(case, level, row, result):
+    """The rows of the case's `also` errors that the level gives a band (its `also`), measured on
+    the run of `row` (result.also[name] = (error, detail)); a failed run fails them too."""
+    rows = []
+    for extra in case.get("also", []):
+        if extra["name"] not in level.get("also", {}):
+            continue
+        r = dict(row, case=extra["name"], ref=extra["ref"], reference=extra["reference"],
+                 band=level["also"][extra["name"]])
+        if result is not None:
+            error, detail = result.also[extra["name"]]
+            lo, hi = r["band"]
+            r.update(error=error, detail=detail, ok=lo <= error <= hi)
+        rows.append(r)
+    return rows
+
+
 def run_level(case, level, args, work):
-    """One case at one resolution; returns the table row (a dict)."""
+    """One case at one resolution; returns its table rows (dicts): the case's, then its `also`'s."""
     folder = os.path.join(work, f"{case['name']}_{level['value']}")
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
@@ -104,30 +136,77 @@ def run_level(case, level, args, work):
         with open(path, "w") as f:
             json.dump(scene, f, indent=1)
         cmd = [args.tetfsi, "run", path, "--out", os.path.join(folder, "out"), "--quiet"]
-        if args.threads:
-            cmd += ["--threads", str(args.threads)]
+        threads = case.get("threads", args.threads)
+        if threads:
+            cmd += ["--threads", str(threads)]
     else:
         cmd = [os.path.join(args.build, "apps", "bench", case["bench"])] + fill(case["args"], names)
-    code, wall, peak, out = run_process(cmd, os.path.join(folder, "process.log"))
-    row = {"case": case["name"], "model": case["model"], "resolution": fill(case["resolution"], names),
+    usage = {}
+    code, wall, peak, out = run_process(cmd, os.path.join(folder, "process.log"), usage)
+    row = {"case": case["name"], "model": case["model"], "code": "tetfsi",
+           "resolution": fill(case["resolution"], names),
            "value": level["value"], "h": level.get("h", level["value"]), "ref": case["ref"],
            "reference": case["reference"],
-           "band": level["band"], "wall": wall, "peak_mb": peak,
+           "band": level["band"], "wall": wall, "cpu": usage["cpu"], "peak_mb": peak,
            "command": " ".join(cmd).replace(work, "WORK").replace(ROOT + os.sep, "")}
     if code != 0:
         row.update(error=None, detail=f"FAILED (exit {code}): {out.strip()[-300:]}", ok=False)
-        return row
+        return [row] + also_rows(case, level, row, None)
     try:
         r = report_metrics.METRICS[case["metric"]](
             report_metrics.Run(scene, os.path.join(folder, "out"), out, case.get("params", {})))
     except (OSError, ValueError, KeyError, IndexError, SystemExit) as e:
         row.update(error=None, detail=f"FAILED to read the result: {e}", ok=False)
-        return row
+        return [row] + also_rows(case, level, row, None)
     lo, hi = level["band"]
-    row.update(error=r.error, detail=r.detail, unknowns=r.unknowns, steps=r.steps, simulated=r.simulated,
-               per_step=wall / max(r.steps, 1), per_simulated=wall / r.simulated if r.simulated else None,
-               ok=lo <= r.error <= hi)
-    return row
+    row.update(error=r.error, detail=r.detail, unknowns=r.unknowns, cells=r.cells, steps=r.steps,
+               simulated=r.simulated, per_step=wall / max(r.steps, 1),
+               per_simulated=wall / r.simulated if r.simulated else None, ok=lo <= r.error <= hi)
+    return [row] + also_rows(case, level, row, r)
+
+
+def run_peer(case, level, work):
+    """The case's problem run by OpenFOAM at one of the peer's resolutions; returns its rows (one
+    per error the peer maps to a case: `peer.errors`, case name -> key of openfoam_peer's result).
+    Peer rows have no band: they are the comparison, not a test."""
+    peer = case["peer"]
+    names = {"value": level["value"]}
+    base = {"model": case["model"], "code": peer["code"], "resolution": fill(peer["resolution"], names),
+            "value": level["value"], "h": level.get("h", level["value"]), "band": None, "ok": True,
+            "command": f"scripts/openfoam_peer.py {peer['problem']} --cells {level['value']} --work WORK"}
+    try:
+        r = openfoam_peer.run(peer["problem"], level["value"], work)
+    except (OSError, RuntimeError, ValueError, KeyError, IndexError) as e:
+        return [dict(base, case=name, ref="", reference="", wall=0.0, cpu=None, peak_mb=0.0, error=None,
+                     detail=f"FAILED: {e}", ok=False) for name in peer["errors"]]
+    refs = {c["name"]: c for c in [case] + case.get("also", [])}
+    return [dict(base, case=name, ref=refs[name]["ref"], reference=refs[name]["reference"], error=r[key],
+                 detail=r["detail"], unknowns=r["cells"], cells=r["cells"], steps=r["steps"],
+                 simulated=r["simulated"], wall=r["wall"], cpu=r["cpu"], peak_mb=r["peak_mb"],
+                 per_step=r["wall"] / max(r["steps"], 1), per_simulated=r["wall"] / r["simulated"])
+            for name, key in peer["errors"].items()]
+
+
+def peer_status(args, cases):
+    """Whether the peer runs, in words for the page: 'OpenFOAM vNNNN (interFoam), one core' or why not."""
+    if not any("peer" in c for c in cases):
+        return "no case with a peer selected"
+    if args.quick:
+        return "not run (--quick)"
+    if args.no_peer:
+        return "not run (--no-peer)"
+    if not openfoam_peer.available():
+        return ("not run: OpenFOAM is not installed (blockMesh, setFields, interFoam not on the PATH; "
+                "Debian: apt-get install openfoam)")
+    return f"OpenFOAM v{openfoam_peer.version()} (interFoam), one core"
+
+
+def print_row(row):
+    err = "n/a" if row["error"] is None else f"{row['error']:+.3e}"
+    band = "peer" if row["band"] is None else f"band [{row['band'][0]:g}, {row['band'][1]:g}]"
+    print(f"{'ok ' if row['ok'] else 'OUT'} {row['case']:<22} {row['code'][:8]:<8} {row['resolution']:<40} "
+          f"error {err} {band}  {row['wall']:.1f} s  {row['peak_mb']:.0f} MB"
+          + ("" if row["ok"] else f"  {row['detail']}"), flush=True)
 
 
 def main():
@@ -139,6 +218,7 @@ def main():
     ap.add_argument("--threads", type=int, default=0, help="--threads of tetfsi run (default: tetfsi's)")
     ap.add_argument("--cases", help="comma-separated case names (default: all)")
     ap.add_argument("--work", help="folder for the runs' output (default: a temporary folder, removed)")
+    ap.add_argument("--no-peer", action="store_true", help="do not run OpenFOAM even where it is installed")
     args = ap.parse_args()
     args.tetfsi = args.tetfsi or os.path.join(args.build, "apps", "tetfsi")
     cases = json.load(open(CASES))["cases"]
@@ -152,22 +232,27 @@ def main():
     os.makedirs(work, exist_ok=True)
     os.makedirs(args.out, exist_ok=True)
     rows, start, load = [], time.monotonic(), os.getloadavg()[0]
+    peer = peer_status(args, cases)
+    print(f"peer: {peer}", flush=True)
     try:
         for case in cases:
             for level in case["levels"]:
                 if args.quick and not level.get("quick"):
                     continue
-                row = run_level(case, level, args, work)
-                rows.append(row)
-                err = "n/a" if row["error"] is None else f"{row['error']:+.3e}"
-                print(f"{'ok ' if row['ok'] else 'OUT'} {row['case']:<22} {row['resolution']:<40} error {err} "
-                      f"band [{row['band'][0]:g}, {row['band'][1]:g}]  {row['wall']:.1f} s  {row['peak_mb']:.0f} MB"
-                      + ("" if row["ok"] else f"  {row['detail']}"), flush=True)
+                for row in run_level(case, level, args, work):
+                    rows.append(row)
+                    print_row(row)
+            if "peer" in case and peer.startswith("OpenFOAM"):
+                for level in case["peer"]["levels"]:
+                    for row in run_peer(case, level, work):
+                        rows.append(row)
+                        print_row(row)
     finally:
         if not args.work:
             shutil.rmtree(work, ignore_errors=True)
     total = time.monotonic() - start
-    report_output.write(args.out, cases, rows, total, " ".join(["scripts/report.py"] + sys.argv[1:]), args.quick, load)
+    report_output.write(args.out, cases, rows, total, " ".join(["scripts/report.py"] + sys.argv[1:]), args.quick, load,
+                        peer)
     bad = [r for r in rows if not r["ok"]]
     print(f"{len(rows)} runs in {total:.0f} s; report in {os.path.join(args.out, 'README.md')}")
     print(f"{len(rows) - len(bad)} passed, {len(bad)} failed")

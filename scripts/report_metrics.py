@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench_coaxial_rod  # noqa: E402  (reference and zero-crossing frequency of the coaxial rod)
+import liquid_measures as lm  # noqa: E402  (sloshing and dam-break measures, shared with openfoam_peer.py)
 
 G = 9.81
 
@@ -39,6 +40,8 @@ class Result:
     unknowns: int
     steps: int
     simulated: float = None  # simulated time [s]; None: static or a single solve
+    cells: int = None        # cells of the mesh (tets), where the case states them
+    also: dict = field(default_factory=dict)  # further errors of the same run: name -> (error, detail)
 
 
 def read_csv(path):
@@ -146,6 +149,84 @@ def floating_draft(run):
                   f"{len(ext)} extrema", unknowns(run, "coupled"), steps, sim)
 
 
+def tets(run):
+    """Largest tet count of the run (stats.csv column `tets` of the fluid runner)."""
+    return int(max(float(r["tets"]) for r in read_csv(os.path.join(run.out, "stats.csv"))))
+
+
+def liquid_result(run, error, detail, also):
+    """The Result of a fluid-runner liquid case: its steps, simulated time and tets from stats.csv,
+    the tets appended to `detail`, which the `also` error (name, value) shares."""
+    steps, sim = steps_and_time(run)
+    n = tets(run)
+    detail = f"{detail}; {n} tets"
+    return Result(error, detail, unknowns(run, "fluid"), steps, sim, n, {also[0]: (also[1], detail)})
+
+
+def liquid_frames(run):
+    """(frame times [s], PLY paths) of the run's liquid surfaces, frame N at t = N / frame_rate."""
+    folder = os.path.join(run.out, "surfaces")
+    files = sorted(f for f in os.listdir(folder) if f.startswith("liquid_") and f.endswith(".ply"))
+    if not files:
+        raise ValueError(f"no liquid surface in {folder} (export.surfaces must be ply)")
+    rate = run.scene["simulation"]["frame_rate"]
+    return [int(f[7:-4]) / rate for f in files], [os.path.join(folder, f) for f in files]
+
+
+def sloshing_mode(run):
+    """First sloshing mode (liquid_measures.py): frequency from the zero crossings of the mode
+    amplitude of the liquid surface (its up-facing triangles, area-weighted) against linear theory;
+    also the amplitude change per period (sloshing_damping; 0 for an inviscid liquid)."""
+    p = run.params
+    times, paths = liquid_frames(run)
+    amplitude = []
+    for path in paths:
+        xs, etas, areas = lm.top_surface_samples(*lm.read_ply(path))
+        amplitude.append(lm.mode_amplitude(xs, etas, areas, p["length"]))
+    f, change, extrema = lm.sloshing_frequency_and_decay(times, amplitude)
+    exact = lm.sloshing_frequency(p["length"], p["depth"])
+    return liquid_result(run, f / exact - 1, f"f = {f:.5f} Hz (linear theory {exact:.5f}), amplitude "
+                         f"{100 * change:+.2f}% per period ({extrema} extrema)", ("sloshing_damping", change))
+
+
+def dam_break_martin_moyce(run):
+    """Martin & Moyce (1952) square column (liquid_measures.py): rms of Z - Z_MM over their front
+    table (the front: the liquid surface's largest x) and, as dam_break_height, of H - H_MM over
+    their column-height table (the height: the liquid surface's highest point on the back wall x = 0)."""
+    a = run.params["a"]
+    times, paths = liquid_frames(run)
+    front, height = [], []
+    for path in paths:
+        vertices, _ = lm.read_ply(path)
+        front.append(max(v[0] for v in vertices))
+        wall = [v[1] for v in vertices if v[0] <= 1e-6 * a]
+        height.append(max(wall) if wall else 0.0)
+    front_rms, front_max = lm.martin_moyce_rms(times, front, a, "front")
+    height_rms, height_max = lm.martin_moyce_rms(times, height, a, "height")
+    return liquid_result(run, front_rms, f"rms Z - Z_MM {front_rms:.3f} (largest {front_max:.3f}) over "
+                         f"{len(lm.MM_FRONT_T)} points; rms H - H_MM {height_rms:.3f} (largest {height_max:.3f}) "
+                         f"over {len(lm.MM_HEIGHT_TAU)} points", ("dam_break_height", height_rms))
+
+
+def liquid_volume_kept(run):
+    """Largest |V_n / V_0 - 1| of the liquid over the run's steps (probe liquid_volume, every step);
+    also the mean |volume_drift| per step (stats.csv: what the transfer to the new mesh lost before
+    the volume restoration put it back; liquid_volume_drift). The scene's first region must be a box."""
+    rows = read_csv(os.path.join(run.out, "probes.csv"))
+    volume = [float(r["liquid_volume"]) for r in rows]
+    error = max(abs(v / volume[0] - 1) for v in volume)
+    lo, hi = run.scene["domain"]["lo"], run.scene["domain"]["hi"]
+    region = run.scene["fluid"]["regions"][0]  # a box: its part inside the domain is the liquid at t = 0
+    exact = math.prod(max(0.0, min(hi[k], region["hi"][k]) - max(lo[k], region["lo"][k])) for k in range(3))
+    stats = [r for r in read_csv(os.path.join(run.out, "stats.csv")) if float(r["step"]) > 0]
+    drift = [abs(float(r["volume_drift"])) for r in stats]
+    mean_drift = sum(drift) / len(drift)
+    return liquid_result(run, error, f"max |V/V0 - 1| {error:.2e} over {len(volume)} probe rows ({len(drift)} "
+                         f"steps); drift before the restoration {mean_drift:.2e} per step on average, "
+                         f"{max(drift):.2e} at worst; V0 / region's volume - 1 = {volume[0] / exact - 1:+.2e} "
+                         "(the level set sampled at the nodes)", ("liquid_volume_drift", mean_drift))
+
+
 def bench_row(run, case_prefix):
     """Cells of the benchmark table row whose case starts with `case_prefix`."""
     for line in run.stdout.splitlines():
@@ -177,7 +258,10 @@ def standing_wave_period(run):
     period = 2 * math.pi / math.sqrt(G * k * math.tanh(k * 0.5))
     # Unknowns: the nodes of the n x 2 x (3n/4) Kuhn box (the liquid's are about 2/3 of them).
     n = int(number(r"(\d+) cells/L", cells[1]))
-    return Result(err, cells[2].split(";")[0], (n + 1) * 3 * ((3 * n) // 4 + 1), steps, 2.25 * period)
+    decay = -number(r"amplitude decay ([+-]?[0-9.]+)%", cells[2]) / 100
+    return Result(err, cells[2].split(";")[0], (n + 1) * 3 * ((3 * n) // 4 + 1), steps, 2.25 * period,
+                  int(number(r"(\d+) tets", cells[1])),
+                  {"standing_wave_damping": (decay, f"amplitude change {100 * decay:+.1f}% per period")})
 
 
 def cavity_ghia(run):
@@ -207,4 +291,4 @@ def settling_speed(run):
 
 METRICS = {f.__name__: f for f in (pipe_axis, tet_cantilever_tip, ring_castigliano, ball_rise, rod_frequency,
                                    gas_radius, floating_draft, potential_flow_cp, standing_wave_period, cavity_ghia,
-                                   settling_speed)}
+                                   settling_speed, sloshing_mode, dam_break_martin_moyce, liquid_volume_kept)}

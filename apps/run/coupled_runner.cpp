@@ -40,6 +40,7 @@
 #include "apps/run/watchdog.hpp"
 #include "apps/run/container.hpp"
 #include "apps/run/coupled_energy.hpp"
+#include "apps/run/fluid_columns.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/simulation.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -73,8 +74,7 @@ class CoupledRunner : public Simulation {
     // A free surface with surface_edge_length: finer near the liquid (surface_refinement.hpp).
     refinement_ = surface_refinement(js);
     if (refinement_.on())
-      sizing.size_at = refinement_.field(
-          liquid_region_distance(js.at("fluid").at("regions"), vec3(js.at("simulation").at("gravity"))));
+      sizing.size_at = refinement_.field(liquid_region_distance(js));
     sizing_ = sizing;
 
     std::vector<mesh::SurfaceMesh> surfaces, cavities;
@@ -130,6 +130,7 @@ class CoupledRunner : public Simulation {
                                                   : solid::NewmarkScheme::kChentanez;
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
     cs.mean_constraint = c.at("constraint") == "step_mean";
+    cs.keep_closed_volumes = c.at("keep_closed_volumes").get<bool>();
     cs.max_step_halvings = sim.at("max_step_halvings").get<int>();
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
@@ -214,17 +215,17 @@ class CoupledRunner : public Simulation {
 
   std::vector<std::string> phases() const override {
     std::vector<std::string> p = {"remesh", "advect", "solid_assemble", "interface", "solve"};
-    if (stepper_->fluid().has_free_surface()) p.insert(p.begin() + 1, "surface");
-    if (stepper_->fluid().viscous()) p.push_back("viscosity");
+    add_fluid_phases(stepper_->fluid(), p);
     return p;
   }
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"fluid_tets",    "remeshed",          "min_dihedral", "pressure_unknowns", "solid_dofs",
                                   "solver_iterations", "solver_residual", "solver_factor_age",
                                   "fluid_kinetic", "solid_kinetic",     "solid_strain", "gravity_potential",
-                                  "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps"};
-    if (stepper_->fluid().has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
-    if (stepper_->fluid().viscous()) c.push_back("viscous_iterations");
+                                  "fluid_gravity_potential", "total_energy", "contacts", "contact_rounds", "substeps",
+                                  "closed_volume_error", "closed_volume_correction"};
+    if (stepper_->has_obstacles()) c.push_back("wall_clearance");
+    add_fluid_columns(stepper_->fluid(), c);
     for (const std::string& name : compare_solvers_)
       c.insert(c.end(), {"compare_" + name + "_seconds", "compare_" + name + "_iterations"});
     return c;
@@ -250,6 +251,9 @@ class CoupledRunner : public Simulation {
       if (e.active(stepper_->time())) sources.push_back(e.source);
     if (refinement_.on()) set_size_field();
     coupling::CoupledStepReport r;
+    // Where the energy is watched, a step that would gain more than a twentieth of its scale is
+    // taken in halves first (CoupledStepper::set_energy_guard); the watchdog judges the rest.
+    if (energy_source_.empty()) stepper_->set_energy_guard(energy_.last(), kEnergyGuard * energy_.scale());
     try {
       r = stepper_->step(h);
     } catch (const mesh::MeshError& e) {
@@ -286,15 +290,10 @@ class CoupledRunner : public Simulation {
                   double(r.pressure_unknowns), double(r.solid_dofs),
                   double(r.solve.iterations), r.solve.residual.max(), double(r.solve.factor_age), r.fluid_kinetic, r.solid_kinetic,
                   r.solid_strain, r.solid_gravity_potential, r.fluid_gravity_potential, r.total_energy(),
-                  double(r.solve.contacts), double(r.solve.contact_rounds), double(r.substeps)};
-    if (stepper_->fluid().has_free_surface()) {
-      out.phase_seconds.insert(out.phase_seconds.begin() + 1, r.fluid.surface_seconds);
-      out.values.insert(out.values.end(), {r.fluid.liquid_volume, r.fluid.volume_drift});
-    }
-    if (stepper_->fluid().viscous()) {
-      out.phase_seconds.push_back(r.fluid.viscosity_seconds);
-      out.values.push_back(double(r.fluid.viscous_iterations));
-    }
+                  double(r.solve.contacts), double(r.solve.contact_rounds), double(r.substeps),
+                  r.closed_volume_error, r.closed_volume.correction};
+    if (stepper_->has_obstacles()) out.values.push_back(r.obstacle_clearance);
+    add_fluid_values(stepper_->fluid(), r.fluid, out.phase_seconds, out.values);
     for (const coupling::ComparedSolve& c : r.compared) {  // -1 iterations: it missed its tolerance
       if (!c.failure.empty()) log_->warn("t = {} s: compare_solvers: {}", r.time, c.failure);
       out.values.insert(out.values.end(), {c.seconds, c.failure.empty() ? double(c.iterations) : -1.0});
@@ -383,6 +382,10 @@ class CoupledRunner : public Simulation {
       if (part != "pressure") f += stepper_->viscous_force(i);
       return {f.x(), f.y(), f.z()};
     }
+    if (kind == "contact_force") {
+      const Eigen::Vector3d f = stepper_->contact_force(i);
+      return {f.x(), f.y(), f.z()};
+    }
     if (kind == "solid_volume") {
       double volume = 0;
       for (const auto& t : model.tets())
@@ -461,6 +464,8 @@ class CoupledRunner : public Simulation {
   WatchdogSettings watchdog_;
   EnergyWatch energy_;          ///< energy balance (only if energy_source_ is empty)
   std::string energy_source_;   ///< why the energy is not watched, or ""
+  /// A step gaining more than this fraction of the energy scale is halved (set_energy_guard).
+  static constexpr double kEnergyGuard = 0.05;
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;
@@ -491,7 +496,7 @@ RunnerEntry coupled_runner() {
           },
           [] { return std::make_unique<CoupledRunner>(); },
           {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy",
-           "fluid_force"},
+           "fluid_force", "contact_force"},
           // Not yet with a free surface's refinement, whose last fit (a copy of that mesh and
           // level set) a checkpoint does not hold.
           [](const scene::Scene& s) { return !surface_refinement(s.json).on(); }};

@@ -44,7 +44,8 @@ std::shared_ptr<spdlog::logger> make_logger(const fs::path& dir, bool truncate) 
 /// probes.csv column names of one probe.
 std::vector<std::string> probe_columns(const scene::Json& p) {
   const auto name = p.at("name").get<std::string>();
-  if (p.at("kind") == "point_displacement" || p.at("kind") == "fluid_force") return {name + "_x", name + "_y", name + "_z"};
+  if (p.at("kind") == "point_displacement" || p.at("kind") == "fluid_force" || p.at("kind") == "contact_force")
+    return {name + "_x", name + "_y", name + "_z"};
   return {name};
 }
 

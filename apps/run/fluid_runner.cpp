@@ -20,6 +20,7 @@
 #include <map>
 
 #include "apps/run/container.hpp"
+#include "apps/run/fluid_columns.hpp"
 #include "apps/run/fluid_probe.hpp"
 #include "apps/run/fluid_setup.hpp"
 #include "apps/run/scene_values.hpp"
@@ -88,8 +89,7 @@ class FluidRunner : public Simulation {
     // A free surface with surface_edge_length: finer near the liquid (surface_refinement.hpp).
     refinement_ = surface_refinement(js);
     if (refinement_.on())
-      sizing.size_at =
-          refinement_.field(liquid_region_distance(f.at("regions"), vec3(js.at("simulation").at("gravity"))));
+      sizing.size_at = refinement_.field(liquid_region_distance(js));
     std::vector<mesh::SurfaceMesh> surfaces;
     for (const auto& s : js.at("solids")) {
       names_.push_back(s.at("name").get<std::string>());
@@ -155,16 +155,14 @@ class FluidRunner : public Simulation {
 
   std::vector<std::string> phases() const override {
     std::vector<std::string> p = {"remesh", "advect", "forces", "assemble", "solve"};
-    if (solver_->has_free_surface()) p.insert(p.begin() + 1, "surface");
-    if (solver_->viscous()) p.push_back("viscosity");
+    add_fluid_phases(*solver_, p);
     return p;
   }
   std::vector<std::string> columns() const override {
     std::vector<std::string> c = {"tets", "nodes", "unknowns", "iterations", "residual", "max_divergence",
                                   "kinetic_energy", "gravity_potential", "min_dihedral", "clamped_traces", "remeshed",
                                   "remeshed_tets"};
-    if (solver_->has_free_surface()) c.insert(c.end(), {"liquid_volume", "volume_drift"});
-    if (solver_->viscous()) c.push_back("viscous_iterations");
+    add_fluid_columns(*solver_, c);
     return c;
   }
 
@@ -267,14 +265,7 @@ class FluidRunner : public Simulation {
     rep.values = {double(s.num_tets), double(s.num_nodes), double(s.unknowns), double(s.iterations), s.residual,
                   s.max_divergence, s.kinetic_energy, s.gravity_potential, min_dihedral_, double(s.clamped_traces),
                   double(remeshed_), double(remeshed_tets_)};
-    if (solver_->has_free_surface()) {
-      rep.phase_seconds.insert(rep.phase_seconds.begin() + 1, s.surface_seconds);
-      rep.values.insert(rep.values.end(), {s.liquid_volume, s.volume_drift});
-    }
-    if (solver_->viscous()) {
-      rep.phase_seconds.push_back(s.viscosity_seconds);
-      rep.values.push_back(double(s.viscous_iterations));
-    }
+    add_fluid_values(*solver_, s, rep.phase_seconds, rep.values);
     return rep;
   }
 

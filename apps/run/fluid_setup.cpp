@@ -39,6 +39,14 @@ fluid::FluidParams fluid_params(const scene::Json& js, spdlog::logger& log) {
   params.advection = adv == "bfecc"             ? fluid::AdvectionScheme::kBfecc
                      : adv == "semi_lagrangian" ? fluid::AdvectionScheme::kSemiLagrangian
                                                 : fluid::AdvectionScheme::kLinear;
+  params.particles.transfer = adv == "apic"   ? fluid::ParticleTransfer::kApic
+                              : adv == "flip" ? fluid::ParticleTransfer::kFlip
+                                              : fluid::ParticleTransfer::kNone;
+  params.particles.flip_ratio = f.at("flip_ratio").get<double>();
+  params.particles.per_tet = f.at("particles_per_tet").get<int>();
+  if (params.particles.enabled())
+    log.info("velocity on particles: {}, {} per tet{}", adv, params.particles.per_tet,
+             adv == "flip" ? fmt::format(", FLIP share {}", params.particles.flip_ratio) : "");
   params.solver.backend = fluid::parse_solver_backend(f.at("solver").at("type").get<std::string>());
   params.solver.tolerance = f.at("solver").at("tolerance").get<double>();
   params.solver.max_iterations = f.at("solver").at("max_iterations").get<int>();
@@ -149,37 +157,41 @@ std::vector<TimedSource> timed_sources(const scene::Json& js, spdlog::logger& lo
   return out;
 }
 
-/// Signed distance [m] to the union of the liquid regions of `fill: regions` (negative inside):
-/// the minimum of the shapes' distances (exact for spheres, half-spaces and closed surface files
-/// (mesh::SurfaceDistance), and for boxes outside and inside; a union's minimum is exact outside
-/// every shape).
-std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
-                                                                     const Eigen::Vector3d& gravity) {
-  std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
+std::function<double(const Eigen::Vector3d&)> liquid_region_shape(const scene::Json& scene, std::size_t i) {
+  const scene::Json& r = scene.at("fluid").at("regions").at(i);
+  const Eigen::Vector3d gravity = vec3(scene.at("simulation").at("gravity"));
   const Eigen::Vector3d up = gravity.norm() > 0 ? Eigen::Vector3d(-gravity.normalized()) : Eigen::Vector3d::UnitZ();
-  for (const auto& r : regions) {
-    const auto type = r.at("type").get<std::string>();
-    if (type == "box") {
-      const Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
-      shapes.push_back([lo, hi](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo, hi); });
-    } else if (type == "sphere") {
-      const Eigen::Vector3d c = vec3(r.at("center"));
-      const double radius = r.at("radius").get<double>();
-      // With a cap: the intersection with the half-space below it, max(d_sphere, x·up − cap) (exact
-      // inside, a lower bound outside).
-      const double cap = r.contains("cap_height") ? r["cap_height"].get<double>() : std::numeric_limits<double>::infinity();
-      shapes.push_back([c, radius, up, cap](const Eigen::Vector3d& x) {
-        return std::max((x - c).norm() - radius, x.dot(up) - cap);
-      });
-    } else if (type == "mesh") {
-      std::vector<std::string> warnings;  // already reported by the preflight
-      auto inside = std::make_shared<mesh::SurfaceDistance>(liquid_region_surface(r, warnings));
-      shapes.push_back([inside](const Eigen::Vector3d& x) { return (*inside)(x); });
-    } else {  // below
-      const double height = r.at("height").get<double>();
-      shapes.push_back([up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; });
+  const auto type = r.at("type").get<std::string>();
+  if (type == "box") {
+    const Eigen::Vector3d domain_lo = vec3(scene.at("domain").at("lo")), domain_hi = vec3(scene.at("domain").at("hi"));
+    const double diagonal = (domain_hi - domain_lo).norm(), on_wall = 1e-9 * diagonal;
+    Eigen::Vector3d lo = vec3(r.at("lo")), hi = vec3(r.at("hi"));
+    for (int k = 0; k < 3; ++k) {  // faces on or beyond a wall moved a diagonal out
+      if (lo[k] <= domain_lo[k] + on_wall) lo[k] = std::min(lo[k], domain_lo[k] - diagonal);
+      if (hi[k] >= domain_hi[k] - on_wall) hi[k] = std::max(hi[k], domain_hi[k] + diagonal);
     }
+    return [lo, hi](const Eigen::Vector3d& x) { return fluid::box_distance(x, lo, hi); };
   }
+  if (type == "sphere") {
+    const Eigen::Vector3d c = vec3(r.at("center"));
+    const double radius = r.at("radius").get<double>();
+    // With a cap: the intersection with the half-space below it, max(d_sphere, x·up − cap) (exact
+    // inside, a lower bound outside).
+    const double cap = r.contains("cap_height") ? r["cap_height"].get<double>() : std::numeric_limits<double>::infinity();
+    return [c, radius, up, cap](const Eigen::Vector3d& x) { return std::max((x - c).norm() - radius, x.dot(up) - cap); };
+  }
+  if (type == "mesh") {
+    std::vector<std::string> warnings;  // already reported by the preflight
+    auto inside = std::make_shared<mesh::SurfaceDistance>(liquid_region_surface(r, warnings));
+    return [inside](const Eigen::Vector3d& x) { return (*inside)(x); };
+  }
+  const double height = r.at("height").get<double>();  // below
+  return [up, height](const Eigen::Vector3d& x) { return x.dot(up) - height; };
+}
+
+std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& scene) {
+  std::vector<std::function<double(const Eigen::Vector3d&)>> shapes;
+  for (std::size_t i = 0; i < scene.at("fluid").at("regions").size(); ++i) shapes.push_back(liquid_region_shape(scene, i));
   return [shapes](const Eigen::Vector3d& x) {
     double d = std::numeric_limits<double>::infinity();
     for (const auto& s : shapes) d = std::min(d, s(x));
@@ -277,8 +289,7 @@ void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, sp
   fluid::LiquidOptions liquid;
   liquid.band = 4.0 * solver.mesh().mean_edge_length();
   liquid.bfecc = f.at("level_set_advection") == "bfecc";
-  solver.set_liquid(fluid::sample_level_set(solver.mesh(), liquid_region_distance(f.at("regions"), solver.params().gravity)),
-                    liquid);
+  solver.set_liquid(fluid::sample_level_set(solver.mesh(), liquid_region_distance(scene)), liquid);
   log.info("free surface: {:.6g} m^3 of liquid in {} region(s) (level set band {:.4g} m)",
            solver.target_liquid_volume(), f.at("regions").size(), liquid.band);
 }

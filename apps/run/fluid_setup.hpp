@@ -46,10 +46,18 @@ std::vector<TimedSource> timed_sources(const scene::Json& scene, spdlog::logger&
 /// no liquid on the mesh
 void set_initial_liquid(const scene::Json& scene, fluid::FluidSolver& solver, spdlog::logger& log);
 
-/// Signed distance [m] to the union of /fluid/regions (negative inside; `below` is measured along
-/// -gravity): the minimum of the shapes' distances, exact outside every shape.
-std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& regions,
-                                                                     const Eigen::Vector3d& gravity);
+/// Signed distance [m] to the free surface of the union of the scene's /fluid/regions (negative
+/// inside; `below` is measured along -/simulation/gravity): the minimum of the shapes' distances,
+/// exact outside every shape. A box region's faces that lie on the walls of /domain (within 1e-9 of
+/// its diagonal) or beyond them are not surfaces: the box is taken to go on through the wall, so a
+/// column standing on the floor has phi = -(depth) at the floor's nodes, not 0 (fluid/README.md,
+/// "Liquids").
+std::function<double(const Eigen::Vector3d&)> liquid_region_distance(const scene::Json& scene);
+
+/// Signed distance [m] to region /fluid/regions/i of `scene` alone, as liquid_region_distance takes
+/// it (a box's faces on the walls moved out; a `mesh` region's file read and placed).
+/// @throws InputError for a `mesh` region's unreadable or broken file
+std::function<double(const Eigen::Vector3d&)> liquid_region_shape(const scene::Json& scene, std::size_t i);
 
 /// Writes the fluid's frame: the grid "fluid" (with the level set and liquid fractions of a free
 /// surface), for a free surface the closed liquid surface "liquid" with vertex velocities, and

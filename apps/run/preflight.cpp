@@ -9,7 +9,9 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
 #include "apps/run/preflight_container.hpp"
+#include "apps/run/preflight_liquid.hpp"
 #include "apps/run/preflight_models.hpp"
+#include "apps/run/preflight_particles.hpp"
 #include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_params.hpp"
@@ -57,6 +59,7 @@ class Checker {
     read_solids();
     read_liquid_regions();
     check_placements();
+    check_liquid_regions();
     check_runner();
     for (auto& issue : checkpoint_issues(scene_, *runner_)) issues_.push_back(std::move(issue));
     check_load_boxes();
@@ -195,11 +198,6 @@ class Checker {
         Eigen::Vector3d lo, hi;
         mesh::bounding_box(surface, lo, hi);
         check_magnitude(ptr, max_abs(lo, hi), "a placed vertex");
-        if (js_.contains("domain")) {
-          const Eigen::Vector3d dlo = vec3(js_["domain"]["lo"]), dhi = vec3(js_["domain"]["hi"]);
-          if (!((lo.array() < dhi.array()).all() && (hi.array() > dlo.array()).all()))
-            add(ptr, "the liquid region lies outside the domain box: there is no liquid");
-        }
       } catch (const std::exception& e) {
         add(ptr, e.what());
       }
@@ -215,6 +213,15 @@ class Checker {
     for (std::size_t i = 0; i < placed_.size(); ++i)
       solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
     for (auto& issue : container_issues(js_, solids)) issues_.push_back(std::move(issue));
+  }
+
+  /// Every liquid region holds liquid (preflight_liquid.hpp), once the surfaces read so far are fine.
+  void check_liquid_regions() {
+    if (!issues_.empty() || !meshes_fluid()) return;
+    std::vector<ContainedSolid> solids;
+    for (std::size_t i = 0; i < placed_.size(); ++i)
+      solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
+    for (auto& issue : liquid_region_issues(js_, solids)) issues_.push_back(std::move(issue));
   }
 
   void check_placements() {
@@ -285,7 +292,7 @@ class Checker {
       const auto kind = probes[i].at("kind").get<std::string>();
       const auto& kinds = runner_->probe_kinds;
       const bool supported = kinds.empty() || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
-      if (!supported || (any_static && kind == "total_energy")) {
+      if (!supported || (any_static && (kind == "total_energy" || kind == "contact_force"))) {
         std::string list;
         for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
         add(fmt::format("/probes/{}/kind", i),
@@ -300,9 +307,23 @@ class Checker {
   /// that film would be pushed out of it in its first step. Checked when the gap is given (its
   /// default follows the meshed edge length, known only after meshing).
   void check_contact_gap(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-    if (runner_->name != "coupled" || !js_.contains("coupling") || js_["domain"].contains("container")) return;
+    if (runner_->name != "coupled" || !js_.contains("coupling")) return;
     const auto& c = js_["coupling"];
     const double gap = c.value("contact_gap", 0.0);
+    // A film given for contacts that are all off contradicts itself.
+    if (gap > 0 && !c.value("wall_contact", true)) {
+      bool pairs = c.value("solid_contact", true) && js_["solids"].size() > 1;
+      for (const auto& s : js_["solids"]) pairs = pairs || s.value("self_contact", false);
+      const auto& obstacles = js_.value("obstacles", Json::object());
+      const bool others = !obstacles.value("planes", Json::array()).empty() || !obstacles.value("boxes", Json::array()).empty();
+      if (!pairs && !others)
+        add("/coupling/contact_gap",
+            fmt::format("a fluid film of {:g} m is given, but no contact keeps it: /coupling/wall_contact is false and "
+                        "there is no contact between solids (/coupling/solid_contact with two or more solids, "
+                        "/solids/*/self_contact) and no /obstacles; remove contact_gap or turn a contact on",
+                        gap));
+    }
+    if (js_["domain"].contains("container")) return;
     if (!c.value("wall_contact", true) || !(gap > 0)) return;
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       const auto& p = placed_[i];
@@ -409,6 +430,7 @@ class Checker {
     }
     check_voxels();
     check_surface_voxels();
+    if (issues_.empty()) report_.particles = particle_count(js_, report_.tets, issues_);
     const double end = sim.at("end_time").get<double>();
     const double frame_rate = sim.at("frame_rate").get<double>();
     report_.frames = std::floor(end * frame_rate * (1 + 1e-12)) + 1;

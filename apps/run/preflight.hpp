@@ -39,6 +39,13 @@ constexpr double kVdbBytesPerVoxel = 20;
 /// The voxel limit of export.volumes: a quarter of the physical memory / kBytesPerVoxel.
 double default_max_voxels();
 
+/// Peak memory per particle of fluid.advection "apic" / "flip" [bytes]: position, velocity, APIC's
+/// 3x3 gradient and tet (124 bytes), and the step's copies while sorting, reseeding and transferring.
+constexpr double kBytesPerParticle = 320;
+
+/// The particle limit: a quarter of the physical memory / kBytesPerParticle.
+double default_max_particles();
+
 struct PreflightOptions {
   std::optional<double> max_tets;  ///< --max-tets; default: half the machine's memory / kBytesPerTet
 };
@@ -49,6 +56,7 @@ struct PreflightReport {
   double tets = 0;              ///< estimated tet (or hex cell) count of the mesh
   double max_tets = 0;          ///< the limit applied
   double steps = 0;             ///< estimated number of steps (lower bound when the step follows the CFL)
+  double particles = 0;         ///< particles carried at most (fluid.advection "apic", "flip")
   double frames = 0;            ///< frames written
   double output_bytes = 0;      ///< estimated size of the output folder [bytes]
   std::vector<std::string> warnings;

@@ -29,4 +29,6 @@ double default_max_tets() { return std::floor(0.5 * physical_memory() / kBytesPe
 
 double default_max_voxels() { return std::floor(0.25 * physical_memory() / kBytesPerVoxel); }
 
+double default_max_particles() { return std::floor(0.25 * physical_memory() / kBytesPerParticle); }
+
 }  // namespace tetfsi::run

@@ -346,6 +346,10 @@ class SolidRunner : public Simulation {
         const Eigen::Vector3d d = displacement(b).segment<3>(3 * best);
         return {d.x(), d.y(), d.z()};
       }
+      if (kind == "contact_force" && !static_) {
+        const Eigen::Vector3d f = b.integrator->contact_force();
+        return {f.x(), f.y(), f.z()};
+      }
       if (kind == "solid_volume") {
         const Eigen::VectorXd J = b.model->volume_ratios(displacement(b));
         double vol = 0;
@@ -418,7 +422,7 @@ RunnerEntry solid_runner() {
             return false;
           },
           [] { return std::make_unique<SolidRunner>(); },
-          {"point_displacement", "solid_volume", "total_energy"},
+          {"point_displacement", "solid_volume", "total_energy", "contact_force"},
           [](const scene::Scene& s) {  // a static analysis has no time loop to resume
             for (const auto& solid : s["solids"])
               if (is_static(solid)) return false;

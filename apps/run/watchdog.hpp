@@ -52,6 +52,7 @@ class EnergyWatch {
     scale_ = std::max(scale_, mechanical);
   }
   double start() const { return start_; }  ///< E_0 [J]
+  double last() const { return last_; }    ///< the last recorded energy [J]
   double scale() const { return scale_; }  ///< the energy scale so far [J]
   /// Whether the last recorded energy rose past the limit.
   bool exceeded(const WatchdogSettings& settings) const { return last_ - start_ > settings.max_energy_growth * scale_; }

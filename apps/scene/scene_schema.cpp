@@ -89,43 +89,8 @@ void check_free_surface(const Json& s, std::vector<Issue>& issues) {
       issues.push_back({"/fluid/surface_edge_length", "refines at a free surface: needs fluid.fill \"regions\""});
     return;
   }
-  // Some region must reach into the domain box, or there is no liquid to simulate.
-  if (s.contains("domain") && !s["fluid"]["regions"].empty()) {
-    const auto& d = s["domain"];
-    const Json up = s["simulation"].contains("gravity") ? s["simulation"]["gravity"] : Json::array({0, 0, -9.81});
-    bool any = false;
-    for (const auto& r : s["fluid"]["regions"]) {
-      const auto type = r.value("type", "");
-      if (type == "box" && r.contains("lo") && r.contains("hi")) {
-        bool overlap = true;
-        for (int k = 0; k < 3; ++k)
-          overlap = overlap && r["lo"][k].get<double>() < d["hi"][k].get<double>() &&
-                    r["hi"][k].get<double>() > d["lo"][k].get<double>();
-        any = any || overlap;
-      } else if (type == "sphere" && r.contains("center") && r.contains("radius")) {
-        double d2 = 0;  // squared distance from the centre to the box
-        for (int k = 0; k < 3; ++k) {
-          const double c = r["center"][k].get<double>();
-          const double q = std::max({d["lo"][k].get<double>() - c, 0.0, c - d["hi"][k].get<double>()});
-          d2 += q * q;
-        }
-        any = any || d2 < std::pow(r["radius"].get<double>(), 2);
-      } else if (type == "below" && r.contains("height")) {
-        // The lowest corner of the box along -gravity must lie below the surface height.
-        double g2 = 0, lowest = 0;
-        for (int k = 0; k < 3; ++k) g2 += std::pow(up[k].get<double>(), 2);
-        const double gn = std::sqrt(g2);
-        for (int k = 0; k < 3; ++k) {
-          const double u = gn > 0 ? -up[k].get<double>() / gn : (k == 2 ? 1.0 : 0.0);
-          lowest += u * (u >= 0 ? d["lo"][k].get<double>() : d["hi"][k].get<double>());
-        }
-        any = any || lowest < r["height"].get<double>();
-      } else if (type == "mesh") {
-        any = true;  // its file is read and placed by the preflight (apps/run/preflight.cpp)
-      }
-    }
-    if (!any) issues.push_back({"/fluid/regions", "no region reaches into the domain box: there is no liquid"});
-  }
+  // Each region must hold liquid: checked with the container and the solids by the preflight
+  // (apps/run/preflight_liquid.hpp).
   if (s["fluid"].value("surface_edge_length", 0.0) > s["mesh"].value("edge_length", 0.1))
     issues.push_back({"/fluid/surface_edge_length", "expected a value <= mesh.edge_length (refinement at the surface, "
                                                     "not coarsening)"});

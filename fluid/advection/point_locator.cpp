@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "mesh/closest_point.hpp"
+
 namespace tetfsi::fluid {
 namespace {
 constexpr double kInsideTolerance = 1e-10;  ///< barycentric slack for points on faces
@@ -192,10 +194,59 @@ Location PointLocator::locate(const Eigen::Vector3d& x, int hint) const {
     loc.inside = true;
     return loc;
   }
-  loc.tet = cur;
-  Eigen::Vector4d l = barycentric(cur, x).cwiseMax(0.0);
-  loc.bary = l / l.sum();
+  return nearest_on_boundary(x);
+}
+
+Location PointLocator::nearest_on_boundary(const Eigen::Vector3d& x) const {
+  // Blocks of (2r + 1)^3 cells around the cell of p, x projected onto the grid's box. A face not
+  // yet seen lies in a cell outside the block, hence at least as far from x as p is from the
+  // block's sides that have cells beyond them (projecting onto a box moves no point nearer to a
+  // point of the box): the search stops once that exceeds the nearest face found.
+  const Eigen::Vector3d hi = lo_ + cell_size_.cwiseProduct(dims_.cast<double>());
+  const Eigen::Vector3d p = x.cwiseMax(lo_).cwiseMin(hi);
+  const Eigen::Vector3i c = cell_of(x);
+  double best2 = std::numeric_limits<double>::infinity();
+  int best_tet = -1;
+  Eigen::Vector3d best_point = x;
+  auto visit = [&](size_t cell) {
+    for (int n = cell_start_[cell]; n < cell_start_[cell + 1]; ++n) {
+      const int t = cell_tets_[n];
+      const auto& tet = mesh_.tets[t];
+      for (int f = 0; f < 4; ++f) {
+        if (mesh_.neighbor[t][f] >= 0) continue;  // boundary faces only
+        const mesh::ClosestPoint q = mesh::closest_point_on_triangle(
+            x, mesh_.nodes[tet[(f + 1) % 4]], mesh_.nodes[tet[(f + 2) % 4]], mesh_.nodes[tet[(f + 3) % 4]]);
+        if (q.distance * q.distance < best2) {
+          best2 = q.distance * q.distance;
+          best_tet = t;
+          best_point = q.point;
+        }
+      }
+    }
+  };
+  const int rmax = dims_.maxCoeff();
+  for (int r = 0; r <= rmax; ++r) {
+    for (int k = std::max(0, c[2] - r); k <= std::min(dims_[2] - 1, c[2] + r); ++k)
+      for (int j = std::max(0, c[1] - r); j <= std::min(dims_[1] - 1, c[1] + r); ++j)
+        for (int i = std::max(0, c[0] - r); i <= std::min(dims_[0] - 1, c[0] + r); ++i)
+          if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) == r)  // this ring only
+            visit(static_cast<size_t>(i) + dims_[0] * (j + static_cast<size_t>(dims_[1]) * k));
+    double unseen = std::numeric_limits<double>::infinity();  // distance from p to the cells beyond the block
+    for (int a = 0; a < 3; ++a) {
+      if (c[a] - r > 0) unseen = std::min(unseen, p[a] - (lo_[a] + (c[a] - r) * cell_size_[a]));
+      if (c[a] + r < dims_[a] - 1) unseen = std::min(unseen, lo_[a] + (c[a] + r + 1) * cell_size_[a] - p[a]);
+    }
+    if (best_tet >= 0 && unseen * unseen >= best2) break;
+  }
+  Location loc;
   loc.inside = false;
+  loc.tet = best_tet;
+  if (best_tet < 0) {  // no boundary face at all (no mesh of finite extent): some tet, its centroid
+    loc.tet = grid_nearest_tet(x);
+    return loc;
+  }
+  const Eigen::Vector4d l = barycentric(best_tet, best_point).cwiseMax(0.0);
+  loc.bary = l / l.sum();
   return loc;
 }
 

@@ -66,7 +66,7 @@ Eigen::Vector3d unit(int k) { return Eigen::Vector3d::Unit(k); }
 
 }  // namespace
 
-std::array<std::array<double, 3>, 3> wet_face_mass(const std::array<double, 3>& phi, const std::array<int, 3>& ids) {
+std::array<std::array<double, 3>, 3> wet_face_mass(const std::array<double, 3>& phi) {
   std::array<std::array<double, 3>, 3> m{};
   int liquid[3], air[3], nl = 0, na = 0;
   for (int k = 0; k < 3; ++k) (phi[k] < 0.0 ? liquid[nl++] : air[na++]) = k;
@@ -83,15 +83,15 @@ std::array<std::array<double, 3>, 3> wet_face_mass(const std::array<double, 3>& 
     const int k = liquid[0], p = air[0], q = air[1];
     const double fraction = crossing_fraction(phi[k], phi[p]) * crossing_fraction(phi[k], phi[q]);
     add_sub_triangle(fraction, {unit(k), crossing(k, p), crossing(k, q)}, Eigen::Vector3d(1, 0, 0), m[k]);
-  } else if (nl == 2) {  // the quad (i, j, X_jq, X_iq) split along i-X_jq, i the lower id (cut_tet)
-    int i = liquid[0], j = liquid[1];
-    if (ids[j] < ids[i]) std::swap(i, j);
+  } else if (nl == 2) {  // the quad (i, j, X_jq, X_iq): the mean of its splits along i-X_jq and j-X_iq (cut_tet)
     const int q = air[0];
-    const double tj = crossing_fraction(phi[j], phi[q]), ti = crossing_fraction(phi[i], phi[q]);
-    const std::array<Eigen::Vector3d, 3> first{unit(i), unit(j), crossing(j, q)};
-    add_sub_triangle(tj, first, Eigen::Vector3d(1, 0, 0), m[i]);
-    add_sub_triangle(tj, first, Eigen::Vector3d(0, 1, 0), m[j]);
-    add_sub_triangle(ti * (1.0 - tj), {unit(i), crossing(j, q), crossing(i, q)}, Eigen::Vector3d(1, 0, 0), m[i]);
+    for (const auto& [i, j] : {std::pair{liquid[0], liquid[1]}, std::pair{liquid[1], liquid[0]}}) {
+      const double tj = crossing_fraction(phi[j], phi[q]), ti = crossing_fraction(phi[i], phi[q]);
+      const std::array<Eigen::Vector3d, 3> first{unit(i), unit(j), crossing(j, q)};
+      add_sub_triangle(0.5 * tj, first, Eigen::Vector3d(1, 0, 0), m[i]);
+      add_sub_triangle(0.5 * tj, first, Eigen::Vector3d(0, 1, 0), m[j]);
+      add_sub_triangle(0.5 * ti * (1.0 - tj), {unit(i), crossing(j, q), crossing(i, q)}, Eigen::Vector3d(1, 0, 0), m[i]);
+    }
   }
   return m;
 }
@@ -149,8 +149,7 @@ Eigen::Vector3d liquid_first_moment(const std::array<Eigen::Vector3d, 4>& x, con
   return volume * (part.fraction * x[0] + J * part.moment);
 }
 
-CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi,
-               const std::array<int, 4>& ids) {
+CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi) {
   CutTet c;
   for (auto& a : c.wet_moment) a.setZero();
   const double volume = (x[1] - x[0]).cross(x[2] - x[0]).dot(x[3] - x[0]) / 6.0;
@@ -173,14 +172,14 @@ CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double,
       c.wet_moment[m] += (w / 3.0) * s;
       continue;
     }
-    // Two liquid nodes m < n (global ids) and air q: the wet quad (m, n, X_nq, X_mq) split along
-    // m-X_nq into (m, n, X_nq), area fraction theta_nq, and (m, X_nq, X_mq), theta_mq (1 - theta_nq).
-    int m = liquid[0], n = liquid[1];
-    if (ids[n] < ids[m]) std::swap(m, n);
-    const int q = air[0];
+    // Two liquid nodes m, n and air q: the wet quad (m, n, X_nq, X_mq), the mean of its two splits.
+    // Along m-X_nq: (m, n, X_nq), area fraction theta_nq, and (m, X_nq, X_mq), theta_mq (1 -
+    // theta_nq), so int psi_m dA = A (tn + tm (1 - tn)) / 3 and int psi_n dA = A tn / 3; along
+    // n-X_mq the same with m and n exchanged.
+    const int m = liquid[0], n = liquid[1], q = air[0];
     const double tn = crossing_fraction(phi[n], phi[q]), tm = crossing_fraction(phi[m], phi[q]);
-    c.wet_moment[m] += ((tn + tm * (1.0 - tn)) / 3.0) * s;
-    c.wet_moment[n] += (tn / 3.0) * s;
+    c.wet_moment[m] += ((tn + 2.0 * tm - tm * tn) / 6.0) * s;
+    c.wet_moment[n] += ((tm + 2.0 * tn - tm * tn) / 6.0) * s;
   }
   return c;
 }

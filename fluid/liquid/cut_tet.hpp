@@ -34,23 +34,27 @@ struct CutTet {
   Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();  ///< int_{Omega_t} x dV [m^4] (gravity potential)
 };
 
-/// Liquid part of tet (x, phi). `ids` are the nodes' global indices: where a face has two liquid
-/// nodes its wet quadrilateral is split along the diagonal from the lower id, so that both tets
-/// sharing the face split it the same way. x must be positively oriented.
-CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi,
-               const std::array<int, 4>& ids);
+/// Liquid part of tet (x, phi). Where a face has two liquid nodes, psi_k on its wet quadrilateral
+/// is the mean of its piecewise-linear interpolants on the quad's two splits into triangles: a
+/// function of the face's own nodes and values, so both tets sharing the face agree, and with no
+/// preference for either diagonal, so the projection does not depend on how the nodes are numbered
+/// (a mirrored mesh gives the mirrored operator; splitting along the diagonal from the lower id, as
+/// before, made the nodes with lower ids take more of each quad, and the node numbering follows a
+/// space-filling curve from the low corner of the box). Either split reproduces a linear pressure
+/// that vanishes on the planar surface, so their mean does. x must be positively oriented.
+CutTet cut_tet(const std::array<Eigen::Vector3d, 4>& x, const std::array<double, 4>& phi);
 
 /// Mass matrix of a triangle face F of a cut tet on its wet part, per unit face area:
 /// M_ka = (1/A_F) int_{F wet} psi_k phi_a dA, psi_k the liquid hats of cut_tet (zero for an air
 /// node k), phi_a the ordinary P1 hats of the face's vertices. The wet part is split as in cut_tet
-/// (one liquid node: the corner triangle; two: the quadrilateral along the diagonal from the lower
-/// id), and on each wet sub-triangle S both factors are linear, so the exact P1 rule applies:
+/// (one liquid node: the corner triangle; two: the quadrilateral, the mean over its two splits),
+/// and on each wet sub-triangle S both factors are linear, so the exact P1 rule applies:
 /// int_S f g dA = (A_S / 12) (sum_j f_j g_j + (sum_j f_j)(sum_j g_j)) over its vertices j.
 /// Consequences: sum_a M_ka = (1/A_F) int_{F wet} psi_k dA, the face's share of a_k in cut_tet;
 /// all wet gives (1 + delta_ka) / 12. The coupled system's interface flux map uses it
 /// (coupling/interface_maps.hpp), so that a solid face moving with the liquid carries the same
 /// flux in H as in the liquid's weak divergence.
-std::array<std::array<double, 3>, 3> wet_face_mass(const std::array<double, 3>& phi, const std::array<int, 3>& ids);
+std::array<std::array<double, 3>, 3> wet_face_mass(const std::array<double, 3>& phi);
 
 /// First moment of the liquid part, int_{Omega_t} x dV [m^4], exact for phi linear on the tet:
 /// the liquid part split into tets (a corner, a tet less a corner, or a prism of three tets), each

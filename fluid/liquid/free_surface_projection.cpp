@@ -109,7 +109,7 @@ LiquidGeometry liquid_geometry(const FluidMesh& mesh, const Eigen::VectorXd& phi
     for (auto& a : g.wet_moment[t]) a.setZero();
     if (liquid == 0) return;
     const CutTet c = cut_tet({mesh.nodes[tet[0]], mesh.nodes[tet[1]], mesh.nodes[tet[2]], mesh.nodes[tet[3]]},
-                             {phi[tet[0]], phi[tet[1]], phi[tet[2]], phi[tet[3]]}, tet);
+                             {phi[tet[0]], phi[tet[1]], phi[tet[2]], phi[tet[3]]});
     g.liquid_volume[t] = c.liquid_volume;
     g.wet_moment[t] = c.wet_moment;
     g.first_moment[t] = c.first_moment;

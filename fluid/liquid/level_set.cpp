@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -290,6 +291,41 @@ void snap_to_surface(const FluidMesh& mesh, Eigen::VectorXd& phi) {
   const double snap = 1e-9 * mesh.mean_edge_length();
   for (double& v : phi)
     if (std::abs(v) < snap) v = 0.0;
+}
+
+void wet_enclosed_zeros(const FluidMesh& mesh, Eigen::VectorXd& phi) {
+  // Candidates: the nodes at 0 with no air neighbour; wet: those a path of candidates joins to a
+  // liquid node (a corner of the floor may see only other nodes of the walls).
+  auto neighbours = [&](int i, auto&& f) {
+    for (int t : mesh.node_tets[i])
+      for (int j : mesh.tets[t])
+        if (j != i) f(j);
+  };
+  std::vector<char> candidate(mesh.num_nodes(), 0);
+  std::vector<int> front;
+  for (int i = 0; i < mesh.num_nodes(); ++i) {
+    if (phi[i] != 0.0) continue;
+    bool air = false, liquid = false;
+    neighbours(i, [&](int j) {
+      air = air || phi[j] > 0.0;
+      liquid = liquid || phi[j] < 0.0;
+    });
+    candidate[i] = !air;
+    if (!air && liquid) front.push_back(i);
+  }
+  std::vector<int> wet;
+  for (int i : front) candidate[i] = 0;
+  while (!front.empty()) {
+    const int i = front.back();
+    front.pop_back();
+    wet.push_back(i);
+    neighbours(i, [&](int j) {
+      if (!candidate[j]) return;
+      candidate[j] = 0;
+      front.push_back(j);
+    });
+  }
+  for (int i : wet) phi[i] = -std::numeric_limits<double>::min();
 }
 
 void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool keep_cut_tets) {

@@ -55,6 +55,14 @@ mesh::SurfaceMesh liquid_surface(const FluidMesh& mesh, const Eigen::VectorXd& p
 /// of liquid of zero thickness. Moves the surface by at most that distance.
 void snap_to_surface(const FluidMesh& mesh, Eigen::VectorXd& phi);
 
+/// Makes liquid (phi = -DBL_MIN) every node at phi = 0 that has no air neighbour (phi > 0) and is
+/// joined to a liquid node (phi < 0) directly or through such nodes: it lies on no free surface. A liquid region's face that lies on
+/// a wall (a column standing on the floor: box_distance is 0 at the floor's nodes under it) or on
+/// another region's face puts it there; left at 0 it counts as air, so it is a node of the surface
+/// with p = 0, and the liquid above a floor of such nodes fell freely in the first step. Every tet
+/// around such a node is full of liquid either way, so no surface moves and no volume changes.
+void wet_enclosed_zeros(const FluidMesh& mesh, Eigen::VectorXd& phi);
+
 /// Replaces phi by the signed distance to its zero set, clamped to [-band, band] (see file doc);
 /// where the zero set ends on the mesh boundary (a wall, a solid), a triangle there also counts as
 /// continued in its plane across that edge, taken no nearer than half its own distance. With

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "support/number_text.hpp"
+
 namespace tetfsi::fluid {
 namespace {
 
@@ -91,7 +93,7 @@ void compute_tet_geometry(FluidMesh& fm) {
   for (int t = 0; t < nf; ++t)
     if (!(fm.volume[t] > 0.0))
       throw std::invalid_argument("fluid mesh: fluid tet " + std::to_string(fm.tet_to_mesh_tet[t]) +
-                                  " has non-positive volume " + std::to_string(fm.volume[t]));
+                                  " has non-positive volume " + number_text(fm.volume[t]));
 }
 
 /// Area and unit outward normal of a boundary face from its nodes' positions.

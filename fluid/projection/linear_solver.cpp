@@ -9,6 +9,8 @@
 #include <numeric>
 #include <vector>
 
+#include "support/number_text.hpp"
+
 namespace tetfsi::fluid {
 namespace {
 
@@ -119,8 +121,8 @@ SolveReport solve_spd(const Eigen::SparseMatrix<double>& a, const Eigen::VectorX
   // The recursive residual the solvers test can drift slightly from the true one: allow 10x.
   if (r.relative_residual > 10.0 * options.tolerance)
     throw SolverError(std::string("solve_spd: ") + to_string(options.backend) + " did not converge: relative residual " +
-                      std::to_string(r.relative_residual) + " after " + std::to_string(r.iterations) +
-                      " iterations (tolerance " + std::to_string(options.tolerance) + ")");
+                      number_text(r.relative_residual) + " after " + std::to_string(r.iterations) +
+                      " iterations (tolerance " + number_text(options.tolerance) + ")");
   return r;
 }
 

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "support/number_text.hpp"
+
 namespace tetfsi::fluid {
 namespace {
 double now() {
@@ -63,7 +65,7 @@ ProjectionReport project(const FluidMesh& mesh, const ClassifiedBoundary& bc, do
     const double scale = bc.flux.cwiseAbs().sum();
     if (std::abs(net) > 1e-8 * scale)
       throw std::invalid_argument("project: closed fluid domain (no open boundary) with net inflow " +
-                                  std::to_string(net) + " m^3/s: incompressible flow has no solution");
+                                  number_text(net) + " m^3/s: incompressible flow has no solution");
     rhs.array() -= rhs.mean();
     unknown[0] = -1;  // pin node 0
     m = 0;

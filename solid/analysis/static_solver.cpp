@@ -13,6 +13,7 @@
 
 #include "solid/loads/follower_pressure.hpp"
 #include "support/stopwatch.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::solid {
 namespace {
@@ -263,7 +264,7 @@ StaticResult solve_static(const ElasticModel& model, const BoundaryConditions& b
   while (lambda < final_load_factor * (1.0 - 1e-12)) {
     if (++attempts > max_attempts) {
       throw NonConvergence("static solve did not converge: " + std::to_string(max_attempts) +
-                           " load-step attempts used up at lambda = " + std::to_string(lambda) +
+                           " load-step attempts used up at lambda = " + number_text(lambda) +
                            " (the step size keeps being cut; last cause: " + cause + ")");
     }
     const double target = std::min(lambda + increment, final_load_factor);

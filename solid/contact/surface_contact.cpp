@@ -106,6 +106,7 @@ void SurfaceContact::begin_step(double h, const Eigen::VectorXd& x, const Eigen:
                                 const std::vector<char>& prescribed) {
   h_ = h;
   prescribed_ = prescribed;
+  u_start_ = u;
   candidates_.clear();
   active_.clear();
   if (!enabled() || triangles_.empty()) return;
@@ -180,29 +181,48 @@ double SurfaceContact::relative_velocity(const Pair& p, const Eigen::VectorXd& u
   return g;
 }
 
-void SurfaceContact::activate(Pair p, const SparseMatrix& A) {
-  const int r = 3 * p.node;
-  p.kappa = settings_.penalty * (A.coeff(r, r) + A.coeff(r + 1, r + 1) + A.coeff(r + 2, r + 2)) / 3.0;
+double SurfaceContact::friction_damping(const Pair& p, double force, const Eigen::VectorXd& u) const {
+  if (!(settings_.friction > 0) || !(force > 0)) return 0.0;
+  Eigen::Vector3d v_rel = Eigen::Vector3d::Zero();
+  for (const auto& [v, c] : entries(p)) v_rel += c * node_at(u, v);
+  const double slip = (v_rel - p.normal * p.normal.dot(v_rel)).norm();
+  return settings_.friction * force / std::max(slip, settings_.friction_velocity);
+}
+
+void SurfaceContact::activate(Pair p) {
+  p.kappa = settings_.penalty * mass_[p.node] / h_;  // from the node's inertia, as NewmarkIntegrator's
   p.target = -2.0 * std::max(p.gap, 0.0) / h_ - p.relative_velocity;
   active_.push_back(p);
 }
 
-bool SurfaceContact::warm_start(const SparseMatrix& A) {
+bool SurfaceContact::warm_start() {
   if (touching_.empty()) return false;
   std::vector<char> touched(X_.size() / 3, 0);
-  for (int v : touching_)
-    if (v < static_cast<int>(touched.size())) touched[v] = 1;
-  for (const Pair& p : candidates_)
-    if (touched[p.node] && p.gap <= 1e-6 * h_) activate(p, A);  // still touching (1 µm/s over the step)
+  std::vector<double> force(X_.size() / 3, 0.0);
+  for (std::size_t k = 0; k < touching_.size(); ++k)
+    if (touching_[k] < static_cast<int>(touched.size())) {
+      touched[touching_[k]] = 1;
+      if (k < touching_force_.size()) force[touching_[k]] = touching_force_[k];
+    }
+  for (Pair p : candidates_)
+    if (touched[p.node] && p.gap <= 1e-6 * h_) {  // still touching (1 µm/s over the step)
+      p.force = force[p.node];
+      p.friction = friction_damping(p, p.force, u_start_);
+      activate(p);
+    }
   return !active_.empty();
 }
 
-bool SurfaceContact::update(const SparseMatrix& A, const Eigen::VectorXd& u_next) {
+bool SurfaceContact::update(const Eigen::VectorXd& u_next) {
   bool changed = false;
   std::vector<char> is_active(X_.size() / 3, 0);
   for (size_t k = 0; k < active_.size();) {
     Pair& p = active_[k];
     p.force = p.kappa * (p.target - relative_velocity(p, u_next));
+    // The friction for the next round's solve; a change of more than 1% is solved again.
+    const double friction = friction_damping(p, p.force, u_next);
+    changed = changed || std::abs(friction - p.friction) > 0.01 * std::max(friction, p.friction);
+    p.friction = friction;
     if (p.force < 0) {
       active_[k] = active_.back();
       active_.pop_back();
@@ -215,7 +235,7 @@ bool SurfaceContact::update(const SparseMatrix& A, const Eigen::VectorXd& u_next
   for (const Pair& p : candidates_) {
     if (is_active[p.node]) continue;
     if (!(p.gap + 0.5 * h_ * (p.relative_velocity + relative_velocity(p, u_next)) < 0)) continue;
-    activate(p, A);
+    activate(p);
     changed = true;
   }
   return changed;
@@ -235,7 +255,8 @@ void SurfaceContact::add_rows(SparseMatrix& A, Eigen::VectorXd& b) const {
         for (const auto& [col_node, c_col] : g)
           for (int beta = 0; beta < 3; ++beta) {
             const int col = 3 * col_node + beta;
-            const double value = p.kappa * c_row * c_col * p.normal[alpha] * p.normal[beta];
+            const double nn = p.normal[alpha] * p.normal[beta];
+            const double value = c_row * c_col * (p.kappa * nn + p.friction * ((alpha == beta) - nn));
             if (prescribed_[col])
               rhs[row] -= value * b[col] / A.coeff(col, col);  // the prescribed velocity, A_jj u_j = b_j
             else
@@ -249,30 +270,22 @@ void SurfaceContact::add_rows(SparseMatrix& A, Eigen::VectorXd& b) const {
   b += rhs;
 }
 
-void SurfaceContact::finish(Eigen::VectorXd& u_next) {
+void SurfaceContact::finish(const Eigen::VectorXd& u_next) {
   touching_.clear();
+  touching_force_.clear();
+  solid_force_.assign(num_solids_, Eigen::Vector3d::Zero());
   for (Pair& p : active_) {
     p.force = p.kappa * (p.target - relative_velocity(p, u_next));
     touching_.push_back(p.node);
+    touching_force_.push_back(p.force);
+    const double f = std::max(0.0, p.force);
+    solid_force_[node_solid_[p.node]] += f * p.normal;
+    solid_force_[triangles_[p.triangle].solid] -= f * p.normal;
   }
-  if (settings_.friction <= 0) return;
-  for (const Pair& p : active_) {
-    if (p.force <= 0) continue;
-    const auto g = entries(p);
-    Eigen::Vector3d v_rel = Eigen::Vector3d::Zero();
-    double inverse_mass = 0;
-    for (const auto& [v, c] : g) {
-      v_rel += c * node_at(u_next, v);
-      if (!node_prescribed(v)) inverse_mass += c * c / mass_[v];
-    }
-    const Eigen::Vector3d v_t = v_rel - p.normal * p.normal.dot(v_rel);
-    const double speed = v_t.norm();
-    if (speed <= 0 || inverse_mass <= 0) continue;
-    const double impulse = std::min(settings_.friction * p.force * h_, speed / inverse_mass);
-    const Eigen::Vector3d direction = v_t / speed;
-    for (const auto& [v, c] : g)
-      if (!node_prescribed(v)) u_next.segment<3>(3 * v) -= c * impulse / mass_[v] * direction;
-  }
+}
+
+Eigen::Vector3d SurfaceContact::contact_force(int solid) const {
+  return solid < static_cast<int>(solid_force_.size()) ? solid_force_[solid] : Eigen::Vector3d::Zero();
 }
 
 }  // namespace tetfsi::solid

@@ -18,15 +18,20 @@
 ///     g(u^{n+1}) = −2 max(φⁿ, 0)/h − g(uⁿ),
 /// the obstacle contact of NewmarkIntegrator (solid/integrator/newmark.hpp) with the obstacle
 /// replaced by the moving triangle. It is imposed by a penalty, κ G Gᵀ added to A and κ·target·G to
-/// b, κ = penalty × the mean diagonal of A at node a; pairs whose constraint force
+/// b, κ = penalty × m_a/h (node a's inertia); pairs whose constraint force
 /// f = κ (target − Gᵀ u^{n+1}) would pull are released. The force acts on a as f n and on the
 /// triangle's nodes as −w_m f n: a pair conserves linear momentum. Dofs with prescribed velocity
 /// (fixed or driven nodes) keep their rows; their columns of κ G Gᵀ move to b.
 ///
-/// Coulomb friction (coefficient μ), after the solve: the pair's relative tangential velocity v_t
-/// is reduced by the impulse P = min(μ f h, m_eff |v_t|), m_eff = 1 / (1/m_a + Σ w_m² / m_m),
-/// applied as −P t̂ to a and +w_m P t̂ to the triangle's nodes (t̂ = v_t / |v_t|), as Bridson, Fedkiw
-/// & Anderson (2002, sec. 7.2) bound the friction impulse by μ times the normal one.
+/// Coulomb friction (coefficient μ), inside the same solve: a pair with normal force f (that of
+/// the previous round, or of the previous step for a pair that goes on) gets the tangential
+/// damping c_t T_Gᵀ T_G, T_G u = (I − n nᵀ)(u_a − Σ w_m u_m) its relative tangential velocity v_t
+/// and c_t = μ f / max(|v_t|, ε_v) from the last solve's v_t: the force −c_t v_t on a (and
+/// +w_m c_t v_t on the triangle's nodes) is μ f against a slip and holds a sticking pair (creep
+/// below ε_v), the lagged smoothed Coulomb law of Li et al. (2020, IPC, sec. 5) with one Picard
+/// update per round (a round whose c_t moved by more than 1% is solved again, so at convergence
+/// a sliding pair's friction is μ f to 1%). It conserves linear momentum as the normal force does, and, being part of
+/// the solve, it acts on the fluid in the same step.
 ///
 /// Self-contact: triangles incident to a are skipped, and so are triangles within 2δ (or half a
 /// surface edge) of a in the reference configuration (parts that close at rest), triangles that a
@@ -47,14 +52,14 @@ namespace tetfsi::solid {
 
 struct SurfaceContactSettings {
   double gap = 0;            ///< δ: film kept between the surfaces [m], >= 0
-  /// κ as a multiple of the node's mean diagonal entry of A: the constraint holds to about 1/κ
-  /// relative. 1e5, not the obstacles' 1e7: with 1e7 the pair rows (which couple two solids'
-  /// nodes) left the coupled fast path (schur_cg) stalled at a fluid residual of 1.0-1.2e-8
-  /// against its 1e-8 tolerance when two balls met in data/scenes/balls_collide.json; with 1e5 it
-  /// converged, and the balls' centres stayed within 3.9e-4 m (0.4% of their travel) of the
-  /// direct solve's (umfpack, 1e7) over the 0.4 s run.
+  /// κ as a multiple of the contact node's inertia m_a/h (as NewmarkIntegrator's obstacle
+  /// contact): the constraint holds to about 1/κ of the node's change of momentum. 1e5, not the
+  /// obstacles' 1e7: with 1e7 of A's diagonal the pair rows (which couple two solids' nodes) left
+  /// the coupled fast path (schur_cg) stalled at a fluid residual of 1.0-1.2e-8 against its 1e-8
+  /// tolerance when two balls met in data/scenes/balls_collide.json.
   double penalty = 1e5;
   double friction = 0;       ///< Coulomb μ >= 0
+  double friction_velocity = 1e-3;  ///< ε_v [m/s]: below it a pair sticks (see the file comment)
   bool between_solids = true;  ///< pairs of different solids
 };
 
@@ -78,20 +83,29 @@ class SurfaceContact {
   /// prescribed (nodes with any such dof are not contact nodes, but their triangles are obstacles).
   void begin_step(double h, const Eigen::VectorXd& x, const Eigen::VectorXd& u, const std::vector<char>& prescribed);
   /// Activates the pairs that touched at the end of the previous step and still touch.
-  /// @param A the system matrix without contact rows (for κ). @return true if any was activated.
-  bool warm_start(const SparseMatrix& A);
+  /// @return true if any was activated.
+  bool warm_start();
   /// Releases pulling pairs and activates the candidates whose predicted end-of-step gap under
   /// u_next is negative. @return true if the active set changed.
-  bool update(const SparseMatrix& A, const Eigen::VectorXd& u_next);
-  /// A += κ G Gᵀ and b += κ target G over the active pairs (A: the matrix without contact rows,
-  /// b its right-hand side; prescribed dofs as in the file comment).
+  bool update(const Eigen::VectorXd& u_next);
+  /// A += κ G Gᵀ + c_t T_Gᵀ T_G and b += κ target G over the active pairs (A: the matrix without
+  /// contact rows, b its right-hand side; prescribed dofs as in the file comment).
   void add_rows(SparseMatrix& A, Eigen::VectorXd& b) const;
-  /// Constraint forces of the final solution u_next, then Coulomb friction applied to u_next.
-  void finish(Eigen::VectorXd& u_next);
+  /// Constraint forces of the final solution u_next (the next step's friction starts from them).
+  void finish(const Eigen::VectorXd& u_next);
+  /// The sum over the last step's pairs of the force f n that solid `solid` receives [N] (as the
+  /// contact node's solid, f n; as the triangle's, −f n).
+  Eigen::Vector3d contact_force(int solid) const;
   int num_active() const { return static_cast<int>(active_.size()); }
   /// Nodes in contact at the end of the last step (system node ids), for a retried step.
   const std::vector<int>& touching_nodes() const { return touching_; }
-  void set_touching_nodes(std::vector<int> nodes) { touching_ = std::move(nodes); }
+  /// Their normal forces [N], one per touching node.
+  const std::vector<double>& touching_forces() const { return touching_force_; }
+  void set_touching_nodes(std::vector<int> nodes, std::vector<double> forces) {
+    touching_ = std::move(nodes);
+    touching_force_ = std::move(forces);
+    touching_force_.resize(touching_.size(), 0.0);
+  }
 
  private:
   struct Triangle {
@@ -108,11 +122,14 @@ class SurfaceContact {
     double target = 0;          // g(u^{n+1}) [m/s]
     double kappa = 0;           // [kg/s]
     double force = 0;           // f [N]
+    double friction = 0;        // c_t [kg/s]
   };
   /// κ·G's four (node, coefficient) entries of a pair.
   std::array<std::pair<int, double>, 4> entries(const Pair& p) const;
   double relative_velocity(const Pair& p, const Eigen::VectorXd& u) const;
-  void activate(Pair p, const SparseMatrix& A);
+  /// c_t = μ f / max(|v_t|, ε_v) of pair p with normal force f under velocities u.
+  double friction_damping(const Pair& p, double force, const Eigen::VectorXd& u) const;
+  void activate(Pair p);
   bool node_prescribed(int v) const { return prescribed_[3 * v] || prescribed_[3 * v + 1] || prescribed_[3 * v + 2]; }
 
   SurfaceContactSettings settings_;
@@ -126,6 +143,9 @@ class SurfaceContact {
   std::vector<char> prescribed_;
   std::vector<Pair> candidates_, active_;
   std::vector<int> touching_;
+  std::vector<double> touching_force_;
+  Eigen::VectorXd u_start_;                    // uⁿ of begin_step
+  std::vector<Eigen::Vector3d> solid_force_;  // per solid, the last step's contact force [N]
 };
 
 }  // namespace tetfsi::solid

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "support/number_text.hpp"
+
 namespace tetfsi::solid::hex {
 
 double Material::lame_lambda() const {
@@ -15,14 +17,14 @@ double Material::lame_mu() const { return youngs_modulus / (2.0 * (1.0 + poisson
 void Material::validate() const {
   if (!(youngs_modulus > 0.0) || !std::isfinite(youngs_modulus)) {
     throw std::invalid_argument("hex material: Young's modulus must be > 0, got " +
-                                std::to_string(youngs_modulus));
+                                number_text(youngs_modulus));
   }
   if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5)) {
     throw std::invalid_argument("hex material: Poisson ratio must lie in (-1, 0.5), got " +
-                                std::to_string(poisson_ratio));
+                                number_text(poisson_ratio));
   }
   if (!(density > 0.0) || !std::isfinite(density)) {
-    throw std::invalid_argument("hex material: density must be > 0, got " + std::to_string(density));
+    throw std::invalid_argument("hex material: density must be > 0, got " + number_text(density));
   }
 }
 

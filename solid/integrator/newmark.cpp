@@ -1,7 +1,10 @@
 #include "solid/integrator/newmark.hpp"
 
+#include <limits>
+
 #include "solid/solid_error.hpp"
 #include "support/stopwatch.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::solid {
 
@@ -82,7 +85,7 @@ void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& 
   if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
   const int next = step_ + 1;
   if (!model_.evaluate(d_, K_force_, &K_tangent_))
-    throw SolidError("solid step " + std::to_string(next) + " (t = " + std::to_string(time_) +
+    throw SolidError("solid step " + std::to_string(next) + " (t = " + number_text(time_) +
                      " s): " + model_.last_error());
   const auto& X = model_.reference_positions();
   for (const auto& s : springs_) {
@@ -121,6 +124,10 @@ void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& 
   stats_.inverted = model_.last_inverted_count();
 }
 
+Eigen::VectorXd NewmarkIntegrator::end_displacement(double h, const Eigen::VectorXd& u_next) const {
+  return d_ + 0.5 * h * (u_ + u_next);
+}
+
 void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
   const int next = step_ + 1;
   if (u_next.size() != u_.size()) throw SolidError("advance: velocity has the wrong size");
@@ -128,22 +135,21 @@ void NewmarkIntegrator::advance(double h, const Eigen::VectorXd& u_next) {
     if (!std::isfinite(u_next[i]))
       throw SolidError("solid step " + std::to_string(next) + ": non-finite velocity at node " +
                        std::to_string(i / 3) + " (diverged)");
-  d_ += 0.5 * h * (u_ + u_next);  // eq. (5)
+  d_ = end_displacement(h, u_next);  // eq. (5), contact nodes landing on their obstacle
   u_ = u_next;
   for (Eigen::Index i = 0; i < u_.size(); ++i)
     if (fixed_[i]) u_[i] = prescribed_[i];
-  // Contacts of the implicit solve: inelastic normal, Coulomb friction from the constraint force.
-  const auto& m = model_.lumped_masses();
+  // Contacts of the implicit solve: inelastic normal (friction was part of the solve).
+  contact_force_.setZero();
   for (const auto& c : active_) {
     Eigen::Vector3d vel = u_.segment<3>(3 * c.node);
-    vel -= vel.dot(c.normal) * c.normal;
-    const double vt = vel.norm(), dv = obstacles_.friction() * std::max(0.0, c.force) * h / m[c.node];
-    if (vt > 0) vel *= std::max(0.0, 1.0 - dv / vt);
-    u_.segment<3>(3 * c.node) = vel;
+    u_.segment<3>(3 * c.node) = vel - vel.dot(c.normal) * c.normal;
+    contact_force_ += std::max(0.0, c.force) * c.normal;
   }
   const int solved_contacts = static_cast<int>(active_.size());
   last_contact_nodes_.clear();
-  for (const auto& c : active_) last_contact_nodes_.push_back(c.node);
+  last_contact_forces_.clear();
+  for (const auto& c : active_) last_contact_nodes_.push_back(c.node), last_contact_forces_.push_back(c.force);
   active_.clear();
   stats_.contacts = std::max(solved_contacts, obstacles_.project(model_.reference_positions(), d_, u_, fixed_)) +
                     (self_contact_ ? self_contact_->num_active() : 0);
@@ -187,11 +193,11 @@ void NewmarkIntegrator::solve_with_contact(double h, const std::string& context)
     add_contact_rows(A_, b_);
     if (self) self_contact_->add_rows(A_, b_);
   };
-  if (self && self_contact_->warm_start(A_free)) with_contact_rows();
+  if (self && self_contact_->warm_start()) with_contact_rows();
   solver_.solve(A_, b_, u_next_, context);
   for (int round = 0; round < 8; ++round) {
-    bool changed = update_contacts(h, A_free, u_next_);
-    if (self) changed = self_contact_->update(A_free, u_next_) || changed;
+    bool changed = update_contacts(h, u_next_);
+    if (self) changed = self_contact_->update(u_next_) || changed;
     if (!changed) break;
     with_contact_rows();
     solver_.solve(A_, b_, u_next_, context);
@@ -209,30 +215,41 @@ void NewmarkIntegrator::enable_self_contact(const std::vector<std::array<int, 4>
   self_contact_->add_solid(tets, model_.reference_positions(), model_.lumped_masses(), 0, true);
 }
 
-void NewmarkIntegrator::activate_contact(int v, double h, const Eigen::Vector3d& normal, const SparseMatrix& A,
-                                         int offset) {
+double NewmarkIntegrator::friction_damping(double force, const Eigen::Vector3d& normal,
+                                           const Eigen::Vector3d& velocity) const {
+  const double mu = obstacles_.friction();
+  if (!(mu > 0) || !(force > 0)) return 0.0;
+  const double slip = (velocity - velocity.dot(normal) * normal).norm();
+  return mu * force / std::max(slip, settings_.friction_velocity);
+}
+
+void NewmarkIntegrator::activate_contact(int v, double h, const Eigen::Vector3d& normal, double force) {
   const Eigen::Vector3d x0 = model_.reference_positions().segment<3>(3 * v) + d_.segment<3>(3 * v);
   Eigen::Vector3d n0;
   const double phi0 = std::max(0.0, obstacles_.signed_distance(x0, n0));
-  const int r = offset + 3 * v;
-  const double diag = A.coeff(r, r) + A.coeff(r + 1, r + 1) + A.coeff(r + 2, r + 2);
-  active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(u_.segment<3>(3 * v)), settings_.contact_penalty * diag / 3.0, 0.0});
+  // κ from the node's inertia m/h, not A's diagonal: a stiff solid's (h/2) K′ term made κ n nᵀ
+  // (for a normal off the axes, spread over the 3 x 3 block) so large that the coupled solve
+  // stalled at a fluid residual of 2e-7 against 1e-8 (a ball of E = 1e8 Pa in a spherical tank).
+  const double kappa = settings_.contact_penalty * model_.lumped_masses()[v] / h;
+  const Eigen::Vector3d un = u_.segment<3>(3 * v);
+  active_.push_back({v, normal, -2.0 * phi0 / h - normal.dot(un), kappa, force, friction_damping(force, normal, un)});
 }
 
-bool NewmarkIntegrator::warm_start_contacts(double h, const SparseMatrix& A, int offset) {
+bool NewmarkIntegrator::warm_start_contacts(double h) {
   active_.clear();
   if (obstacles_.empty()) return false;
   const auto& X = model_.reference_positions();
-  for (int v : last_contact_nodes_) {
+  for (std::size_t k = 0; k < last_contact_nodes_.size(); ++k) {
+    const int v = last_contact_nodes_[k];
     Eigen::Vector3d normal;
     // Still touching (within a thousandth of the step's travel at 1 mm/s, or closer).
     if (obstacles_.signed_distance(X.segment<3>(3 * v) + d_.segment<3>(3 * v), normal) > 1e-6 * h) continue;
-    activate_contact(v, h, normal, A, offset);
+    activate_contact(v, h, normal, k < last_contact_forces_.size() ? last_contact_forces_[k] : 0.0);
   }
   return !active_.empty();
 }
 
-bool NewmarkIntegrator::update_contacts(double h, const SparseMatrix& A, const Eigen::VectorXd& u_next,
+bool NewmarkIntegrator::update_contacts(double h, const Eigen::VectorXd& u_next,
                                         int offset) {
   if (obstacles_.empty()) return false;
   bool changed = false;
@@ -241,7 +258,12 @@ bool NewmarkIntegrator::update_contacts(double h, const SparseMatrix& A, const E
   // Release pulling constraints.
   for (size_t k = 0; k < active_.size();) {
     auto& c = active_[k];
-    c.force = c.kappa * (c.target - c.normal.dot(u_next.segment<3>(offset + 3 * c.node)));
+    const Eigen::Vector3d velocity = u_next.segment<3>(offset + 3 * c.node);
+    c.force = c.kappa * (c.target - c.normal.dot(velocity));
+    // The friction for the next round's solve; a change of more than 1% is solved again.
+    const double friction = friction_damping(c.force, c.normal, velocity);
+    changed = changed || std::abs(friction - c.friction) > kFrictionChange * std::max(friction, c.friction);
+    c.friction = friction;
     if (c.force < 0) {
       active_[k] = active_.back();
       active_.pop_back();
@@ -259,7 +281,7 @@ bool NewmarkIntegrator::update_contacts(double h, const SparseMatrix& A, const E
     const Eigen::Vector3d x1 = x0 + 0.5 * h * (u_.segment<3>(3 * v) + u_next.segment<3>(offset + 3 * v));
     Eigen::Vector3d normal;
     if (!(obstacles_.signed_distance(x1, normal) < 0)) continue;
-    activate_contact(v, h, normal, A, offset);
+    activate_contact(v, h, normal);
     changed = true;
   }
   return changed;
@@ -267,7 +289,8 @@ bool NewmarkIntegrator::update_contacts(double h, const SparseMatrix& A, const E
 
 void NewmarkIntegrator::add_contact_rows(SparseMatrix& A, Eigen::VectorXd& b, int offset) const {
   for (const auto& c : active_) {
-    const Eigen::Matrix3d P = c.kappa * c.normal * c.normal.transpose();
+    const Eigen::Matrix3d nn = c.normal * c.normal.transpose();
+    const Eigen::Matrix3d P = c.kappa * nn + c.friction * (Eigen::Matrix3d::Identity() - nn);
     const int r = offset + 3 * c.node;
     for (int a = 0; a < 3; ++a) {
       b[r + a] += c.kappa * c.target * c.normal[a];
@@ -278,6 +301,16 @@ void NewmarkIntegrator::add_contact_rows(SparseMatrix& A, Eigen::VectorXd& b, in
 
 void NewmarkIntegrator::finish_contacts(const Eigen::VectorXd& u_next, int offset) {
   for (auto& c : active_) c.force = c.kappa * (c.target - c.normal.dot(u_next.segment<3>(offset + 3 * c.node)));
+}
+
+double NewmarkIntegrator::obstacle_clearance() const {
+  double clearance = std::numeric_limits<double>::infinity();
+  if (obstacles_.empty()) return clearance;
+  const auto& X = model_.reference_positions();
+  Eigen::Vector3d normal;
+  for (int v = 0; v < model_.num_nodes(); ++v)
+    clearance = std::min(clearance, obstacles_.signed_distance(X.segment<3>(3 * v) + d_.segment<3>(3 * v), normal));
+  return clearance;
 }
 
 StepStats NewmarkIntegrator::energies() const {

@@ -63,11 +63,15 @@ struct NewmarkSettings {
   SolverKind solver = SolverKind::kCholmod;
   double cg_tolerance = 1e-10;     ///< relative residual for SolverKind::kConjugateGradient
   bool track_energy = true;        ///< fill the energy fields of StepStats (one extra pass)
-  /// Contact penalty κ of the active set as a multiple of the node's mean diagonal entry of A: the
-  /// constraint holds to about 1/κ relative, and the solve's round-off grows with κ. (1e5 in the
-  /// coupled step made a stiff ball at h = 1/120 s bounce for longer and did not cure the stalled
-  /// solve of a ball resting in a sphere container, so both runners use 1e7.)
+  /// Contact penalty κ of the active set as a multiple of the node's inertia m/h (not of A's
+  /// diagonal, which a stiff solid's stiffness dominates): the constraint holds to about 1/κ of
+  /// the node's change of momentum, and the solve's round-off grows with κ. (1e5 in the coupled
+  /// step made a stiff ball at h = 1/120 s bounce for longer, so both runners use 1e7.)
   double contact_penalty = 1e7;
+  /// ε_v [m/s] of the friction inside the solve (see step()): below this tangential speed a
+  /// contact sticks (its friction force falls linearly to zero with the speed, as the smoothed
+  /// Coulomb law of Li et al. 2020, IPC, sec. 5); it bounds the creep of a sticking node.
+  double friction_velocity = 1e-3;
 };
 
 /// Linear spring from a node to a fixed anchor: force -k (x - anchor) on the node.
@@ -134,9 +138,12 @@ class NewmarkIntegrator {
   /// and b of the other rows is corrected by -A_ij v_j. (The coupling must leave fixed rows
   /// out of J.) @throws SolidError if h <= 0, naming the step and element if the model fails at d^n.
   void form_system(double h, SparseMatrix& A, Eigen::VectorXd& b);
-  /// Eq. (5) over a step of length h [s] with the given u^{n+1}, then Dirichlet values, contact
-  /// and finiteness checks; advances the time and step counter. @throws SolidError on non-finite values.
+  /// Eq. (5) over a step of length h [s] with the given u^{n+1} (end_displacement), then
+  /// Dirichlet values, contact and finiteness checks; advances the time and step counter.
+  /// @throws SolidError on non-finite values.
   void advance(double h, const Eigen::VectorXd& u_next);
+  /// The displacement d^{n+1} that advance(h, u_next) sets: eq. (5), d + (h/2)(uⁿ + u^{n+1}).
+  Eigen::VectorXd end_displacement(double h, const Eigen::VectorXd& u_next) const;
 
   // ---- contact with the obstacles when the caller owns the solve (the coupled step) ----
   // The same active set as step(): form_system, [warm_start_contacts], then rounds of
@@ -144,22 +151,27 @@ class NewmarkIntegrator {
   // then finish_contacts on the last solution and advance.
   /// Activates the nodes that were in contact at the end of the previous step (the active set a
   /// body resting on a floor keeps), so a resting contact costs no extra solve. Call after
-  /// form_system. @param A the matrix form_system returned, or a larger system holding it at dof
-  /// `offset`. @return true if any was activated.
-  bool warm_start_contacts(double h, const SparseMatrix& A, int offset = 0);
+  /// form_system. @return true if any was activated.
+  bool warm_start_contacts(double h);
   /// Releases the constraints whose force f_c = κ (target − n·u^{n+1}) would pull and activates
   /// every free node whose end-of-step position xⁿ + (h/2)(uⁿ + u^{n+1}) lies inside an obstacle,
   /// with the landing constraint n·u^{n+1} = −2 φⁿ/h − n·uⁿ (see step()).
-  /// @param A       the matrix form_system returned (the penalty scale κ = 1e7 × its diagonal
-  ///                block), or a larger system (without contact rows) holding it at dof `offset`
-  /// @param u_next  the solution u^{n+1} of that system (this solid's velocities at `offset`)
+  /// @param u_next  a solution u^{n+1} (this solid's velocities at dof `offset`)
   /// @return true if the active set changed (add contact_rows and solve again)
-  bool update_contacts(double h, const SparseMatrix& A, const Eigen::VectorXd& u_next, int offset = 0);
-  /// Adds the active constraints' penalty rows, κ n nᵀ to the node's diagonal block and κ target n
-  /// to b, at dof offset `offset` of a larger system (A must hold the diagonal blocks already).
+  bool update_contacts(double h, const Eigen::VectorXd& u_next, int offset = 0);
+  /// Adds the active constraints' rows at dof offset `offset` of a larger system (A must hold the
+  /// diagonal blocks already): the penalty κ n nᵀ + c_t (I − n nᵀ) to the node's diagonal block
+  /// and κ target n to b, c_t the friction of the contact (see step()).
   void add_contact_rows(SparseMatrix& A, Eigen::VectorXd& b, int offset = 0) const;
-  /// The constraint forces of the final solution (Coulomb friction in advance() uses them).
+  /// The constraint forces of the final solution (the next step's friction starts from them).
   void finish_contacts(const Eigen::VectorXd& u_next, int offset = 0);
+  /// The sum of the last step's contact forces on the solid [N] (the obstacles' push: f n per
+  /// contact node), 0 without contact.
+  Eigen::Vector3d contact_force() const { return contact_force_; }
+  /// The smallest signed distance of a node to the obstacles at the current displacement [m]
+  /// (negative: inside one; +infinity without obstacles). For a wall set back by a fluid film, the
+  /// distance to the film's surface.
+  double obstacle_clearance() const;
   int num_active_contacts() const { return static_cast<int>(active_.size()); }
 
   // ---- whole step ----
@@ -169,9 +181,16 @@ class NewmarkIntegrator {
   /// by eq. 5), imposed by a stiff penalty kappa n n^T on its diagonal block (kappa =
   /// NewmarkSettings::contact_penalty x the block's diagonal), and the system is solved again (at most 8 rounds; nodes whose
   /// constraint force would pull are released). The rest of the body thus responds to the
-  /// contact within the same step. After eq. (5), constrained nodes lose their normal velocity
-  /// (inelastic) and Coulomb friction removes up to mu |f_c| h / m of tangential velocity, f_c
-  /// being the constraint force. Nodes still inside are projected (StaticObstacles::project).
+  /// contact within the same step. Coulomb friction is in the same solve: a contact with normal
+  /// force f_c (that of the previous round, or of the previous step for a contact that goes on)
+  /// gets the tangential damping c_t (I - n n^T), c_t = mu f_c / max(|v_t|, eps_v), v_t its
+  /// tangential velocity in that solve: the force -c_t v_t is mu f_c against the slip when it
+  /// slides and holds it (creep below eps_v = NewmarkSettings::friction_velocity) when it sticks,
+  /// the lagged smoothed Coulomb law of Li et al. 2020 (IPC, sec. 5) with one Picard update per
+  /// round (a round whose c_t moved by more than 1% is solved again). After eq. (5), constrained
+  /// nodes lose their normal velocity (inelastic); in a coupled step the closed fluid regions'
+  /// start-velocity projection (coupling/closed_regions.hpp) then gives back what that changes of
+  /// a closed volume. Nodes still inside are projected (StaticObstacles::project).
   /// @throws SolidError (see above)
   const StepStats& step(double h);
   /// One step of length settings().time_step.
@@ -197,10 +216,12 @@ class NewmarkIntegrator {
     int step = 0;
     StepStats stats;
     std::vector<int> last_contact_nodes;
+    std::vector<double> last_contact_forces;
   };
-  State save_state() const { return {d_, u_, time_, step_, stats_, last_contact_nodes_}; }
+  State save_state() const { return {d_, u_, time_, step_, stats_, last_contact_nodes_, last_contact_forces_}; }
   void restore_state(const State& s) {
     d_ = s.d, u_ = s.u, time_ = s.time, step_ = s.step, stats_ = s.stats, last_contact_nodes_ = s.last_contact_nodes;
+    last_contact_forces_ = s.last_contact_forces;
     active_.clear();
   }
   /// Checkpoints (newmark_state.cpp): save_state()'s State, the prescribed velocities, the external
@@ -224,11 +245,20 @@ class NewmarkIntegrator {
     double target;   // n.u^{n+1} [m/s]
     double kappa;    // penalty [kg/s]
     double force;    // constraint force along n [N], after the solve
+    double friction = 0;  // c_t [kg/s] (see step())
   };
   std::vector<ActiveContact> active_;
-  std::vector<int> last_contact_nodes_;  // nodes in contact at the end of the last step
-  /// Adds node v's landing constraint to active_ (normal and φⁿ from its position at dⁿ).
-  void activate_contact(int v, double h, const Eigen::Vector3d& normal, const SparseMatrix& A, int offset);
+  std::vector<int> last_contact_nodes_;      // nodes in contact at the end of the last step
+  std::vector<double> last_contact_forces_;  // and their normal forces [N]
+  Eigen::Vector3d contact_force_ = Eigen::Vector3d::Zero();  // sum of the last step's f n [N]
+  /// Adds node v's landing constraint to active_ (normal and φⁿ from its position at dⁿ), with
+  /// the friction of the normal force `force` [N] and the tangential velocity of u at the node.
+  void activate_contact(int v, double h, const Eigen::Vector3d& normal, double force = 0);
+  /// A round whose friction coefficients c_t changed by more than this fraction is solved again
+  /// (the Picard iteration of the lagged friction, step()).
+  static constexpr double kFrictionChange = 0.01;
+  /// c_t = μ f / max(|v_t|, ε_v) of a contact (step()).
+  double friction_damping(double force, const Eigen::Vector3d& normal, const Eigen::Vector3d& velocity) const;
   /// Solves A u = b with the contact active set (see step()); fills active_.
   void solve_with_contact(double h, const std::string& context);
   SparseMatrix K_tangent_, A_;

@@ -14,21 +14,22 @@ void serialize(A& a, StepStats& s) {
 }
 
 void NewmarkIntegrator::write_state(BinaryWriter& out) const {
-  out(d_, u_, time_, step_, stats_, last_contact_nodes_, prescribed_, f_ext_, bool(self_contact_));
-  if (self_contact_) out(self_contact_->touching_nodes());
+  out(d_, u_, time_, step_, stats_, last_contact_nodes_, last_contact_forces_, prescribed_, f_ext_, bool(self_contact_));
+  if (self_contact_) out(self_contact_->touching_nodes(), self_contact_->touching_forces());
 }
 
 void NewmarkIntegrator::read_state(BinaryReader& in) {
   const auto n = d_.size();
   bool self = false;
-  in(d_, u_, time_, step_, stats_, last_contact_nodes_, prescribed_, f_ext_, self);
+  in(d_, u_, time_, step_, stats_, last_contact_nodes_, last_contact_forces_, prescribed_, f_ext_, self);
   if (d_.size() != n || u_.size() != n || prescribed_.size() != n || f_ext_.size() != n)
     in.fail("a solid state of another mesh");
   if (self != bool(self_contact_)) in.fail("a solid state with another self-contact setting");
   if (self_contact_) {
     std::vector<int> touching;
-    in(touching);
-    self_contact_->set_touching_nodes(std::move(touching));
+    std::vector<double> forces;
+    in(touching, forces);
+    self_contact_->set_touching_nodes(std::move(touching), std::move(forces));
   }
   active_.clear();
 }

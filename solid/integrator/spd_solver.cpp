@@ -7,6 +7,7 @@
 
 #include "solid/solid_error.hpp"
 #include "support/stopwatch.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::solid {
 
@@ -54,7 +55,7 @@ void SpdSolver::run_cg(Solver& cg, const Eigen::SparseMatrix<double>& A, const E
   stats_.residual = cg.error();
   if (cg.info() != Eigen::Success)
     throw SolidError(where + "conjugate gradient did not converge in " + std::to_string(cg_max_iterations_) +
-                     " iterations (relative residual " + std::to_string(stats_.residual) + ")");
+                     " iterations (relative residual " + number_text(stats_.residual) + ")");
 }
 
 void SpdSolver::solve(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,

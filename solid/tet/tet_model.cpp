@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "solid/solid_error.hpp"
+#include "support/number_text.hpp"
 
 namespace tetfsi::solid {
 namespace {
@@ -57,7 +58,7 @@ TetModel::TetModel(const mesh::TetMesh& mesh, const TetMaterial& material, const
     const double scale = Dm.colwise().norm().maxCoeff();
     if (!(vol > 1e-12 * scale * scale * scale))
       throw SolidError("TetModel: rest tet " + std::to_string(t) + " is degenerate or inverted (volume " +
-                       std::to_string(vol) + " m^3)");
+                       number_text(vol) + " m^3)");
     const Eigen::Matrix3d Dinv = Dm.inverse();
     grads_[t].block<3, 3>(1, 0) = Dinv;
     grads_[t].row(0) = -Dinv.colwise().sum();

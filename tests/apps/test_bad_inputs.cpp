@@ -326,6 +326,14 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
          return s;
        },
        "/coupling/contact_gap"},
+      {"contact_gap_without_any_contact",  // a film that no contact keeps: contradictory keys
+       [] {
+         auto s = coupled_scene();
+         s["coupling"]["contact_gap"] = 0.01;
+         s["coupling"]["wall_contact"] = false;
+         return s;
+       },
+       "/coupling/contact_gap"},
       {"self_contact_on_a_kinematic_solid",  // it deforms nothing, so it cannot fold onto itself
        [] {
          auto s = solid_scene();
@@ -458,6 +466,39 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
       {"fluid_probe_in_solid_scene",
        [] { auto s = solid_scene(); s["probes"] = {{{"name", "ke"}, {"kind", "fluid_kinetic_energy"}}}; return s; },
        "/probes/0/kind"},
+  });
+}
+
+// Liquid regions that hold no liquid (issue 41): validate passed them; run then stopped after
+// meshing ("the level set holds no liquid") or, with another region beside them, ran without them.
+TEST(BadInputs, LiquidRegionsThatHoldNoLiquidAreRefused) {
+  const auto regions = [](const json& r) {
+    auto s = container_scene();
+    s["fluid"]["fill"] = "regions";
+    s["fluid"]["regions"] = r;
+    return s;
+  };
+  const json pool = {{"type", "below"}, {"height", 0}};
+  expect_all_refused({
+      {"liquid_region_outside_the_domain",
+       [&] { return regions({{{"type", "box"}, {"lo", {1, 1, 1}}, {"hi", {2, 2, 2}}}}); },
+       "/fluid/regions/0: the region lies outside the domain box"},
+      {"liquid_region_outside_the_container",  // a corner of the box, outside the sphere
+       [&] { return regions({{{"type", "box"}, {"lo", {0.3, 0.3, 0.3}}, {"hi", {0.4, 0.4, 0.4}}}}); },
+       "/fluid/regions/0: the region lies outside the sphere container"},
+      {"liquid_region_inside_a_solid",
+       [&] { return regions({pool, {{"type", "sphere"}, {"center", {0, 0.02, 0}}, {"radius", 0.05}}}); },
+       "/fluid/regions/1: the region lies inside solid 'ball'"},
+      {"liquid_region_below_the_floor",
+       [&] { return regions({{{"type", "below"}, {"height", -0.5}}}); },
+       "/fluid/regions/0: the region holds no liquid"},
+      {"liquid_cap_below_its_sphere",
+       [&] { return regions({{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.2}, {"cap_height", -0.3}}}); },
+       "/fluid/regions/0: the region holds no liquid"},
+      {"no_liquid_regions", [&] { return regions(json::array()); }, "/fluid/regions: fill \"regions\" needs"},
+      {"one_of_two_liquid_regions_outside",
+       [&] { return regions({pool, {{"type", "box"}, {"lo", {1, 1, 1}}, {"hi", {2, 2, 2}}}}); },
+       "/fluid/regions/1: the region lies outside the domain box"},
   });
 }
 

@@ -1,8 +1,8 @@
 // Checkpoint and resume (apps/run/checkpoint.hpp) through the built tetfsi binary: a run stopped
 // early (--end-time) or killed with SIGKILL, then `run --resume`d to the end, writes every frame
 // file (.vtu, .ply), every .pvd, probes.csv and the model columns of stats.csv byte for byte as an
-// uninterrupted run does (a coupled smoke scene, a coupled liquid scene, an MPM scene, the fluid
-// and solid runners); a resume
+// uninterrupted run does (a coupled smoke scene, a coupled liquid scene, both with the velocity
+// on particles too, an MPM scene, the fluid and solid runners); a resume
 // with a changed scene, a missing, corrupt or other-version checkpoint, or on a runner that
 // writes none is refused with exit code 2 naming the key or file.
 #include <gtest/gtest.h>
@@ -194,6 +194,16 @@ TEST(CheckpointResume, CoupledSmokeStoppedOrKilledResumesBitForBit) {
 
 // Coupled runner with a free-surface liquid (level set, cut-tet system) and a rubber post.
 TEST(CheckpointResume, CoupledLiquidResumesBitForBit) { check_variant("dam_break_ci", 0.15, 0.05, 1); }
+
+// Velocity on particles (fluid/particles/): the coupled liquid on APIC particles, and the fluid
+// runner's smoke on FLIP particles around the turning paddle (its mesh moved and remeshed each step).
+TEST(CheckpointResume, ParticlesResumeBitForBit) {
+  check_variant("dam_break_ci", 0.15, 0.05, 1, [](json& s) { s["fluid"]["advection"] = "apic"; });
+  check_variant("paddle", 0.1, 0.05, 1, [](json& s) {
+    s["simulation"]["frame_rate"] = 20;
+    s["fluid"]["advection"] = "flip";
+  });
+}
 
 // The mpm runner: gas particles, membrane and grid contact.
 TEST(CheckpointResume, MpmResumesBitForBit) { check_variant("gas_expansion_ci", 1.0, 0.5, 2); }

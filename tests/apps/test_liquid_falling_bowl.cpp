@@ -135,12 +135,16 @@ static Eigen::Vector3d mean_shift(const mesh::io::UnstructuredGrid& bowl, const 
 
 // data/scenes/bowl_drop_ci.json (Chentanez et al. 2006, Fig. 5, CI size), through `tetfsi run`: the
 // soft bowl full of water (rim at y = 0.55 m, 11 cm of water) falls 0.27 m onto a tank with 8 cm
-// of water, hits the floor (wall contact inside the coupled solve) and the water splashes out.
+// of water and hits the floor (wall contact inside the coupled solve).
 // Checked: the run ends (exit 0) with finite energies; the liquid volume is kept to 1e-9 every
 // step and the tracking drift before the restoration stays small (bounds below, as measured);
-// the bowl's lowest point comes within 4 cm of the floor (it starts 0.35 m above it); at the end,
-// less water is inside the bowl than at the start.
-TEST(LiquidFallingBowl, BowlDropHitsTheFloorAndSplashesKeepingTheVolume) {
+// the bowl's lowest point comes within 4 cm of the floor (it starts 0.35 m above it); the water in
+// the bowl does not pass through its wall on impact (at least 90% of it is still inside at 0.4 s).
+// Not checked: the splash over the rim of the paper's figure. At this size (3 cm edge near the
+// bowl) the water rises to the rim (0.003 m above it at 0.4 s, 0.08 L of 11 L) but does not
+// leave; the 0.78 measured before the nearest-point clamp of back-traces (fluid/README.md) was
+// water lost through the wall, not a splash.
+TEST(LiquidFallingBowl, BowlDropHitsTheFloorKeepingTheWaterInTheBowl) {
   TempDir dir("bowl_drop");
   const fs::path out = dir.path() / "out";
   int status = -1;
@@ -175,9 +179,8 @@ TEST(LiquidFallingBowl, BowlDropHitsTheFloorAndSplashesKeepingTheVolume) {
   EXPECT_LE(mean_drift, 0.003);  // measured 0.0018 (3e-4 per step in the fall, up to 2.2% at the impact)
   EXPECT_LE(worst_drift, 0.03);  // measured 0.0223
   EXPECT_LT(lowest, 0.04);  // measured 0.0251 (the wall gap is half the 3 cm edge)
-  // Measured 0.859 (0.838 with the fluid numbering's curve reversed). The 0.605 measured when the
-  // fluid kept the mesher's tet order came from back-traces that left the liquid and were clamped
-  // where a walk from the previously located point (anywhere in the mesh) met the boundary; along
-  // a space-filling curve that point is a neighbour and the clamp is local (fluid/README.md).
-  EXPECT_LT(inside / inside0, 0.9);
+  // Measured 1.017: the count takes the tets inside the undeformed inner sphere moved with the
+  // bowl's mean shift, which the squashed bowl lets exceed 1 (1.15 at 0.33 s); 0.78 when back-traces
+  // leaving the liquid were clamped centrally and carried water through the wall.
+  EXPECT_GT(inside / inside0, 0.9);
 }

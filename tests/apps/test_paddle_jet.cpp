@@ -2,10 +2,11 @@
 // variant of paddle_jet.json): a free foam paddle (0.04 x 0.3 x 0.24 m, 30 kg/m^3) standing 4 cm
 // above the floor of a smoke box is hit on its upper half by a 4 m/s jet of air (1.2 kg/m^3, a
 // 0.16 m square patch) and vented at x+. It drops onto the floor (wall contact through a fluid
-// film), is pushed downstream and starts to tip over. Checked: Newton's second law in the first,
-// contact-free step (the paddle's centroid moves by h^2/2 (F/m + g), F the fluid_force probe);
-// the jet's push bounded by its momentum flux; carried downstream, turned, on the floor and never
-// through it, its volume kept, every value finite.
+// film) and, its foot held by Coulomb friction (μ = 0.6), is tipped over about it. Checked:
+// Newton's second law in the first, contact-free step (the paddle's centroid moves by
+// h^2/2 (F/m + g), F the fluid_force probe); the jet's push bounded by its momentum flux; the foot
+// sticking and the paddle turning about it, on the floor and never through it, its volume kept,
+// every value finite.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -99,8 +100,8 @@ TEST(PaddleJet, FreePaddleIsPushedTurnedAndKeptOnTheFloor) {
   EXPECT_NEAR(moved.x(), expected.x(), 0.01 * expected.x());
   EXPECT_NEAR(moved.y(), expected.y(), 1e-3 * std::abs(expected.y()));
 
-  // 2. The jet's push once it has reached the paddle (0.2 s to the end, the paddle still within
-  // 20 deg of upright) is positive and below the momentum flux of the jet, rho A U^2 = 0.49 N:
+  // 2. The jet's push once it has reached the paddle (from 0.2 s, while the paddle is within 20 deg
+  // of upright) is positive and below the momentum flux of the jet, rho A U^2 = 0.49 N:
   // the force of a jet on a plate that stops all of it (Newton's second law on a control volume
   // around the plate). Seen: 0.13-0.32 of it (mean 0.23); in the full scene the jet reaches the
   // paddle with its full momentum flux (0.44-0.53 N through sections between inlet and paddle),
@@ -110,20 +111,25 @@ TEST(PaddleJet, FreePaddleIsPushedTurnedAndKeptOnTheFloor) {
   const double flux = rho_f * jet_area * jet_speed * jet_speed;
   double mean_force = 0;
   int n = 0;
-  for (std::size_t r = 6; r < probes.rows.size(); ++r, ++n) {
-    ASSERT_LT(std::abs(lean_deg(probes, r)), 20.0) << "row " << r;
+  for (std::size_t r = 6; r < probes.rows.size() && std::abs(lean_deg(probes, r)) < 20.0; ++r, ++n)
     mean_force += probes.at(r, "jet_force_x");
-  }
+  ASSERT_GE(n, 4);
   mean_force /= n;
   std::printf("jet force from 0.2 s: mean %.4f N = %.3f rho A U^2\n", mean_force, mean_force / flux);
   EXPECT_GT(mean_force, 0.1 * flux);
   EXPECT_LT(mean_force, flux);
 
-  // 3. Carried downstream and turned: seen +0.147 m and +11.3 deg (top downstream) at 0.6 s.
-  const double travelled = centroid.back().x() - centroid.front().x();
-  const double lean = lean_deg(probes, probes.rows.size() - 1);
-  std::printf("downstream %.4f m, lean %.2f deg at 0.6 s\n", travelled, lean);
-  EXPECT_GT(travelled, 0.08);
+  // 3. Turned about its foot: the jet pushes with less than its momentum flux, 0.49 N, and the floor
+  // can hold the foot with up to μ m g = 0.50 N (the air's buoyancy is 4% of the weight), so the
+  // foot sticks (friction inside the solve: its slip creeps at most ε_v = 1 mm/s) while the top is
+  // carried downstream: seen a foot slip of 5.2 mm (most of it in the landing) and 32 deg at 0.6 s.
+  const std::size_t end = probes.rows.size() - 1;
+  const double foot_slip = std::abs(probes.at(end, "bottom_x") - probes.at(0, "bottom_x"));
+  const double top_travel = probes.at(end, "top_x") - probes.at(0, "top_x");
+  const double lean = lean_deg(probes, end);
+  std::printf("foot slip %.4f m, top downstream %.4f m, lean %.2f deg at 0.6 s\n", foot_slip, top_travel, lean);
+  EXPECT_LT(foot_slip, 0.01);
+  EXPECT_GT(top_travel, 0.08);
   EXPECT_GT(lean, 7.0);
 
   // 4. On the floor through the film, never through it: it lands in step 2 or 3 (a 2 cm fall

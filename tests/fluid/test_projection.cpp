@@ -120,6 +120,11 @@ TEST(Projection, NonConvergenceIsReported) {
     opt.max_iterations = 1;
     TetVectors v = u;
     EXPECT_THROW(project(m, bc, 0.1, 1.0, v, opt), SolverError) << to_string(b);
+    try {  // the message shows the tolerance (std::to_string printed it as 0.000000)
+      project(m, bc, 0.1, 1.0, v, opt);
+    } catch (const SolverError& e) {
+      EXPECT_NE(std::string(e.what()).find("tolerance 1e-14"), std::string::npos) << e.what();
+    }
   }
   EXPECT_THROW(parse_solver_backend("lu"), std::invalid_argument);
 }

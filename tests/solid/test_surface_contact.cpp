@@ -2,7 +2,8 @@
 // tets with lumped masses and no stiffness, A = M/h, b = (M/h) uⁿ, so that without contact
 // u^{n+1} = uⁿ. The apex of a falling tet meets the top face of a heavier one below it: the active
 // set must land the apex a film δ above the face at the end of the step, conserve the momentum of
-// the pair, release a pair that would pull, and take Coulomb's bound μ f h off the sliding speed.
+// the pair, release a pair that would pull, and take Coulomb's bound μ f h off the sliding speed
+// inside the same solve.
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCholesky>
@@ -50,10 +51,10 @@ Eigen::VectorXd contact_step(SurfaceContact& contact, const Eigen::VectorXd& x, 
   free_system(masses, h, u, A_free, b_free);
   contact.begin_step(h, x, u, std::vector<char>(u.size(), 0));
   A = A_free, b = b_free;
-  if (contact.warm_start(A_free)) contact.add_rows(A, b);
+  if (contact.warm_start()) contact.add_rows(A, b);
   Eigen::VectorXd u_next = solve(A, b);
   int r = 1;
-  for (; r < 9 && contact.update(A_free, u_next); ++r) {
+  for (; r < 9 && contact.update(u_next); ++r) {
     A = A_free, b = b_free;
     contact.add_rows(A, b);
     u_next = solve(A, b);
@@ -125,7 +126,7 @@ TEST(SurfaceContact, SeparatingPairIsReleased) {
   const double h = 0.1, gap = 0.01;
   TwoTets s(gap);
   SurfaceContact contact = make_contact(s, gap);
-  contact.set_touching_nodes({4});
+  contact.set_touching_nodes({4}, {0.0});
   Eigen::VectorXd u = Eigen::VectorXd::Zero(24);
   for (int v = 4; v < 8; ++v) u[3 * v + 2] = 0.5;
   const Eigen::VectorXd u_next = contact_step(contact, s.X, u, s.masses, h);
@@ -153,8 +154,9 @@ TEST(SurfaceContact, CoulombFrictionTakesMuFhOffTheSlidingSpeed) {
   EXPECT_GT(slide_after, 0);
   const Eigen::Vector3d p0 = momentum(s.masses, u), p1 = momentum(s.masses, u_next);
   EXPECT_LT((p1 - p0).norm(), 1e-8 * p0.norm());
-  // The apex's own loss of tangential momentum is the friction impulse μ f h.
-  EXPECT_NEAR(s.masses[4] * (u_slide[3 * 4] - u_next[3 * 4]), mu * impulse_normal, 1e-6 * mu * impulse_normal);
+  // The apex's own loss of tangential momentum is the friction impulse μ f h, to the 1% to which
+  // the rounds converge the lagged friction coefficient (surface_contact.hpp).
+  EXPECT_NEAR(s.masses[4] * (u_slide[3 * 4] - u_next[3 * 4]), mu * impulse_normal, 0.02 * mu * impulse_normal);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // bench_fluid: seconds per phase of a fluid step (advect, assemble, solve) at ~25k, 100k and 400k
 // tets, and the validation errors of tests/fluid at finer resolutions.
 //   bench_fluid [--max-tets N] [--sphere-only] [--scaling-only] [--standing-wave] [--liquid] [--sizes A,B,..]
+//   bench_fluid --sloshing [--sizes 16,24,32,48] [--steps-per-period 40,80] [--periods 20]
+//               [--schemes linear,apic,flip]   (the sloshing tank of sloshing_case, one row per run)
 //   (max tets default 450000; --liquid: the free-surface step at about 25k, 100k and 400k tets;
 //   --sizes: the resolutions of --standing-wave (cells per tank length, default 16,32,64) and of
 //   --sphere-only (edge at the sphere [m], default 0.12,0.08,0.055), as scripts/report.py runs them)
@@ -216,6 +218,39 @@ void standing_wave_case(int n) {
       w.seconds());
 }
 
+/// The sloshing tank of issue-style tests (L = 0.8 m, W = 0.1 m, H = 0.3 m, a = 5 mm, inviscid; linear
+/// theory f = sqrt(g k tanh kH) / 2 pi = 0.89825 Hz) at n cells per length, `spp` steps per period,
+/// over `periods` periods, with the velocity carried by `scheme` ("linear", "apic", "flip").
+void sloshing_case(int n, int spp, double periods, const std::string& scheme) {
+  tetfsi::bench::StandingWaveSetup setup;
+  setup.length = 0.8;
+  setup.width = 0.1;
+  setup.depth = 0.3;
+  setup.amplitude = 0.005;
+  setup.cells = n;
+  setup.periods = periods;
+  setup.steps_per_period = spp;
+  if (scheme == "apic") setup.particles.transfer = fluid::ParticleTransfer::kApic;
+  if (scheme == "flip") setup.particles.transfer = fluid::ParticleTransfer::kFlip;
+  tetfsi::bench::Stopwatch w;
+  const tetfsi::bench::StandingWaveResult r = tetfsi::bench::standing_wave(setup);
+  tetfsi::bench::print_row(
+      fmt::format("sloshing tank, {}, T/{}, {:g} periods", scheme, spp, periods),
+      fmt::format("{} cells/L, {} tets{}", n, r.tets, r.particles > 0 ? fmt::format(", {} particles", r.particles) : ""),
+      fmt::format("frequency {:+.2f}%, energy {:+.2f}%/period, amplitude {:+.2f}%/period; particle phase {:.1f}% of the time",
+                  100 * (r.period_theory / r.period - 1), -100 * r.energy_loss_per_period, -100 * r.decay_per_period,
+                  100 * r.particle_seconds / w.seconds()),
+      w.seconds());
+}
+
+/// The comma-separated items of a list option.
+std::vector<std::string> parse_list(const std::string& list) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
+  return items;
+}
+
 /// The comma-separated numbers of `--sizes`.
 std::vector<double> parse_sizes(const std::string& list) {
   std::vector<double> sizes;
@@ -226,11 +261,24 @@ std::vector<double> parse_sizes(const std::string& list) {
 
 int main(int argc, char** argv) {
   long max_tets = 450000;
-  bool sphere_only = false, scaling_only = false, standing_wave = false;
-  std::vector<double> sizes;
+  bool sphere_only = false, scaling_only = false, standing_wave = false, sloshing = false;
+  std::vector<double> sizes, steps_per_period{40, 80};
+  std::vector<std::string> schemes{"linear", "apic", "flip"};
+  double periods = 20;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--sizes") == 0 && i + 1 < argc) sizes = parse_sizes(argv[i + 1]);
     if (std::strcmp(argv[i], "--standing-wave") == 0) standing_wave = true;
+    if (std::strcmp(argv[i], "--sloshing") == 0) sloshing = true;
+    if (std::strcmp(argv[i], "--steps-per-period") == 0 && i + 1 < argc) steps_per_period = parse_sizes(argv[i + 1]);
+    if (std::strcmp(argv[i], "--schemes") == 0 && i + 1 < argc) schemes = parse_list(argv[i + 1]);
+    if (std::strcmp(argv[i], "--periods") == 0 && i + 1 < argc) periods = std::atof(argv[i + 1]);
+  }
+  if (sloshing) {
+    tetfsi::bench::print_header();
+    for (double n : sizes.empty() ? std::vector<double>{16, 24, 32, 48} : sizes)
+      for (double spp : steps_per_period)
+        for (const std::string& scheme : schemes) sloshing_case(static_cast<int>(n), static_cast<int>(spp), periods, scheme);
+    return 0;
   }
   if (standing_wave) {
     tetfsi::bench::print_header();

@@ -51,12 +51,29 @@ Field walls() {
       .def("no_slip");
 }
 
-Field advection() {
-  return Field::enumeration("advection", {"linear", "semi_lagrangian", "bfecc"},
-                            "Advection scheme across meshes (fluid/advection/semi_lagrangian.hpp): `linear` "
-                            "(tet-wise linear reconstruction, least dissipative), `semi_lagrangian` (plain "
-                            "back-trace), `bfecc` (error-compensated).")
-      .def("linear");
+Field advection(const char* def) {
+  return Field::enumeration("advection", {"linear", "semi_lagrangian", "bfecc", "apic", "flip"},
+                            "How the velocity is carried across meshes. On the mesh "
+                            "(fluid/advection/semi_lagrangian.hpp): `linear` (tet-wise linear reconstruction), "
+                            "`semi_lagrangian` (plain back-trace), `bfecc` (error-compensated). On particles "
+                            "(fluid/particles/particles.hpp; fluid/README.md, \"Particles\"): `apic` (affine "
+                            "particle-in-cell, Jiang et al. 2015), `flip` (FLIP/PIC blend, Zhu & Bridson 2005, with "
+                            "`flip_ratio`); smoke and temperature stay on the mesh (`linear`).")
+      .def(def);
+}
+
+Field flip_ratio() {
+  return Field::number("flip_ratio", "",
+                       "With `advection: flip`: the FLIP share r of the particles' new velocity, (1 - r) PIC + r "
+                       "FLIP; 0: PIC (dissipative), 1: pure FLIP (noisy).")
+      .at_least(0).at_most(1).def(0.97);
+}
+
+Field particles_per_tet() {
+  return Field::integer("particles_per_tet",
+                        "With `advection: apic` or `flip`: particles aimed at per tet full of fluid (a liquid's cut "
+                        "tets: times their liquid fraction); reseeding keeps each tet within 2/3 to 4/3 of it.")
+      .at_least(1).def(6);
 }
 
 Field apply_gravity(bool def) {
@@ -100,7 +117,10 @@ Field liquid_regions() {
       .check(lo_below_hi());
   return Field::array("regions",
                       "With `fill: regions`: the liquid at t = 0, the union of these shapes (within the domain); "
-                      "the rest of the domain is air, which is void (p = 0 on the free surface).",
+                      "the rest of the domain is air, which is void (p = 0 on the free surface). A box's faces "
+                      "that lie on the domain's walls are walls, not surface (a column may stand on the floor "
+                      "against the walls). Each region must hold liquid: some of it inside the domain box, the "
+                      "container and outside every solid.",
                       std::move(region))
       .def(Json::array());
 }
@@ -125,8 +145,9 @@ Field fluid() {
         Field::number("ambient_temperature", "K", "Temperature of the surrounding air.").greater(0).def(293.15),
         Field::number("vorticity_confinement", "", "Strength of vorticity confinement; 0: off.")
             .at_least(0).def(0),
-        advection(), apply_gravity(false), remesh_band(), solver()})
-    .variant("liquid", {density(1000), viscosity(1e-3), viscosity_regions(), walls(), advection(), apply_gravity(true), remesh_band(),
+        advection("linear"), flip_ratio(), particles_per_tet(), apply_gravity(false), remesh_band(), solver()})
+    .variant("liquid", {density(1000), viscosity(1e-3), viscosity_regions(), walls(), advection("linear"), flip_ratio(),
+                        particles_per_tet(), apply_gravity(true), remesh_band(),
                         solver(),
                         Field::enumeration("fill", {"domain", "cavities", "regions"},
                                            "`domain`: the liquid fills the domain box around the solids "

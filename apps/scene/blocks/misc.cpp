@@ -48,7 +48,8 @@ Field probes() {
       Field::string("name", "Column name in probes.csv.").req(),
       Field::enumeration("kind", {"point_displacement", "solid_volume", "total_energy",
                                   "membrane_point", "membrane_radius", "membrane_volume", "particle_point",
-                                  "body_energy", "fluid_point", "fluid_kinetic_energy", "fluid_volume", "fluid_force"},
+                                  "body_energy", "fluid_point", "fluid_kinetic_energy", "fluid_volume", "fluid_force",
+                                  "contact_force"},
                          "`point_displacement`: displacement [m] of the solid's material point nearest "
                          "to `point`; `solid_volume`: volume [m^3] of a solid; `total_energy`: kinetic "
                          "+ elastic + gravitational energy [J] of everything (mpm scenes: the stored energy of "
@@ -69,12 +70,16 @@ Field probes() {
                          "fluid's force [N] on a solid in the last step (columns _x, _y, _z): the pressure part "
                          "(int p n dA over its interface; coupled: the sum of J p over its nodes, Chentanez et "
                          "al. 2006 sec. 3.4) and the viscous part (the no-slip reaction of the viscous step, "
-                         "fluid/README.md \"Viscosity\").").req()})
+                         "fluid/README.md \"Viscosity\"). Coupled and solid runners: `contact_force`: the "
+                         "contact force [N] on a solid in the last step (columns _x, _y, _z), from the container's "
+                         "walls, the obstacles and the other solids: the sum of the normal constraint forces of "
+                         "its contact nodes (a body at rest on the floor: its weight less the fluid's buoyancy).").req()})
       .tagged_by("kind")
       .variant("point_displacement", {
           Field::string("solid", "Name of the solid.").req(),
           Field::vector("point", 3, "m", "Rest position of the tracked point.").req()})
       .variant("solid_volume", {Field::string("solid", "Name of the solid.").req()})
+      .variant("contact_force", {Field::string("solid", "Name of the solid.").req()})
       .variant("fluid_force", {Field::string("solid", "Name of the solid.").req(),
                                Field::enumeration("part", {"total", "pressure", "viscous"},
                                                   "`pressure`: the pressure force; `viscous`: the viscous "
@@ -131,8 +136,9 @@ Field liquid_surface() {
                           "(closed, the liquid's volume exactly, facets and kinks at the scale of the tets).")
            .def("smooth"),
        Field::number("voxel_size", "m",
-                     "`smooth`: voxel edge (the surface's triangles are about this long); absent: half of "
-                     "`smoothing`, or with `smoothing` 0 half of the default smoothing. Kept for the run.")
+                     "`smooth`: voxel edge of the meshing (the surface's triangles are about this long); absent: a "
+                     "quarter of `smoothing`, or with `smoothing` 0 a quarter of the default smoothing. Kept for "
+                     "the run.")
            .greater(0),
        Field::number("smoothing", "m",
                      "`smooth`: standard deviation of the Gaussian: wrinkles of wavelength 2 x smoothing keep 0.7% "
