@@ -246,8 +246,13 @@ mesh::SurfaceMesh smooth_liquid_surface(Output& out, const fluid::FluidSolver& s
                                  "bounding box, more than the limit of {:.3g} ({} bytes per voxel, a quarter of this "
                                  "machine's memory): raise /export/liquid_surface/voxel_size",
                                  scale.voxel_size, voxels, default_max_voxels(), kBytesPerVoxel));
-  fluid::RenderSurface s = fluid::render_surface(moved, solver.level_set(), solver.fields().velocity,
-                                                 {scale.voxel_size, scale.smoothing});
+  // The volume to keep is the solver's (fluid_volume probe): phi on the nodes moved to the frame's
+  // time holds another (fluid_node_positions moves them with the solids, not with the liquid).
+  fluid::RenderSurfaceOptions options;
+  options.voxel_size = scale.voxel_size;
+  options.smoothing = scale.smoothing;
+  options.target_volume = solver.liquid().total_volume();
+  fluid::RenderSurface s = fluid::render_surface(moved, solver.level_set(), solver.fields().velocity, options);
   if (s.liquid_volume > 0) out.note_surface_volume_error(std::abs(s.enclosed_volume / s.liquid_volume - 1.0));
   velocity = std::move(s.velocity);
   return std::move(s.surface);

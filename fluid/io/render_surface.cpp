@@ -85,7 +85,7 @@ RenderSurface render_surface(const FluidMesh& mesh, const Eigen::VectorXd& phi, 
   if (!(options.smoothing >= 0)) throw std::invalid_argument("render_surface: the smoothing must be >= 0");
   if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("render_surface: phi does not match the mesh");
   RenderSurface out;
-  out.liquid_volume = liquid_volume(mesh, phi);
+  out.liquid_volume = options.target_volume >= 0 ? options.target_volume : liquid_volume(mesh, phi);
   // The smoothing runs on voxels of at most sigma / 2 (surface_voxels.hpp: its cost grows as
   // (sigma / h)^5) over its band; the mesh on voxels of the size asked for, within kMeshBand of
   // the smoothed surface and along the walls the liquid touches. Samples reach one voxel beyond

@@ -7,12 +7,16 @@
 //    the angle between the normals of every two triangles that share an edge, on the free surface
 //    (edges more than 5 cm from the bowl and the tank's walls, where the liquid ends on them with a
 //    sharp edge on purpose). Bound: 0.5 rad (29 deg). Neighbouring triangles of the smooth surface
-//    lie about a voxel h = sigma / 2 apart, and a surface smoothed at sigma keeps no bend of radius
-//    much below sigma, so they differ by about h / sigma = 0.5 rad at most; a falling liquid's
-//    surface (flat here) much less. The marching-tets surface of the same run ("tets") exceeds it:
-//    its facets meet at the kinks of the P1 level set (checked, so that the measure can fail). The
+//    lie about a voxel h = sigma / 4 apart (a quad's two triangles closer), and a surface smoothed
+//    at sigma keeps no bend of radius much below sigma, so they differ by about h / sigma = 0.25 rad;
+//    the bound leaves a factor 2 for the split of the mesher's quads (each quad's two triangles
+//    fold along its diagonal). The marching-tets surface of the same run ("tets") exceeds it: its
+//    facets meet at the kinks of the P1 level set (checked, so that the measure can fail). The
 //    water in the falling bowl moves at the bowl's free-fall speed: the vertex velocities there are
 //    -g t, on average within 2%, each within 10%.
+//  - the same run on to 0.25 s, through the impact (0.24 s): every frame's smooth surface encloses
+//    the simulated liquid's volume (the fluid_volume probe) to 0.5% (issue 41's bound), although the
+//    frame draws the level set on the nodes moved with the bowl, where it holds up to 4% less.
 //  - bad values of the keys give exit 2 naming them, in validate and run alike.
 #include <gtest/gtest.h>
 
@@ -141,7 +145,7 @@ TEST(LiquidSurfaceExport, FallingBowlHasNoTetScaleSpikesAndFallsAtGravity) {
   smooth["export"]["vtu"] = false;
   json tets = smooth;
   tets["export"]["liquid_surface"] = json::parse(R"({"type": "tets"})");
-  const fs::path out_smooth = run_scene(dir, "smooth", smooth, "--end-time 0.1");
+  const fs::path out_smooth = run_scene(dir, "smooth", smooth, "--end-time 0.25");
   const fs::path out_tets = run_scene(dir, "tets", tets, "--end-time 0.1");
   double worst_smooth = 0, worst_tets = 0;
   for (int k = 1; k <= 6; ++k) {  // 1/60 .. 0.1 s: the bowl falls freely (impact at about 0.24 s)
@@ -169,6 +173,13 @@ TEST(LiquidSurfaceExport, FallingBowlHasNoTetScaleSpikesAndFallsAtGravity) {
     EXPECT_NEAR(vy / n, -g * t_frame, 0.02 * g * t_frame) << "frame " << k;
   }
   EXPECT_GT(worst_tets, bound);  // the measure fails the marching-tets surface of the same run
+  const Csv probes = read_csv(out_smooth / "probes.csv");
+  for (int k = 0; k <= 15; ++k) {  // 0 .. 0.25 s, the last frames in the impact
+    const double volume = probes.at(0, "liquid_volume");  // kept to 1e-9 by the solver
+    const double enclosed = checks::enclosed_volume(surface(frame(out_smooth, "liquid", k)));
+    std::printf("falling bowl, frame %d: enclosed volume %+.2e of the liquid's\n", k, enclosed / volume - 1);
+    EXPECT_NEAR(enclosed, volume, 5e-3 * volume) << "frame " << k;
+  }
 }
 
 TEST(LiquidSurfaceExport, BadKeysExitTwoInValidateAndRunAlike) {
