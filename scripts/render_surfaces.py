@@ -1,5 +1,5 @@
 """Renders tetfsi surface frames (PLY) to a PNG with Blender's Cycles, for pictures of the liquid
-surface (data/scenes/images/, shown in data/scenes/README.md).
+surface (data/scenes/pictures/, shown in data/scenes/README.md).
 
 Usage (Blender 3.4 or newer, headless; Debian: apt-get install blender):
 
