@@ -36,7 +36,7 @@ void write_output_state(BinaryWriter& w, const Output::State& s) {
     for (const auto& [time, file] : entries) w(time, file);
   }
   w(std::uint64_t(s.bytes.vtu), std::uint64_t(s.bytes.surfaces), std::uint64_t(s.bytes.volumes), s.voxel_size,
-    s.stats_bytes, s.probes_bytes);
+    s.surface_scale.voxel_size, s.surface_scale.smoothing, s.stats_bytes, s.probes_bytes);
 }
 
 void read_output_state(BinaryReader& r, Output::State& s) {
@@ -49,7 +49,8 @@ void read_output_state(BinaryReader& r, Output::State& s) {
     for (auto& [time, file] : entries) r(time, file);
   }
   std::uint64_t vtu = 0, surfaces = 0, volumes = 0;
-  r(vtu, surfaces, volumes, s.voxel_size, s.stats_bytes, s.probes_bytes);
+  r(vtu, surfaces, volumes, s.voxel_size, s.surface_scale.voxel_size, s.surface_scale.smoothing, s.stats_bytes,
+    s.probes_bytes);
   s.bytes.vtu = vtu, s.bytes.surfaces = surfaces, s.bytes.volumes = volumes;
 }
 

@@ -28,7 +28,7 @@
 
 namespace tetfsi::run {
 
-constexpr std::uint32_t kCheckpointVersion = 7;
+constexpr std::uint32_t kCheckpointVersion = 8;  // 8: the smooth liquid surface's scale in the output state
 
 /// FNV-1a 64-bit hash of a text.
 std::uint64_t fnv1a(const std::string& text);

@@ -81,6 +81,9 @@ class Driver {
               frames_written_ ? double(b.total()) / frames_written_ : 0.0);
     if (out.volumes() && b.volumes > 0)
       log_.info("volumes: {} bytes of .vdb files at a voxel size of {:.6g} m", b.volumes, out.fixed_voxel_size());
+    if (const auto& scale = out.surface_scale(); out.smooth_liquid_surface() && scale.voxel_size > 0)
+      log_.info("liquid surface: smooth, voxel size {:.6g} m, smoothing {:.6g} m; enclosed volume within {:.3g} of the "
+                "liquid's on every frame", scale.voxel_size, scale.smoothing, out.surface_volume_error());
   }
 
   void run() {

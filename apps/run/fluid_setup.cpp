@@ -15,6 +15,8 @@
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "fluid/io/fluid_output.hpp"
+#include "fluid/io/level_set_voxels.hpp"
+#include "fluid/io/render_surface.hpp"
 #include "fluid/io/voxel_sampling.hpp"
 #include "fluid/liquid/level_set.hpp"
 #include "mesh/surface_distance.hpp"
@@ -230,6 +232,32 @@ void write_fluid_volumes(Output& out, int frame, const fluid::FluidSolver& solve
   out.write_volumes("fluid", frame, fluid::sample_voxels(moved, nodal, h), surface);
 }
 
+/// The frame's smooth liquid surface (export.liquid_surface "smooth", fluid/io/render_surface.hpp)
+/// on the moved mesh, with its vertex velocities.
+mesh::SurfaceMesh smooth_liquid_surface(Output& out, const fluid::FluidSolver& solver,
+                                        const std::vector<Eigen::Vector3d>& node_positions,
+                                        std::vector<Eigen::Vector3d>& velocity) {
+  const fluid::FluidMesh moved = moved_fluid_mesh(solver.mesh(), node_positions);
+  const Output::SurfaceScale scale = out.liquid_surface_scale(fluid::cut_tet_edge_length(moved, solver.level_set(), 0.1));
+  if (scale.voxel_size == 0) return {};  // no tet cut yet: no surface to draw the scale from
+  const double voxels = fluid::voxel_range(moved, scale.voxel_size).count();
+  if (!(voxels <= default_max_voxels()))
+    throw InputError(fmt::format("/export/liquid_surface/voxel_size: {:.4g} m gives {:.3g} voxels over the fluid's "
+                                 "bounding box, more than the limit of {:.3g} ({} bytes per voxel, a quarter of this "
+                                 "machine's memory): raise /export/liquid_surface/voxel_size",
+                                 scale.voxel_size, voxels, default_max_voxels(), kBytesPerVoxel));
+  // The volume to keep is the solver's (fluid_volume probe): phi on the nodes moved to the frame's
+  // time holds another (fluid_node_positions moves them with the solids, not with the liquid).
+  fluid::RenderSurfaceOptions options;
+  options.voxel_size = scale.voxel_size;
+  options.smoothing = scale.smoothing;
+  options.target_volume = solver.liquid().total_volume();
+  fluid::RenderSurface s = fluid::render_surface(moved, solver.level_set(), solver.fields().velocity, options);
+  if (s.liquid_volume > 0) out.note_surface_volume_error(std::abs(s.enclosed_volume / s.liquid_volume - 1.0));
+  velocity = std::move(s.velocity);
+  return std::move(s.surface);
+}
+
 }  // namespace
 
 void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSolver& solver,
@@ -242,13 +270,17 @@ void write_fluid_frame(Output& out, int frame, double time, const fluid::FluidSo
   mesh::SurfaceMesh surface;
   if (solver.has_free_surface()) {
     fluid::add_liquid_fields(grid, solver.mesh(), solver.level_set(), solver.liquid().liquid_volume);
-    // The level set's zero set and wet boundary faces on the moved nodes: the surface's vertices
-    // are nodes or edge crossings at the same edge fractions (its orientation, read from the
-    // solver's mesh, is unchanged by a motion that inverts no tet).
-    fluid::FluidMesh moved = solver.mesh();
-    moved.nodes = node_positions;
     std::vector<Eigen::Vector3d> velocity;
-    surface = fluid::liquid_surface(moved, solver.level_set(), solver.fields().velocity, &velocity);
+    if (out.smooth_liquid_surface()) {
+      surface = smooth_liquid_surface(out, solver, node_positions, velocity);
+    } else {
+      // The level set's zero set and wet boundary faces on the moved nodes: the surface's vertices
+      // are nodes or edge crossings at the same edge fractions (its orientation, read from the
+      // solver's mesh, is unchanged by a motion that inverts no tet).
+      fluid::FluidMesh moved = solver.mesh();
+      moved.nodes = node_positions;
+      surface = fluid::liquid_surface(moved, solver.level_set(), solver.fields().velocity, &velocity);
+    }
     out.write_surface("liquid", frame, surface, velocity);
   }
   out.write_grid("fluid", frame, time, grid);

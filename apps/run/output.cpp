@@ -139,6 +139,12 @@ Output::Output(fs::path dir, scene::Json export_cfg)
       z_up_(cfg_.at("up_axis") == "z"),
       volumes_(cfg_.value("volumes", "none") == "vdb") {
   if (cfg_.contains("voxel_size")) voxel_size_ = cfg_["voxel_size"].get<double>();
+  const scene::Json surface = cfg_.value("liquid_surface", scene::Json::object());
+  smooth_surface_ = surface.value("type", "smooth") == "smooth";
+  if (surface.contains("smoothing")) {  // else both wait for the first frame (liquid_surface_scale)
+    surface_scale_.smoothing = surface["smoothing"].get<double>();
+    surface_scale_.voxel_size = surface.value("voxel_size", 0.25 * surface_scale_.smoothing);
+  }
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_))
@@ -201,6 +207,19 @@ double Output::voxel_size(double mean_edge_length) {
   return voxel_size_;
 }
 
+Output::SurfaceScale Output::liquid_surface_scale(double cut_edge) {
+  const scene::Json surface = cfg_.value("liquid_surface", scene::Json::object());
+  if (surface_scale_.voxel_size == 0 && cut_edge > 0) {  // the first frame with a cut tet fixes the defaults
+    if (!surface.contains("smoothing")) surface_scale_.smoothing = cut_edge;
+    surface_scale_.voxel_size = surface.value("voxel_size", 0.25 * (surface_scale_.smoothing > 0 ? surface_scale_.smoothing : cut_edge));
+    if (!(surface_scale_.smoothing <= scene::kMaxSmoothingVoxels * surface_scale_.voxel_size))
+      throw InputError(fmt::format("/export/liquid_surface/smoothing: {:.4g} m is more than {:g} voxels of {:.4g} m "
+                                   "(/export/liquid_surface/voxel_size): raise voxel_size or lower smoothing",
+                                   surface_scale_.smoothing, scene::kMaxSmoothingVoxels, surface_scale_.voxel_size));
+  }
+  return surface_scale_;
+}
+
 void Output::write_volumes(const std::string& object, int frame, fluid::VoxelSamples samples,
                            const mesh::SurfaceMesh* surface) {
   if (!volumes_) return;
@@ -228,7 +247,9 @@ void Output::begin_probes(const std::vector<std::string>& header) {
 }
 void Output::probes_row(const std::vector<double>& row) { append_row(probes_, probes_bytes_, row); }
 
-Output::State Output::state() const { return {pvd_entries_, bytes_, voxel_size_, stats_bytes_, probes_bytes_}; }
+Output::State Output::state() const {
+  return {pvd_entries_, bytes_, voxel_size_, surface_scale_, stats_bytes_, probes_bytes_};
+}
 
 void Output::resume(const State& state, const std::vector<std::string>& header,
                     const std::vector<std::string>& probes_header) {
@@ -241,6 +262,7 @@ void Output::resume(const State& state, const std::vector<std::string>& header,
   }
   bytes_ = state.bytes;
   voxel_size_ = state.voxel_size;
+  surface_scale_ = state.surface_scale;
   stats_bytes_ = reopen_csv(stats_, dir_ / "stats.csv", header, state.stats_bytes);
   if (!probes_header.empty()) probes_bytes_ = reopen_csv(probes_, dir_ / "probes.csv", probes_header, state.probes_bytes);
 }

@@ -7,6 +7,7 @@
 /// (of a killed run) and, in a folder that holds an earlier run, that run's frames, .pvd and CSV
 /// files, so no stale frame is left beside the new .pvd; other files are never deleted.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +56,27 @@ class Output {
   void write_volumes(const std::string& object, int frame, fluid::VoxelSamples samples,
                      const mesh::SurfaceMesh* surface);
 
+  /// Whether export.liquid_surface.type is "smooth" (fluid/io/render_surface.hpp), not "tets".
+  bool smooth_liquid_surface() const { return smooth_surface_; }
+  /// Length scales of the smooth liquid surface [m].
+  struct SurfaceScale {
+    double voxel_size = 0, smoothing = 0;
+  };
+  /// export.liquid_surface's voxel_size and smoothing; where absent, fixed at the first call with a
+  /// positive `cut_edge` (write_fluid_frame passes the 10th percentile of the mean edge lengths of
+  /// the tets the surface cuts: the finest the simulation resolves the surface, in a mesh refined
+  /// near solids or at the surface) [m]: smoothing = cut_edge, voxel_size = smoothing / 4
+  /// (cut_edge / 4 with smoothing 0), kept for the rest of the run.
+  /// @throws InputError naming /export/liquid_surface/smoothing if it exceeds
+  ///         scene::kMaxSmoothingVoxels voxels
+  SurfaceScale liquid_surface_scale(double cut_edge);
+  /// The scale fixed so far (zeros before the first smooth surface without both keys).
+  const SurfaceScale& surface_scale() const { return surface_scale_; }
+  /// Records the relative error |V_surface / V_liquid - 1| of a frame's smooth surface.
+  void note_surface_volume_error(double relative) { surface_volume_error_ = std::max(surface_volume_error_, relative); }
+  /// The largest error noted so far.
+  double surface_volume_error() const { return surface_volume_error_; }
+
   /// Starts stats.csv with the given header (replacing the file of an earlier run).
   void begin_stats(const std::vector<std::string>& header);
   /// Appends one row; each row goes out in a single write, flushed.
@@ -76,6 +98,7 @@ class Output {
     std::map<std::string, std::vector<std::pair<double, std::string>>> pvd_entries;  ///< (time, file) per object
     Bytes bytes;
     double voxel_size = 0;
+    SurfaceScale surface_scale;  ///< fixed by liquid_surface_scale (0: not yet)
     std::uint64_t stats_bytes = 0, probes_bytes = 0;
   };
   State state() const;
@@ -98,6 +121,9 @@ class Output {
   bool z_up_ = false;  ///< export.up_axis "z": turn positions and vectors (x, y, z) -> (x, -z, y)
   bool volumes_ = false;
   double voxel_size_ = 0;  ///< 0 until fixed by voxel_size()
+  bool smooth_surface_ = true;
+  SurfaceScale surface_scale_;  ///< 0 until fixed by liquid_surface_scale()
+  double surface_volume_error_ = 0;
   Bytes bytes_;
 };
 

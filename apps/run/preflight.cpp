@@ -429,6 +429,7 @@ class Checker {
                       opt_.max_tets ? "--max-tets" : "half of this machine's memory", worst_key_));
     }
     check_voxels();
+    check_surface_voxels();
     if (issues_.empty()) report_.particles = particle_count(js_, report_.tets, issues_);
     const double end = sim.at("end_time").get<double>();
     const double frame_rate = sim.at("frame_rate").get<double>();
@@ -477,6 +478,14 @@ class Checker {
       return;
     }
     voxels_ = volume_voxels(js_, 0.5 * finest_edge(), issues_);
+  }
+
+  /// export.liquid_surface "smooth" with its scale given: the voxels over the domain box
+  /// (preflight_volumes.hpp; without the keys the run checks the scale it fixes at the first frame).
+  void check_surface_voxels() {
+    const auto& f = js_.at("fluid");
+    if (!meshes_fluid() || f.at("type") != "liquid" || f.value("fill", "domain") != "regions") return;
+    liquid_surface_voxels(js_, issues_);
   }
 
   const scene::Scene& scene_;

@@ -14,4 +14,9 @@ namespace tetfsi::run {
 /// domain (the run checks the fluid mesh at its first frame).
 double volume_voxels(const scene::Json& js, double default_voxel_size, std::vector<scene::Issue>& issues);
 
+/// The same for the smooth liquid surface (export.liquid_surface) when the scene sets its
+/// voxel_size or smoothing (its voxel size is then known): the voxels over the domain box, with an
+/// issue naming /export/liquid_surface/voxel_size (or smoothing) above default_max_voxels().
+void liquid_surface_voxels(const scene::Json& js, std::vector<scene::Issue>& issues);
+
 }  // namespace tetfsi::run

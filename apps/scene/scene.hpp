@@ -35,6 +35,10 @@ class SceneError : public std::runtime_error {
 constexpr std::size_t kMaxSceneBytes = std::size_t(8) << 20;
 /// Problems listed by SceneError::what() (all are kept in issues()).
 constexpr std::size_t kMaxIssuesShown = 50;
+/// Largest export.liquid_surface.smoothing in voxels of its voxel_size: the smoothing takes
+/// 3 (smoothing / voxel_size)^2 explicit heat-equation steps (fluid/io/surface_voxels.hpp), 300
+/// at this limit, on a band of 3 smoothing around the surface.
+constexpr double kMaxSmoothingVoxels = 10;
 
 /// Reads, parses and validates a scene file. Only regular files of at most kMaxSceneBytes are
 /// read (a FIFO or device is refused before it is opened for reading).

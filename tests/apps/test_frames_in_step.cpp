@@ -10,7 +10,9 @@
 //    fluid .vtu against each sheet's .vtu, to round-off (1e-12 of the domain's diagonal);
 //  - the floating block (data/scenes/floating_block_ci.json, 3 steps of 1/120 s), a liquid with
 //    a free surface: the same for the fluid .vtu, and every wet solid surface vertex (level set
-//    < 0 at its fluid node) is a vertex of the liquid surface PLY (float32: 1e-6 of the diagonal);
+//    < 0 at its fluid node) is a vertex of the liquid surface PLY (float32: 1e-6 of the diagonal),
+//    the marching-tets one (export.liquid_surface "tets"), whose vertices on solids are fluid
+//    nodes (the smooth surface's are voxel crossings: fluid/README.md, "Surfaces for renderers");
 //  - the fluid runner's rotating paddle (data/scenes/paddle.json, 3 steps of 1/50 s, kinematic
 //    solid moving the fluid mesh): every paddle PLY vertex is a fluid .vtu point (float32).
 #include <gtest/gtest.h>
@@ -164,7 +166,9 @@ TEST(FramesInStep, CoupledSmokeFrameIsInStepWhenRemeshedEveryStep) {
 TEST(FramesInStep, CoupledLiquidFrameAndSurfaceHaveTheBlocksVerticesOfTheSameFrame) {
   test::TempDir dir("frames_liquid");
   const int steps = 3;
-  const fs::path out = run_one_frame_per_step(dir, "floating_block_ci.json", 1.0 / 120, steps);
+  const fs::path out = run_one_frame_per_step(dir, "floating_block_ci.json", 1.0 / 120, steps, [](nlohmann::json& s) {
+    s["export"]["liquid_surface"] = {{"type", "tets"}};
+  });
   const double diagonal = box_diagonal(dir.path() / "floating_block_ci.json");
   const double gap = max_solid_to_fluid_gap(out, "block", steps);
   std::printf("block: largest gap to the fluid %.3g m\n", gap);

@@ -1,8 +1,8 @@
 // `tetfsi run` of a liquid with a free surface (fluid.fill "regions"; fluid/liquid/), end to end:
 //  - dam_break_ci.json (a soft post, coupled through eq. 7): the liquid keeps its volume to 1e-9
 //    every step (the level set's volume is restored; the tracking drift before the restoration
-//    stays below 1% per step), every frame's liquid surface is closed, outward and encloses the
-//    liquid volume, no surface vertex lies inside the post, and the front has not run ahead of
+//    stays below 1% per step), every frame's liquid surface (the smooth one) is closed, outward and
+//    encloses the liquid volume to 0.5%, no surface vertex lies inside the post, and the front has not run ahead of
 //    Ritter's dry-bed bound x0 + 2 sqrt(g H) t (Ritter 1892; the inviscid upper limit);
 //  - a nozzle (an emitter over a shallow pool) adds liquid while it is on and the volume then
 //    stays: the volume grows by at least the nozzle's own box and is constant after it switches off;
@@ -188,7 +188,7 @@ TEST(LiquidRun, DamBreakKeepsItsVolumeAndWritesClosedSurfaces) {
   // Frames: t = 0, 0.05, ..., 0.3 s. The post deforms by millimetres: no liquid vertex may lie
   // deeper than 1 cm inside its rest box.
   const Eigen::Vector3d post_lo(1.04 + 0.01, 0.05 + 0.01, 0.14 + 0.01), post_hi(1.16 - 0.01, 0.35 - 0.01, 0.26 - 0.01);
-  double front = 0;
+  double front = 0, worst_volume = 0;
   for (int frame = 0; frame <= 6; ++frame) {
     char name[32];
     std::snprintf(name, sizeof name, "liquid_%05d.ply", frame);
@@ -196,7 +196,10 @@ TEST(LiquidRun, DamBreakKeepsItsVolumeAndWritesClosedSurfaces) {
     ASSERT_FALSE(ply.triangles.empty());
     ASSERT_EQ(ply.velocities.size(), ply.positions.size());
     EXPECT_EQ(open_edges(ply), 0) << "frame " << frame;
-    EXPECT_NEAR(enclosed_volume(ply), v0, 1e-5 * v0) << "frame " << frame;  // float coordinates
+    // The smooth surface (export.liquid_surface default) encloses the liquid's volume by its iso
+    // shift, aimed at 1e-4: measured at most 7e-5. Bound: 0.5% (issue 41).
+    EXPECT_NEAR(enclosed_volume(ply), v0, 5e-3 * v0) << "frame " << frame;
+    worst_volume = std::max(worst_volume, std::abs(enclosed_volume(ply) / v0 - 1));
     const double t = 0.05 * frame;
     front = 0;
     for (const auto& x : ply.positions) {
@@ -207,6 +210,7 @@ TEST(LiquidRun, DamBreakKeepsItsVolumeAndWritesClosedSurfaces) {
     EXPECT_LE(front, x0 + 2 * std::sqrt(g * H) * t + h) << "frame " << frame;
   }
   EXPECT_GT(front, x0 + 2 * h);  // the column has collapsed and run out
+  std::printf("dam break: the liquid surfaces enclose the liquid volume to %.2e on every frame\n", worst_volume);
 }
 
 TEST(LiquidRun, FreeSurfaceWithHexSolidIsRefused) {
@@ -392,15 +396,15 @@ TEST(LiquidRun, InflowPatchPoursLiquidAtItsFlowRate) {
 
 TEST(LiquidRun, PaintPourFallsOnTheSoftBallAndKeepsItsSurfaceClosed) {
   // paint_pour_ci.json: the nozzle pours onto a soft ball held at its base (coupled, eq. 7). The
-  // liquid volume never falls while the nozzle is on, every frame's liquid surface is closed and
-  // encloses the liquid volume, and the ball's top moves down (its weight and the liquid's).
+  // liquid volume never falls while the nozzle is on, every frame's liquid surface (the solver's
+  // own, export.liquid_surface "tets") is closed and encloses the liquid volume, and the ball's top
+  // moves down (its weight and the liquid's).
   TempDir dir("liquid_paint_pour");
   const fs::path out = dir.path() / "out";
+  json scene = committed("paint_pour_ci.json");
+  scene["export"]["liquid_surface"] = json::parse(R"({"type": "tets"})");
   int status = -1;
-  const std::string log =
-      tetfsi_cmd("run " + (fs::path(TETFSI_SOURCE_DIR) / "data/scenes/paint_pour_ci.json").string() + " --out " +
-                     out.string() + " --quiet --threads 1",
-                 &status);
+  const std::string log = run_in(dir, scene, &status);
   ASSERT_EQ(status, 0) << log;
   const Csv probes = read_csv(out / "probes.csv");
   for (std::size_t r = 1; r < probes.rows.size(); ++r)
@@ -468,12 +472,18 @@ TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
     scene["probes"] = probes;
     return scene;
   };
-  json adaptive = rigid_post(committed("dam_break_ci.json"));
+  // The solver's own surface (export.liquid_surface "tets"): its triangles are the cut tets' facets.
+  auto tets_surface = [](json scene) {
+    scene["export"]["liquid_surface"] = json::parse(R"({"type": "tets"})");
+    return scene;
+  };
+  json adaptive = tets_surface(rigid_post(committed("dam_break_ci.json")));
   adaptive["fluid"]["surface_edge_length"] = 0.04;
   Csv stats, probes, uniform_stats, fine_stats;
   std::vector<PlyData> surfaces, uniform_surfaces;
   run(adaptive, "liquid_adaptive", 0.3, &stats, &probes, &surfaces);
-  run(rigid_post(committed("dam_break_ci.json")), "liquid_uniform", 0.3, &uniform_stats, nullptr, &uniform_surfaces);
+  run(tets_surface(rigid_post(committed("dam_break_ci.json"))), "liquid_uniform", 0.3, &uniform_stats, nullptr,
+      &uniform_surfaces);
   run(rigid_post(committed("dam_break.json")), "liquid_uniform_fine", 0.01, &fine_stats, nullptr, nullptr);
   const auto check = [&](const Csv& stats, const Csv& probes, const std::vector<PlyData>& surfaces,
                          const char* tets_column) {
@@ -509,7 +519,7 @@ TEST(LiquidRun, MeshIsFinerAtTheSurfaceAndFollowsIt) {
       }
     }
   }
-  json coupled = committed("dam_break_ci.json");
+  json coupled = tets_surface(committed("dam_break_ci.json"));
   coupled["fluid"]["surface_edge_length"] = 0.04;
   Csv coupled_stats, coupled_probes;
   std::vector<PlyData> coupled_surfaces;

@@ -1,4 +1,7 @@
+#include <fmt/format.h>
+
 #include "apps/scene/blocks/blocks.hpp"
+#include "apps/scene/scene.hpp"
 
 namespace tetfsi::scene::blocks {
 
@@ -115,6 +118,52 @@ Field probes() {
       .def(Json::array());
 }
 
+/// export.liquid_surface: how surfaces/liquid_NNNNN.ply is made (fluid/io/render_surface.hpp).
+Field liquid_surface() {
+  Field f = Field::object(
+      "liquid_surface",
+      "The liquid's surface written to surfaces/liquid_NNNNN.ply (free-surface liquids, fluid.fill `regions`), "
+      "with per-vertex velocity [m/s] (the fluid's node-averaged velocity interpolated in the tet holding the "
+      "vertex).",
+      {Field::enumeration("type", {"smooth", "tets"},
+                          "`smooth`: the level set sampled on voxels of `voxel_size`, smoothed by the heat "
+                          "equation for a time smoothing^2 / 2 (a Gaussian of standard deviation `smoothing`; "
+                          "mean-curvature flow of the surface) inside the fluid only, the walls and solids not "
+                          "crossed, cut off at them so that the liquid ends on them with a sharp edge, meshed "
+                          "(OpenVDB volumeToMesh: closed, watertight), and its iso-value shifted by the one "
+                          "constant that makes it enclose the liquid's volume (to 1e-4); `tets`: the marching-tets "
+                          "zero set of the nodal level set plus the wet parts of the fluid's boundary faces "
+                          "(closed, the liquid's volume exactly, facets and kinks at the scale of the tets).")
+           .def("smooth"),
+       Field::number("voxel_size", "m",
+                     "`smooth`: voxel edge of the meshing (the surface's triangles are about this long); absent: a "
+                     "quarter of `smoothing`, or with `smoothing` 0 a quarter of the default smoothing. Kept for "
+                     "the run.")
+           .greater(0),
+       Field::number("smoothing", "m",
+                     "`smooth`: standard deviation of the Gaussian: wrinkles of wavelength 2 x smoothing keep 0.7% "
+                     "of their height, 4 x 29%, 10 x 82%; a plane is unchanged; drops and sheets much thinner "
+                     "than it shrink (the iso shift gives their volume back to the whole liquid). 0: none (the "
+                     "level set resampled and meshed). At most 10 voxels. Absent: the mean edge length of the "
+                     "finest tets the surface cuts at the first frame (10th percentile of the cut tets), kept "
+                     "for the run.")
+           .at_least(0)});
+  f.checks.push_back([](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+    if (o.value("type", "smooth") == "tets") {
+      for (const char* key : {"voxel_size", "smoothing"})
+        if (o.contains(key))
+          issues.push_back({pointer_append(ptr, key), fmt::format("\"{}\" belongs to type \"smooth\" only", key)});
+      return;
+    }
+    if (o.contains("voxel_size") && o.contains("smoothing") &&
+        !(o["smoothing"].get<double>() <= kMaxSmoothingVoxels * o["voxel_size"].get<double>()))
+      issues.push_back({pointer_append(ptr, "smoothing"),
+                        fmt::format("{:g} m is more than {:g} voxels of {:g} m: raise voxel_size or lower smoothing",
+                                    o["smoothing"].get<double>(), kMaxSmoothingVoxels, o["voxel_size"].get<double>())});
+  });
+  return f;
+}
+
 Field output() {
   return Field::object("export", "What is written to the output folder.", {
       Field::boolean("vtu", "Write a .pvd collection with one .vtu per frame per object (ParaView).").def(true),
@@ -150,6 +199,7 @@ Field output() {
                     "Voxel edge of the volumes (voxel centres at integer multiples of it); absent: half the "
                     "fluid mesh's mean edge length at the first frame.")
           .greater(0),
+      liquid_surface(),
       Field::integer("every_n_frames", "Write every n-th frame only.").at_least(1).def(1),
       Field::integer("checkpoint_every",
                      "Write a checkpoint (the whole state: fluid mesh and fields, solids, liquid surface, MPM "
