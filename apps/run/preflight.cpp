@@ -279,8 +279,9 @@ class Checker {
     for (auto& issue : process_issues(js_, runner_->name, parallel::num_processes())) issues_.push_back(std::move(issue));
   }
 
-  /// A boundary-condition box that misses the solid's bounding box selects no node: the run would
-  /// stop on it after meshing, so validate says so too.
+  /// A boundary-condition or fixed-region box that misses the solid's bounding box, or lies wholly
+  /// outside the solid, selects no node: the run would stop on it after meshing, so validate says
+  /// so too.
   void check_load_boxes() {
     const auto& solids = js_.at("solids");
     for (std::size_t i = 0; i < solids.size() && i < placed_.size(); ++i) {
@@ -293,7 +294,9 @@ class Checker {
       for (std::size_t j = 0; j < bcs.size() + fixed.size(); ++j) {
         const Json& box = j < bcs.size() ? bcs[j].at("box") : fixed[j - bcs.size()];
         const Eigen::Vector3d lo = vec3(box.at("lo")), hi = vec3(box.at("hi"));
-        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all()) continue;
+        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all() &&
+            !box_outside_solid(p.surface, (lo.array() - tol).matrix(), (hi.array() + tol).matrix()))
+          continue;
         add(j < bcs.size() ? fmt::format("/solids/{}/boundary_conditions/{}/box", i, j)
                            : fmt::format("/solids/{}/fixed_regions/{}", i, j - bcs.size()),
             fmt::format("the box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m misses solid '{}' (bounding box "

@@ -1,6 +1,7 @@
 #include "apps/run/preflight_obstacles.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 
@@ -8,6 +9,22 @@
 #include "apps/run/solid_params.hpp"
 
 namespace tetfsi::run {
+
+bool box_outside_solid(const mesh::SurfaceMesh& s, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  double solid_angle = 0;
+  for (const auto& t : s.triangles) {
+    const Eigen::Vector3d &p = s.vertices[t[0]], &q = s.vertices[t[1]], &r = s.vertices[t[2]];
+    if ((p.cwiseMax(q).cwiseMax(r).array() >= lo.array()).all() && (p.cwiseMin(q).cwiseMin(r).array() <= hi.array()).all())
+      return false;  // the surface may cross the box
+    // Solid angle of the triangle seen from the centre: tan(omega / 2) = a.(b x c) / (|a||b||c| +
+    // (a.b)|c| + (b.c)|a| + (c.a)|b|) (Van Oosterom & Strackee 1983, eq. 8).
+    const Eigen::Vector3d a = p - centre, b = q - centre, c = r - centre;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    solid_angle += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
+  }
+  return std::fabs(solid_angle) < 2 * M_PI;  // winding number 0 (outside), not 1 (inside)
+}
 
 std::vector<scene::Issue> obstacle_issues(const scene::Json& js, const std::string& runner,
                                           const std::vector<ContainedSolid>& solids) {

@@ -6,6 +6,8 @@
 /// naming neither the obstacle nor the placement.
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "apps/run/preflight_container.hpp"
 #include "apps/scene/schema.hpp"
 
@@ -15,6 +17,12 @@ namespace tetfsi::run {
 /// coupled): a surface vertex behind a plane (its normal points to the free side) or inside a box
 /// by more than 1e-6 of the solid's size is an issue at /solids/i/placement naming the obstacle.
 /// `solids` follow /solids (a null surface is not checked).
+/// Whether the box [lo, hi] lies wholly outside the solid bounded by the closed, outward-oriented
+/// surface `s`: no triangle's bounding box meets the box (so the surface does not cross it) and the
+/// box's centre has winding number 0 (a solid-angle sum, Van Oosterom & Strackee 1983). The solid's
+/// mesh then has no node in the box (Mesh_3 puts its boundary nodes on the surface).
+bool box_outside_solid(const mesh::SurfaceMesh& s, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+
 std::vector<scene::Issue> obstacle_issues(const scene::Json& js, const std::string& runner,
                                           const std::vector<ContainedSolid>& solids);
 

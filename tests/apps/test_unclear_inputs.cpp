@@ -169,13 +169,24 @@ TEST(UnclearInputs, YoungsModulusAboveTenTimesDiamondsIsRefused) {
   EXPECT_EQ(status, 0) << text;
 }
 
-// A fixed_regions box that misses the solid passed validate and stopped the run (exit 2).
+// A fixed_regions box that misses the solid passed validate and stopped the solid runner (exit 2);
+// the coupled runner fixed nothing without a word. Outside the bounding box, or inside it but
+// outside the solid (a corner of a ball's box): validate and run refuse it alike.
 TEST(UnclearInputs, FixedRegionMissingTheSolidIsRefusedByValidateAsByRun) {
   TempDir dir("fixed_miss");
   json s = box_on_floor();
   s["solids"][0]["fixed_regions"] = {{{"lo", {5, 5, 5}}, {"hi", {6, 6, 6}}}};
   expect_refused(dir.path(), write(dir.path(), "fixed", s),
                  "fixed.json: /solids/0/fixed_regions/0: the box [5, 5, 5] to [6, 6, 6] m misses solid 'box'");
+  json ball = ball_in_water();  // radius 0.15: the corner (0.12..0.15)^3 is 0.21 m or more from its centre
+  ball["solids"][0]["fixed_regions"] = {{{"lo", {0.12, 0.12, 0.12}}, {"hi", {0.15, 0.15, 0.15}}}};
+  expect_refused(dir.path(), write(dir.path(), "corner", ball),
+                 "corner.json: /solids/0/fixed_regions/0: the box [0.12, 0.12, 0.12] to [0.15, 0.15, 0.15] m misses "
+                 "solid 'ball'");
+  ball["solids"][0]["fixed_regions"] = {{{"lo", {-0.02, -0.02, -0.02}}, {"hi", {0.02, 0.02, 0.02}}}};  // inside
+  int status = -1;
+  const std::string text = tetfsi::test::tetfsi_cmd("validate " + write(dir.path(), "centre", ball), &status);
+  EXPECT_EQ(status, 0) << text;
 }
 
 // Values the run ignored or cut without a word: a warning from validate, on run's console and in
