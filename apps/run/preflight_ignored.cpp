@@ -34,6 +34,11 @@ std::vector<std::string> ignored_value_warnings(const scene::Scene& scene, const
     out.push_back(fmt::format("/fluid/regions: ignored: /fluid/fill is \"{}\", so the liquid fills {}; set fill to "
                               "\"regions\" for a liquid with a free surface", fill,
                               fill == "domain" ? "the domain" : "the cavities"));
+  const auto& obstacles = scene.json.value("obstacles", scene::Json::object());
+  if (runner == "fluid" && (!obstacles.value("planes", scene::Json::array()).empty() ||
+                            !obstacles.value("boxes", scene::Json::array()).empty()))
+    out.push_back("/obstacles: ignored: they are for solid contact, and the fluid runner (which runs this scene) "
+                  "moves no solid (use a solid with a zero motion as a fixed obstacle in the fluid)");
   const double edge = scene["mesh"].at("edge_length").get<double>();
   if (given("mesh", "edge_length") && !meshes_fluid && edge > largest_meshed_solid)
     out.push_back(largest_meshed_solid > 0

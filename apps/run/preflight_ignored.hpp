@@ -17,6 +17,7 @@ namespace tetfsi::run {
 /// - /simulation/dt longer than the frame interval 1 / frame_rate (the steps are cut to land on
 ///   every frame), unless a static analysis takes load steps instead;
 /// - /fluid/regions without `fill: regions`;
+/// - /obstacles in the fluid runner (it moves no solid);
 /// - /mesh/edge_length in a scene without a meshed fluid that is longer than every tet-meshed solid
 ///   (`largest_meshed_solid`: the largest bounding-box edge of those solids [m], 0 if none: then
 ///   nothing is meshed at that length).

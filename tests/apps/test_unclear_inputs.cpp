@@ -200,6 +200,10 @@ TEST(UnclearInputs, IgnoredValuesAreWarnedByValidateAndRunAlike) {
   json liquid = ball_in_water();
   liquid["fluid"]["regions"] = {{{"type", "below"}, {"height", 0}}};  // fill "domain" (default)
   liquid["simulation"]["cfl"] = 0.3;  // with dt
+  json still = ball_in_water();  // a ball held still in smoke: the fluid runner
+  still["fluid"] = {{"type", "smoke"}};
+  still["solids"][0]["motion"] = {{"type", "translation"}, {"velocity", {0, 0, 0}}};
+  still["obstacles"] = {{"planes", {{{"point", {0, -0.4, 0}}, {"normal", {0, 1, 0}}}}}};
   const std::vector<std::pair<json, std::vector<std::string>>> cases = {
       {solid,
        {"warning: /simulation/cfl: ignored: the solid runner (which runs this scene) has no CFL step",
@@ -208,6 +212,7 @@ TEST(UnclearInputs, IgnoredValuesAreWarnedByValidateAndRunAlike) {
       {liquid,
        {"warning: /fluid/regions: ignored: /fluid/fill is \"domain\"",
         "warning: /simulation/cfl: ignored: /simulation/dt is given"}},
+      {still, {"warning: /obstacles: ignored: they are for solid contact, and the fluid runner"}},
   };
   for (const auto& [scene_json, warnings] : cases) {
     const std::string scene = write(dir.path(), "scene", scene_json);
