@@ -71,6 +71,14 @@ void expect_refused(const fs::path& dir, const std::string& scene, const std::st
   EXPECT_FALSE(has(rout, "internal error")) << rout;
 }
 
+/// `tetfsi validate` accepts the scene; returns its output.
+std::string expect_valid(const fs::path& dir, const std::string& name, const json& scene) {
+  int status = -1;
+  const std::string text = tetfsi::test::tetfsi_cmd("validate " + write(dir, name, scene), &status);
+  EXPECT_EQ(status, 0) << text;
+  return text;
+}
+
 }  // namespace
 
 // Output paths taken by the wrong kind of entry ended in "internal error: filesystem error" after
@@ -147,9 +155,7 @@ TEST(UnclearInputs, SolidStartingInsideAnObstacleIsRefusedBeforeRunning) {
   // Resting on the floor (its lowest face on the plane) is a valid start.
   json resting = box_on_floor();
   resting["solids"][0]["placement"]["translation"] = {0, 0.15, 0};
-  int status = -1;
-  const std::string text = tetfsi::test::tetfsi_cmd("validate " + write(dir.path(), "resting", resting), &status);
-  EXPECT_EQ(status, 0) << text;
+  expect_valid(dir.path(), "resting", resting);
 }
 
 // E = 1e300 Pa printed four raw CHOLMOD warnings and named no key. The bound is ten times
@@ -164,9 +170,7 @@ TEST(UnclearInputs, YoungsModulusAboveTenTimesDiamondsIsRefused) {
   }
   json s = box_on_floor();
   s["solids"][0]["material"]["youngs_modulus"] = 1.05e12;  // diamond
-  int status = -1;
-  const std::string text = tetfsi::test::tetfsi_cmd("validate " + write(dir.path(), "diamond", s), &status);
-  EXPECT_EQ(status, 0) << text;
+  expect_valid(dir.path(), "diamond", s);
 }
 
 // A fixed_regions box that misses the solid passed validate and stopped the solid runner (exit 2);
@@ -184,9 +188,7 @@ TEST(UnclearInputs, FixedRegionMissingTheSolidIsRefusedByValidateAsByRun) {
                  "corner.json: /solids/0/fixed_regions/0: the box [0.12, 0.12, 0.12] to [0.15, 0.15, 0.15] m misses "
                  "solid 'ball'");
   ball["solids"][0]["fixed_regions"] = {{{"lo", {-0.02, -0.02, -0.02}}, {"hi", {0.02, 0.02, 0.02}}}};  // inside
-  int status = -1;
-  const std::string text = tetfsi::test::tetfsi_cmd("validate " + write(dir.path(), "centre", ball), &status);
-  EXPECT_EQ(status, 0) << text;
+  expect_valid(dir.path(), "centre", ball);
 }
 
 // Values the run ignored or cut without a word: a warning from validate, on run's console and in
@@ -230,9 +232,7 @@ TEST(UnclearInputs, IgnoredValuesAreWarnedByValidateAndRunAlike) {
     }
   }
   // Without those keys: no warning.
-  int status = -1;
-  const std::string quiet = tetfsi::test::tetfsi_cmd("validate " + write(dir.path(), "plain", box_on_floor()), &status);
-  EXPECT_EQ(status, 0) << quiet;
+  const std::string quiet = expect_valid(dir.path(), "plain", box_on_floor());
   EXPECT_FALSE(has(quiet, "warning")) << quiet;
 
   json smoke = ball_in_water();
