@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -13,6 +14,7 @@
 
 #include "apps/run/driver.hpp"
 #include "apps/run/errors.hpp"
+#include "apps/run/output.hpp"
 #include "apps/run/preflight.hpp"
 #include "apps/run/solid_geometry.hpp"
 #include "apps/scene/docs.hpp"
@@ -44,6 +46,7 @@ int validate(const run::RunOptions& opt, bool print_resolved) {
 }
 
 int mesh_command(const std::string& in, const std::string& out, double edge, double scale, double max_tets) {
+  run::check_output_file(out, "output");
   std::vector<std::string> warnings;
   const auto surface = run::import_checked(in, scale, warnings);
   for (const auto& w : warnings) std::cerr << "warning: " << w << "\n";
@@ -151,6 +154,12 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
   rep->set_help_flag();  // --help goes to the script
   rep->allow_extras();
 
+  // CLI11 says only "A subcommand is required" for a word that is not a command.
+  bool known = argc < 2 || argv[1][0] == '-';
+  for (const auto* sub : std::as_const(app).get_subcommands(nullptr)) known = known || sub->get_name() == argv[1];
+  if (!known)
+    throw run::InputError(fmt::format("unknown command '{}': the commands are run, validate, mesh, schema and report "
+                                      "(tetfsi --help)", argv[1]));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -67,6 +67,9 @@ std::uint64_t fnv1a(const std::string& text) { return fnv1a(text.data(), text.si
 std::uint64_t checkpoint_scene_hash(const scene::Json& resolved) {
   scene::Json j = resolved;
   if (j.contains("simulation")) j["simulation"].erase("end_time");
+  // The thread count changes no result (tests/apps/test_checkpoint_resume.cpp, threads 1 and 2):
+  // hashed as the default, so a checkpoint of a scene without `threads` keeps its hash.
+  if (j.contains("simulation") && j["simulation"].contains("threads")) j["simulation"]["threads"] = 0;
   if (j.contains("export")) j["export"].erase("checkpoint_every");
   return fnv1a(j.dump(2));
 }
@@ -142,8 +145,8 @@ LoadedCheckpoint read_latest_checkpoint(const fs::path& out_dir, std::uint64_t s
     r(hash);
     if (hash != scene_hash)
       throw InputError(fmt::format("--resume: {} was written for another scene (resolved-scene hash {:016x}, this one "
-                                   "{:016x}; only simulation.end_time and export.checkpoint_every may change): run "
-                                   "without --resume to start over", name, hash, scene_hash));
+                                   "{:016x}; only simulation.end_time, simulation.threads and export.checkpoint_every may "
+                                   "change): run without --resume to start over", name, hash, scene_hash));
     r(written_by);
     if (written_by != runner)
       throw InputError(fmt::format("--resume: {} was written by the {} runner, this scene runs on the {} runner", name,

@@ -7,8 +7,9 @@
 ///     "TETFSICK"  magic, 8 bytes
 ///     u32         format version (kCheckpointVersion)
 ///     u64         scene hash: FNV-1a of the resolved scene without simulation.end_time and
-///                 export.checkpoint_every (checkpoint_scene_hash), so a run may be resumed
-///                 with a later end time, and nothing else may change
+///                 export.checkpoint_every, simulation.threads hashed as 0 (checkpoint_scene_hash),
+///                 so a run may be resumed with a later end time or another thread count, and
+///                 nothing else may change
 ///     string      runner name (u64 length + bytes)
 ///     u64, u64    payload length and its FNV-1a hash (a damaged payload is found before parsing)
 ///     payload     the driver's state (DriverState: time, step, frame, the output's .pvd lists,
@@ -35,7 +36,8 @@ std::uint64_t fnv1a(const std::string& text);
 std::uint64_t fnv1a(const char* data, std::size_t size);
 
 /// The hash a checkpoint is tied to: of the resolved scene (JSON dump, 2-space indent) without
-/// /simulation/end_time and /export/checkpoint_every.
+/// /simulation/end_time and /export/checkpoint_every, with /simulation/threads as 0 (the results
+/// do not depend on it).
 std::uint64_t checkpoint_scene_hash(const scene::Json& resolved);
 
 /// The driver's part of a checkpoint: where the time loop stands after a frame.

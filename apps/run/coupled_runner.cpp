@@ -162,9 +162,14 @@ class CoupledRunner : public Simulation {
     const auto& solids = js.at("solids");
     for (int i = 0; i < stepper_->num_solids(); ++i) {
       auto& integrator = stepper_->solid(i);
-      for (const auto& box : solids[i].at("fixed_regions"))
-        integrator.fix_components(integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi"))),
-                                  fixed_components(box), vec3(box.at("velocity")));
+      for (std::size_t r = 0; r < solids[i].at("fixed_regions").size(); ++r) {
+        const auto& box = solids[i]["fixed_regions"][r];
+        const auto nodes = integrator.nodes_in_box(vec3(box.at("lo")), vec3(box.at("hi")));
+        if (nodes.empty())  // as the solid runner: a box that holds nothing is refused, not ignored
+          throw InputError(fmt::format("/solids/{}/fixed_regions/{}: the box contains no node of solid '{}'", i, r,
+                                       names_[i]));
+        integrator.fix_components(nodes, fixed_components(box), vec3(box.at("velocity")));
+      }
       add_scene_springs(integrator, solids[i], i, names_[i], log);
       integrator.set_uniform_velocity(vec3(solids[i].at("initial_velocity")));
       if (js.contains("obstacles")) {

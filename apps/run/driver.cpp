@@ -376,6 +376,13 @@ scene::Scene load_with_overrides(const RunOptions& opt) {
 
 void run_scene(const RunOptions& opt) {
   scene::Scene scene = load_with_overrides(opt);
+  if (parallel::rank() == 0) {  // the paths the run writes, before any work (output.hpp)
+    std::vector<std::string> objects;
+    for (const auto& s : scene["solids"]) objects.push_back(s.at("name").get<std::string>());
+    if (scene["fluid"].at("type") != "none") objects.insert(objects.end(), {"fluid", "liquid"});
+    if (scene.json.contains("mpm")) objects.insert(objects.end(), {"particles", "membrane"});
+    check_output_folder(opt.out_dir, objects);
+  }
   PreflightOptions checks;
   checks.max_tets = opt.max_tets;
   const PreflightReport report = preflight(scene, checks);

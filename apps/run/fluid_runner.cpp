@@ -79,9 +79,6 @@ class FluidRunner : public Simulation {
     ambient_ = params.buoyancy.ambient_temperature > 0 ? params.buoyancy.ambient_temperature : ambient_;
     bc_.patches = boundary_patches(js, ambient_);
     emitters_ = timed_sources(js, log);
-    if (!js.at("obstacles").at("planes").empty() || !js.at("obstacles").at("boxes").empty())
-      log.warn("/obstacles are for solid contact and are ignored by the fluid runner (use a solid with a "
-               "zero motion as a fixed obstacle in the fluid)");
 
     // ---- mesh ----
     const auto& m = js.at("mesh");

@@ -1,7 +1,11 @@
 #include "apps/run/output.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <regex>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -129,6 +133,63 @@ OutputCleanup clean_output_folder(const fs::path& dir, bool earlier_run, int res
     if (done.earlier_run_files > before && fs::is_empty(folder, ec)) fs::remove(folder, ec);
   }
   return done;
+}
+
+namespace {
+/// Creates and removes `path`.tmp.<pid> (the name an atomic write uses); returns why it could not
+/// be created, or "".
+std::string cannot_create(const fs::path& path) {
+  const fs::path probe = path.string() + ".tmp." + std::to_string(::getpid());
+  errno = 0;
+  { std::ofstream(probe, std::ios::app); }
+  std::error_code ec;
+  if (fs::exists(probe, ec)) return fs::remove(probe, ec), "";
+  return errno ? std::strerror(errno) : "unknown reason";
+}
+}  // namespace
+
+void check_output_file(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw InputError(fmt::format("{} {}: is a folder; give the name of a file to write", what, path.string()));
+  if (const std::string why = cannot_create(path); !why.empty())
+    throw InputError(fmt::format("{} {}: cannot create a file there ({}): give a path in a folder you can write",
+                                 what, path.string(), why));
+}
+
+void check_output_folder(const fs::path& dir, const std::vector<std::string>& objects) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(fmt::format("--out {}: is a file, not a folder", dir.string()));
+  if (!fs::exists(dir, ec)) {  // created by the run: its nearest existing parent must be a folder
+    fs::path parent = fs::absolute(dir, ec);
+    while (parent.has_parent_path() && parent != parent.parent_path() && !fs::exists(parent, ec))
+      parent = parent.parent_path();
+    if (!fs::is_directory(parent, ec))
+      throw InputError(fmt::format("--out {}: cannot create the folder: {} is a file, not a folder", dir.string(),
+                                   parent.string()));
+    if (const std::string why = cannot_create(parent / "tetfsi_out"); !why.empty())
+      throw InputError(fmt::format("--out {}: cannot create the folder in {} ({})", dir.string(), parent.string(), why));
+    return;
+  }
+  check_output_file(dir / "run.log.check", "--out");
+  auto refuse = [&](const fs::path& p, const char* is, const char* expected) {
+    throw InputError(fmt::format("--out {}: {} is {}, where the run writes {}; move it away or choose another "
+                                 "--out", dir.string(), p.string(), is, expected));
+  };
+  std::vector<std::string> folders = objects;
+  for (const char* f : {"surfaces", "volumes", "checkpoint"}) folders.emplace_back(f);
+  for (const auto& f : folders) {
+    const fs::path p = dir / f;
+    if (fs::exists(p, ec) && !fs::is_directory(p, ec)) refuse(p, "a file", "a folder of frames");
+    for (const auto& e : fs::directory_iterator(p, ec))  // an earlier run's frame files (a missing folder: none)
+      if (e.is_directory(ec) && std::regex_match(e.path().filename().string(), std::regex(R"(.+\.(vtu|ply|obj|vdb|bin))")))
+        refuse(e.path(), "a folder", "frame files");
+  }
+  std::vector<std::string> files = {"stats.csv", "probes.csv", "run.log"};
+  for (const auto& o : objects) files.push_back(o + ".pvd");
+  for (const auto& f : files)
+    if (fs::is_directory(dir / f, ec)) refuse(dir / f, "a folder", "a file");
 }
 
 Output::Output(fs::path dir, scene::Json export_cfg)

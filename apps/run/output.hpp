@@ -145,6 +145,18 @@ struct OutputCleanup {
 /// checkpoints stay (Output::resume cuts the CSV files back).
 OutputCleanup clean_output_folder(const std::filesystem::path& dir, bool earlier_run, int resume_frame = -1);
 
+/// A file that `tetfsi mesh` or a run writes (atomically: `path`.tmp.<pid>, then renamed): refused
+/// with InputError (exit 2) before any work if `path` is a folder or no file can be created beside
+/// it (a missing or read-only folder, /proc). `what` names the option in the message.
+void check_output_file(const std::filesystem::path& path, const std::string& what);
+
+/// The output folder `dir` of a run, checked before any work: `dir` a folder (or creatable: its
+/// nearest existing parent a folder), a new file can be written in it, and none of the paths the run
+/// writes is taken by the wrong kind of entry: `<object>` (each of `objects`), `surfaces`,
+/// `volumes`, `checkpoint` not files; `<object>.pvd`, stats.csv, probes.csv, run.log and the frame
+/// files already in those folders not folders. @throws InputError naming the path (exit 2)
+void check_output_folder(const std::filesystem::path& dir, const std::vector<std::string>& objects);
+
 /// One CSV row of numbers (17 significant digits, so values read back exactly); a non-finite
 /// value (a probe without a value) is an empty cell.
 std::string csv_row(const std::vector<double>& row);

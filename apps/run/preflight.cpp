@@ -9,8 +9,10 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
 #include "apps/run/preflight_container.hpp"
+#include "apps/run/preflight_ignored.hpp"
 #include "apps/run/preflight_liquid.hpp"
 #include "apps/run/preflight_models.hpp"
+#include "apps/run/preflight_obstacles.hpp"
 #include "apps/run/preflight_particles.hpp"
 #include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
@@ -65,6 +67,7 @@ class Checker {
     check_load_boxes();
     check_probes();
     check_emitters();
+    check_start();
     if (issues_.empty()) estimate();
     if (!issues_.empty()) fail();
     return report_;
@@ -254,14 +257,31 @@ class Checker {
       }
   }
 
+  /// Solids starting inside an obstacle (preflight_obstacles.hpp), and the values the run would
+  /// ignore or cut (preflight_ignored.hpp).
+  void check_start() {
+    std::vector<ContainedSolid> solids;
+    double largest = 0;  // of the tet-meshed solids (estimate_tets)
+    for (std::size_t i = 0; i < placed_.size(); ++i) {
+      const auto& p = placed_[i];
+      solids.push_back({p.ok ? &p.surface : nullptr, solid_name(i)});
+      if (p.ok && p.tets < 0 && js_["solids"][i]["model"]["type"] != "hex8" && runner_->name != "kinematic")
+        largest = std::max(largest, (p.hi - p.lo).maxCoeff());
+    }
+    for (auto& issue : obstacle_issues(js_, runner_->name, solids)) issues_.push_back(std::move(issue));
+    for (auto& w : ignored_value_warnings(scene_, runner_->name, meshes_fluid(), largest))
+      report_.warnings.push_back(std::move(w));
+  }
+
   /// Scenes no runner simulates as written: refused rather than run in part.
   void check_runner() {
     for (auto& issue : model_mix_issues(js_, runner_->name, meshes_fluid())) issues_.push_back(std::move(issue));
     for (auto& issue : process_issues(js_, runner_->name, parallel::num_processes())) issues_.push_back(std::move(issue));
   }
 
-  /// A boundary-condition box that misses the solid's bounding box selects no node: the run would
-  /// stop on it after meshing, so validate says so too.
+  /// A boundary-condition or fixed-region box that misses the solid's bounding box, or lies wholly
+  /// outside the solid, selects no node: the run would stop on it after meshing, so validate says
+  /// so too.
   void check_load_boxes() {
     const auto& solids = js_.at("solids");
     for (std::size_t i = 0; i < solids.size() && i < placed_.size(); ++i) {
@@ -269,10 +289,16 @@ class Checker {
       const auto& p = placed_[i];
       const double tol = 1e-9 * (p.hi - p.lo).norm();
       const auto& bcs = solids[i].at("boundary_conditions");
-      for (std::size_t j = 0; j < bcs.size(); ++j) {
-        const Eigen::Vector3d lo = vec3(bcs[j].at("box").at("lo")), hi = vec3(bcs[j].at("box").at("hi"));
-        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all()) continue;
-        add(fmt::format("/solids/{}/boundary_conditions/{}/box", i, j),
+      // fixed_regions too (a hex8 solid's are checked on its mesh: empty_hex_regions).
+      const Json fixed = solids[i]["model"]["type"] == "hex8" ? Json::array() : solids[i].value("fixed_regions", Json::array());
+      for (std::size_t j = 0; j < bcs.size() + fixed.size(); ++j) {
+        const Json& box = j < bcs.size() ? bcs[j].at("box") : fixed[j - bcs.size()];
+        const Eigen::Vector3d lo = vec3(box.at("lo")), hi = vec3(box.at("hi"));
+        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all() &&
+            !box_outside_solid(p.surface, (lo.array() - tol).matrix(), (hi.array() + tol).matrix()))
+          continue;
+        add(j < bcs.size() ? fmt::format("/solids/{}/boundary_conditions/{}/box", i, j)
+                           : fmt::format("/solids/{}/fixed_regions/{}", i, j - bcs.size()),
             fmt::format("the box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m misses solid '{}' (bounding box "
                         "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): it selects no node",
                         lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z(), solid_name(i), p.lo.x(), p.lo.y(), p.lo.z(),

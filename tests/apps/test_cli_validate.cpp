@@ -63,7 +63,7 @@ void expect_named_errors(const json& base, const std::vector<Case>& cases) {
 TEST(CliValidate, MalformedScenesNameTheKeyAndExitWith2) {
   const std::vector<Case> cases = {
       {"negative_E", [](json& s) { s["solids"][0]["material"]["youngs_modulus"] = -5; },
-       "/solids/0/material/youngs_modulus", "expected a number > 0 [Pa], got -5"},
+       "/solids/0/material/youngs_modulus", "expected a number > 0 and <= 1e+13 [Pa], got -5"},
       {"nu_half", [](json& s) { s["solids"][0]["material"]["poissons_ratio"] = 0.5; },
        "/solids/0/material/poissons_ratio", "< 0.5"},
       {"nu_minus_one", [](json& s) { s["solids"][0]["material"]["poissons_ratio"] = -1; },

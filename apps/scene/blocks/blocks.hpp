@@ -26,5 +26,13 @@ Check lo_below_hi(std::string lo = "lo", std::string hi = "hi");
 Check nonzero(std::string key);
 /// An axis-aligned box {lo, hi} [m], both required, lo < hi.
 Field box(std::string key, std::string doc);
+/// Check that object[end] > object[start] when both are present (a time window).
+Check start_before_end(std::string start = "start_time", std::string end = "end_time");
+/// Young's modulus E [Pa], required, 0 < E <= kMaxYoungsModulus.
+Field youngs_modulus(std::string doc);
+/// Largest Young's modulus a scene may give [Pa]: ten times diamond's 1.05e12 Pa, the stiffest bulk
+/// material. Beyond it the stiffness matrix's entries (E / h, up to E * 1e300 for a tiny mesh) leave
+/// the range CHOLMOD factorizes (it warned four times and the run failed naming no key at 1e300).
+constexpr double kMaxYoungsModulus = 1e13;
 
 }  // namespace tetfsi::scene::blocks

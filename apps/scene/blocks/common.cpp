@@ -18,6 +18,20 @@ Check lo_below_hi(std::string lo, std::string hi) {
   };
 }
 
+Check start_before_end(std::string start, std::string end) {
+  return [start, end](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
+    if (!o.contains(start) || !o.contains(end) || o[end].get<double>() > o[start].get<double>()) return;
+    issues.push_back({pointer_append(ptr, end), fmt::format("expected {} > {} ({} s): the source would never be on, got "
+                                                            "{} s", end, start, o[start].get<double>(),
+                                                            o[end].get<double>())});
+  };
+}
+
+Field youngs_modulus(std::string doc) {
+  return Field::number("youngs_modulus", "Pa", std::move(doc) + " The bound is ten times diamond's 1.05e12 Pa.")
+      .req().greater(0).at_most(kMaxYoungsModulus);
+}
+
 Check nonzero(std::string key) {
   return [key](const Json& o, const std::string& ptr, std::vector<Issue>& issues) {
     if (!o.contains(key)) return;

@@ -34,7 +34,7 @@ Field emitters() {
       Field::number("temperature", "K", "Temperature set inside the source.").greater(0).def(373.15),
       Field::number("start_time", "s", "Time the source switches on.").at_least(0).def(0),
       Field::number("end_time", "s", "Time the source switches off; absent: never.").greater(0),
-  });
+  }).check(start_before_end());
   return Field::array("emitters",
                       "Smoke or liquid sources. With a free-surface liquid (fluid.fill `regions`) the source "
                       "keeps its box full of liquid moving at `velocity` while it is on (a nozzle; a sphere acts "

@@ -71,7 +71,7 @@ Field body_material() {
                          "tension (eq. 66). The fluids add a shear viscosity (eq. 26).").req(),
       Field::number("density", "kg/m^3", "Reference density rho0.").req().greater(0)})
       .tagged_by("type")
-      .variant("linear_elastic", {Field::number("youngs_modulus", "Pa", "Young's modulus E.").req().greater(0),
+      .variant("linear_elastic", {youngs_modulus("Young's modulus E."),
                                   Field::number("poissons_ratio", "", "Poisson's ratio nu.").req().greater(-1).less(0.5)})
       .variant("ideal_gas", {Field::number("gamma", "", "Ratio of specific heats.").greater(1).at_most(5).def(1.4),
                              Field::number("viscosity", "Pa s", "Shear viscosity mu.").at_least(0).def(0)})
@@ -159,7 +159,7 @@ Field membrane() {
       Field::number("element_size", "m", "Target element edge length (grid cell or smaller, paper: the cell).").req().greater(0),
       Field::number("thickness", "m", "Thickness t (constant).").req().greater(0),
       Field::number("density", "kg/m^3", "Density.").req().greater(0),
-      Field::number("youngs_modulus", "Pa", "Young's modulus (plane stress).").req().greater(0),
+      youngs_modulus("Young's modulus (plane stress)."),
       Field::number("poissons_ratio", "", "Poisson's ratio.").req().greater(-1).less(0.5),
       Field::number("hourglass", "", "Flanagan-Belytschko stiffness coefficient of the in-plane hourglass modes.")
           .at_least(0).at_most(1).def(0.1),
@@ -185,7 +185,7 @@ Field source() {
       Field::vector("velocity", 3, "m/s", "Its velocity.").def({0, 0, 0}),
       Field::number("start_time", "s", "Inflow starts.").at_least(0).def(0),
       Field::number("end_time", "s", "Inflow stops.").req().greater(0),
-  });
+  }).check(start_before_end());
 }
 
 Field contact() {

@@ -81,7 +81,7 @@ Field fixed_region() {
 Field material() {
   return Field::object("material", "Elastic material.", {
       Field::number("density", "kg/m^3", "Mass density.").req().greater(0),
-      Field::number("youngs_modulus", "Pa", "Young's modulus E.").req().greater(0),
+      youngs_modulus("Young's modulus E."),
       Field::number("poissons_ratio", "", "Poisson's ratio nu (-1 < nu < 0.5).").req().greater(-1).less(0.5),
       Field::enumeration("constitutive", {"stvk", "neohookean"},
                          "Stress law: St. Venant-Kirchhoff (Green strain, linear stress) or neo-Hookean.")
