@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""Checks that every repository file named in a comment or in Markdown exists.
+
+Reads the comments of C++ files (// and /* */), of Python, shell and CMake files (#), and the
+whole text of Markdown files, and finds the tokens that look like repository paths: they contain
+a '/' and start with one of the repository's top folders (apps/, coupling/, docs/, ...), or they
+are a bare C++ file name (`name.cpp`, `name.hpp`). A path must exist relative to the repository
+root or to the citing file's folder (Markdown links), or be the stem of such a file
+(`mesh/io/vtu_reader` for vtu_reader.hpp and .cpp, a test or bench target); a glob (`apps/scene/blocks/*.cpp`) must
+match a file; a bare C++ file name must be the name of some file in the repository. Paths outside
+the repository (`/work/...`, `../shared/...`) are never allowed. URLs and placeholders (`NAME`,
+`NNNNN`, `<dir>`) are skipped.
+
+Prints file:line: message for each problem and exits 1 if there is any, else 0.
+
+    python3 scripts/check_references.py [--root DIR]
+
+Hand-written (standard library only) because it must run in CI without extra packages, and
+link checkers (lychee, markdown-link-check) read Markdown links, not paths in code comments.
+"""
+import argparse
+import glob
+import os
+import re
+import sys
+
+SKIP_DIRS = {".git", "__pycache__"}
+CPP_EXT = (".cpp", ".hpp", ".h", ".cc", ".c")
+HASH_EXT = (".py", ".sh", ".cmake")
+# A path-like token: components of letters, digits, _ . - * joined by '/'.
+TOKEN = re.compile(r"(?<![\w./:*~-])(\.{0,2}/?[\w.*-]+(?:/[\w.*-]+)*/?)")
+BARE_CPP = re.compile(r"(?<![\w./*<>-])([A-Za-z_][\w-]+\.(?:cpp|hpp))\b(?!/)")
+PLACEHOLDER = re.compile(r"\b(?:[A-Z]{2,}[A-Z0-9_]*|N{2,})\b|\bX+\b|\.\.\.")
+OUTSIDE = re.compile(r"(?:\.\./shared\b|/work/)")
+
+
+def top_folders(root):
+    return {d for d in os.listdir(root)
+            if os.path.isdir(os.path.join(root, d)) and not d.startswith("build") and d not in SKIP_DIRS
+            and d != "out" and not d.startswith("out-")}
+
+
+def source_files(root):
+    for dirpath, dirnames, filenames in os.walk(root):
+        rel = os.path.relpath(dirpath, root)
+        dirnames[:] = [d for d in dirnames if d not in SKIP_DIRS and not (
+            rel == "." and (d.startswith("build") or d == "out" or d.startswith("out-")))]
+        for name in filenames:
+            if name.endswith(CPP_EXT + HASH_EXT + (".md",)) or name == "CMakeLists.txt":
+                yield os.path.join(dirpath, name)
+
+
+def comment_lines(path, text):
+    """Yields (line number, text to check) for the comments of a source file or a Markdown file."""
+    lines = text.split("\n")
+    if path.endswith(".md"):
+        yield from enumerate(lines, 1)
+        return
+    if path.endswith(CPP_EXT):
+        in_block = False
+        for n, line in enumerate(lines, 1):
+            if in_block:
+                end = line.find("*/")
+                yield n, line if end < 0 else line[:end]
+                in_block = end < 0
+                continue
+            code, _, comment = line.partition("//")
+            start = code.find("/*")
+            if start >= 0 and '"' not in code[:start]:
+                end = code.find("*/", start + 2)
+                yield n, code[start + 2:] if end < 0 else code[start + 2:end]
+                in_block = end < 0
+            if comment and code.count('"') % 2 == 0:
+                yield n, comment
+        return
+    for n, line in enumerate(lines, 1):  # Python, shell, CMake: '#' outside a string
+        hash_at = line.find("#")
+        if hash_at >= 0 and line[:hash_at].count('"') % 2 == 0 and line[:hash_at].count("'") % 2 == 0:
+            yield n, line[hash_at + 1:]
+
+
+def exists(root, citing_dir, token):
+    for base in (root, citing_dir):
+        candidate = os.path.normpath(os.path.join(base, token))
+        if "*" in token:
+            if glob.glob(candidate):
+                return True
+        elif os.path.exists(candidate) or glob.glob(candidate + ".*"):
+            return True  # a file, a folder, or a file named by its stem (mesh/io/vtu_reader)
+    return False
+
+
+def check(root):
+    tops = top_folders(root)
+    basenames = set()
+    files = list(source_files(root))
+    for dirpath, _, filenames in os.walk(root):
+        if os.path.relpath(dirpath, root).split(os.sep)[0].startswith("build"):
+            continue
+        basenames.update(filenames)
+    problems = []
+    for path in files:
+        rel = os.path.relpath(path, root)
+        if rel == os.path.join("scripts", "check_references.py"):
+            continue
+        with open(path, encoding="utf-8", errors="replace") as f:
+            text = f.read()
+        citing_dir = os.path.dirname(path)
+        for n, line in comment_lines(path, text):
+            if OUTSIDE.search(line):
+                problems.append(f"{rel}:{n}: names a path outside the repository: {line.strip()[:100]}")
+            line = re.sub(r"[a-z][a-z0-9+.-]*://\S+", " ", line)  # URLs
+            for m in TOKEN.finditer(line):
+                token = m.group(1).rstrip(".")
+                parts = [p for p in token.split("/") if p not in ("", ".")]
+                if "/" not in token or not parts or PLACEHOLDER.search(token):
+                    continue
+                if parts[0] == "..":
+                    parts = [p for p in parts if p != ".."]
+                if not parts or parts[0] not in tops:
+                    continue
+                if token.startswith("/"):
+                    continue  # an absolute path of the system (e.g. /usr/include/...)
+                if not exists(root, citing_dir, token):
+                    problems.append(f"{rel}:{n}: no such file or folder: {token}")
+            for m in BARE_CPP.finditer(line):
+                if m.group(1) not in basenames and not PLACEHOLDER.search(m.group(1)):
+                    problems.append(f"{rel}:{n}: no file of this name in the repository: {m.group(1)}")
+    return problems
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--root", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    args = parser.parse_args()
+    problems = check(os.path.abspath(args.root))
+    for p in problems:
+        print(p)
+    if problems:
+        print(f"{len(problems)} reference(s) to files that do not exist", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
