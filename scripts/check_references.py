@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Checks that every repository file named in a comment or in Markdown exists.
+"""Checks that every repository file named in a comment or in Markdown exists, and that every
+equation number cited there comes with the paper it is from.
 
 Reads the comments of C++ files (// and /* */), of Python, shell and CMake files (#), and the
 whole text of Markdown files, and finds the tokens that look like repository paths: they contain
@@ -10,6 +11,14 @@ root or to the citing file's folder (Markdown links), or be the stem of such a f
 match a file; a bare C++ file name must be the name of some file in the repository. Paths outside
 the repository (`/work/...`, `../shared/...`) are never allowed. URLs and placeholders (`NAME`,
 `NNNNN`, `<dir>`) are skipped.
+
+An equation reference (`eq. (7)`, `eqs. 60, 61`, `equation 5`) in a file's comments or Markdown
+needs a paper named by author and year (`Chentanez et al. 2006`, `Lian, Liu & Zhang 2014`,
+`Bathe 1996`) in the same file's comments or in the README.md of its folder or the nearest folder
+above it (the repository's top README does not count: it would cover every file).
+
+Docs are reference, not a diary: "seed paper", "session" and "this round / the round before"
+wording is refused too (a paper is cited by author and year, a measurement by its date).
 
 Prints file:line: message for each problem and exits 1 if there is any, else 0.
 
@@ -32,6 +41,12 @@ TOKEN = re.compile(r"(?<![\w./:*~-])(\.{0,2}/?[\w.*-]+(?:/[\w.*-]+)*/?)")
 BARE_CPP = re.compile(r"(?<![\w./*<>-])([A-Za-z_][\w-]+\.(?:cpp|hpp))\b(?!/)")
 PLACEHOLDER = re.compile(r"\b(?:[A-Z]{2,}[A-Z0-9_]*|N{2,})\b|\bX+\b|\.\.\.")
 OUTSIDE = re.compile(r"(?:\.\./shared\b|/work/)")
+DIARY = re.compile(r"\bseed paper|(?<![\w-])sessions?\b|\b(?:this|earlier) rounds?\b|"
+                   r"\b(?:the|two|three|four|five|\d+) rounds? before\b|\bthe round after\b", re.IGNORECASE)
+EQUATION = re.compile(r"\beqs?\.\s*\(?\d|\bequations?\s+\(?\d", re.IGNORECASE)
+NAME = r"[A-Z][A-Za-z\u00C0-\u017F'-]+"
+# Author and year: "Bathe 1996", "Chentanez et al. 2006", "Lian, Liu & Zhang 2014", "Ghia, Ghia & Shin (1982)".
+PAPER = re.compile(NAME + r"(?: et al\.?|(?:, " + NAME + r")*,? (?:&|and) " + NAME + r")?,? \(?(?:1[6-9]|20)\d\d\b")
 
 
 def top_folders(root):
@@ -79,6 +94,24 @@ def comment_lines(path, text):
             yield n, line[hash_at + 1:]
 
 
+def nearest_readme(root, path):
+    """The README.md of path's folder or of the nearest folder above it, below the root; or None."""
+    folder = os.path.dirname(path)
+    while os.path.abspath(folder) != root:
+        readme = os.path.join(folder, "README.md")
+        if readme != path and os.path.exists(readme):
+            return readme
+        folder = os.path.dirname(folder)
+    return None
+
+
+def names_paper(path, cache):
+    if path not in cache:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            cache[path] = bool(PAPER.search(f.read()))
+    return cache[path]
+
+
 def exists(root, citing_dir, token):
     for base in (root, citing_dir):
         candidate = os.path.normpath(os.path.join(base, token))
@@ -99,6 +132,7 @@ def check(root):
             continue
         basenames.update(filenames)
     problems = []
+    readme_cache = {}
     for path in files:
         rel = os.path.relpath(path, root)
         if rel == os.path.join("scripts", "check_references.py"):
@@ -106,7 +140,18 @@ def check(root):
         with open(path, encoding="utf-8", errors="replace") as f:
             text = f.read()
         citing_dir = os.path.dirname(path)
-        for n, line in comment_lines(path, text):
+        comments = list(comment_lines(path, text))
+        first_equation = next((n for n, line in comments if EQUATION.search(line)), None)
+        if first_equation is not None and not PAPER.search(" ".join(line.strip() for _, line in comments)):
+            readme = nearest_readme(root, path)
+            if readme is None or not names_paper(readme, readme_cache):
+                problems.append(f"{rel}:{first_equation}: cites an equation number but names no paper "
+                                f"(author and year) in the file or its folder's README")
+        for n, line in comments:
+            diary = DIARY.search(line)
+            if diary:
+                problems.append(f"{rel}:{n}: diary wording \"{diary.group(0)}\": cite by author and year, "
+                                f"date a measurement")
             if OUTSIDE.search(line):
                 problems.append(f"{rel}:{n}: names a path outside the repository: {line.strip()[:100]}")
             line = re.sub(r"[a-z][a-z0-9+.-]*://\S+", " ", line)  # URLs
@@ -137,7 +182,7 @@ def main():
     for p in problems:
         print(p)
     if problems:
-        print(f"{len(problems)} reference(s) to files that do not exist", file=sys.stderr)
+        print(f"{len(problems)} problem(s)", file=sys.stderr)
         return 1
     return 0
 
