@@ -7,8 +7,8 @@ whole text of Markdown files, and finds the tokens that look like repository pat
 a '/' and start with one of the repository's top folders (apps/, coupling/, docs/, ...), or they
 are a bare C++ file name (`name.cpp`, `name.hpp`). A path must exist relative to the repository
 root or to the citing file's folder (Markdown links), or be the stem of such a file
-(`mesh/io/vtu_reader` for vtu_reader.hpp and .cpp, a test or bench target); a glob (`apps/scene/blocks/*.cpp`) must
-match a file; a bare C++ file name must be the name of some file in the repository. Paths outside
+(`mesh/io/vtu_reader` for vtu_reader.hpp and .cpp, a test or bench target); a glob
+(`apps/scene/blocks/*.cpp`) must match a file; a bare C++ file name must be the name of some file in the repository. Paths outside
 the repository (`/work/...`, `../shared/...`) are never allowed. URLs and placeholders (`NAME`,
 `NNNNN`, `<dir>`) are skipped.
 
@@ -49,20 +49,28 @@ NAME = r"[A-Z][A-Za-z\u00C0-\u017F'-]+"
 PAPER = re.compile(NAME + r"(?: et al\.?|(?:, " + NAME + r")*,? (?:&|and) " + NAME + r")?,? \(?(?:1[6-9]|20)\d\d\b")
 
 
+def output_folder(name):
+    """Top folders that builds and runs make (see .gitignore): not part of the sources."""
+    return name.startswith("build") or name == "out" or name.startswith("out-")
+
+
 def top_folders(root):
     return {d for d in os.listdir(root)
-            if os.path.isdir(os.path.join(root, d)) and not d.startswith("build") and d not in SKIP_DIRS
-            and d != "out" and not d.startswith("out-")}
+            if os.path.isdir(os.path.join(root, d)) and d not in SKIP_DIRS and not output_folder(d)}
 
 
-def source_files(root):
+def repository_files(root):
+    """Every file of the repository (output folders and .git left out)."""
     for dirpath, dirnames, filenames in os.walk(root):
-        rel = os.path.relpath(dirpath, root)
-        dirnames[:] = [d for d in dirnames if d not in SKIP_DIRS and not (
-            rel == "." and (d.startswith("build") or d == "out" or d.startswith("out-")))]
+        top = os.path.relpath(dirpath, root) == "."
+        dirnames[:] = [d for d in dirnames if d not in SKIP_DIRS and not (top and output_folder(d))]
         for name in filenames:
-            if name.endswith(CPP_EXT + HASH_EXT + (".md",)) or name == "CMakeLists.txt":
-                yield os.path.join(dirpath, name)
+            yield os.path.join(dirpath, name)
+
+
+def source_files(paths):
+    return [p for p in paths
+            if p.endswith(CPP_EXT + HASH_EXT + (".md",)) or os.path.basename(p) == "CMakeLists.txt"]
 
 
 def comment_lines(path, text):
@@ -125,12 +133,9 @@ def exists(root, citing_dir, token):
 
 def check(root):
     tops = top_folders(root)
-    basenames = set()
-    files = list(source_files(root))
-    for dirpath, _, filenames in os.walk(root):
-        if os.path.relpath(dirpath, root).split(os.sep)[0].startswith("build"):
-            continue
-        basenames.update(filenames)
+    everything = list(repository_files(root))
+    basenames = {os.path.basename(p) for p in everything}
+    files = source_files(everything)
     problems = []
     readme_cache = {}
     for path in files:
