@@ -7,7 +7,7 @@
 # Why: the per-cell sums (mpm/particles/cell_moments.hpp) keep 32-36 running sums per cell, which fit
 # the 16 AVX registers of 4 doubles but not the 16 SSE2 registers of 2; on the 2-core CI machine a
 # membrane-on-sphere MPM step (113,104 particles, one thread) took 15.2-18.6 ms against
-# 18.2-21.7 ms without (mpm/README.md, session 6).
+# 18.2-21.7 ms without (2026-12-02, `bench_mpm --cases membrane_on_sphere`, apps/bench/mpm).
 # -ffp-contract=off: no fusing of a * b + c into one rounding, so that both builds give the same
 # bits (with fusing, Grid::fractions gave f = -2e-16 for particles on a cell face and the results
 # differed from the baseline build at round-off). EIGEN_MAX_ALIGN_BYTES=16 keeps Eigen's

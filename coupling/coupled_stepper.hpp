@@ -322,8 +322,8 @@ public:
   /// A liquid with a free surface that has air this step: its pressure unknowns are the liquid
   /// nodes and its rows the cut-tet system (fluid/liquid/free_surface_projection.hpp).
   bool free_surface() const;
-  /// Step 1: moves (and maybe remeshes) mesh_ to the solids' current positions; remaps the
-  /// solid-node and pressure maps through the new vertex numbering.
+  /// Step 7, last in step(): moves (and maybe remeshes) mesh_ to the solids' positions X + d^{n+1}
+  /// for the next step; remaps the solid-node and pressure maps through the new vertex numbering.
   MeshUpdateReport update_mesh_to_solids();
 
   mesh::TetMesh mesh_;

@@ -218,6 +218,9 @@ def page(out, cases, rows, order, total, command, quick, load, peer="", peer_fil
     if os.path.exists(os.path.join(out, "liquid", "README.md")):
         lines.append("- [liquid/](liquid/README.md): the liquid cases alone, with OpenFOAM's interFoam beside tetfsi "
                      "(`" + LIQUID_COMMAND + "`)")
+    if os.path.exists(os.path.join(out, "flagship.md")):  # written by hand, dated: kept by the report
+        lines.append("- [flagship.md](flagship.md): the flagship scene's time, memory and output size, and the "
+                     "tools its output was checked with")
     lines += ["", f"Peer: {peer}. The peer's rows (code OpenFOAM) have no band: they are the comparison, not a "
               "test. OpenFOAM runs 2D (one cell thick, scripts/openfoam_peer.py), tetfsi a slab or thin tank of "
               "tets; both on one core.", "",

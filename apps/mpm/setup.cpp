@@ -85,7 +85,7 @@ double initial_energy(const Json& o, const mpm::Material& mat, double rho, const
   if (e_given) return o.at("internal_energy").get<double>();
   if (!p_given) return 0;
   const double p = o.at("pressure").get<double>();
-  const auto [a, b] = mat.eos_coefficients(rho);  // p = a + b E (eqs. 66, 67)
+  const auto [a, b] = mat.eos_coefficients(rho);  // p = a + b E (Lian, Liu & Zhang 2014, eqs. 66, 67)
   if (b == 0) {
     if (p != a)
       throw SetupError(at(ptr, "pressure"), fmt::format("at density {} the equation of state gives p = {} Pa whatever "

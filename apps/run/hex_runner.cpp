@@ -1,5 +1,5 @@
 /// @file hex_runner.cpp
-/// Solid-only scenes with Total Lagrangian hex8 solids (solid/hex, seed paper 002): /fluid/type
+/// Solid-only scenes with Total Lagrangian hex8 solids (solid/hex, Bathe 1996, sec. 6.3.2): /fluid/type
 /// is "none", no tet solid deforms, and at least one solid has model "hex8" and motion "none".
 /// Each solid's mesh is a structured block (`box` geometry) or a hex mesh file (`volume_mesh`),
 /// rotated and translated by its placement (hex_geometry.hpp); condition boxes are world

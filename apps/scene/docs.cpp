@@ -27,7 +27,13 @@ std::string type_name(const Field& f) {
     }
     case Kind::Vector: return fmt::format("[{} numbers]", f.length);
     case Kind::Object: return "object";
-    case Kind::Array: return "array of objects";
+    case Kind::Array: {
+      // An array of plain values (e.g. box faces "x+", "y-") is named by its element's type, so
+      // that its spellings appear in the table; an array of objects gets its own section below.
+      if (f.element->kind == Kind::Object) return "array of objects";
+      return "array of " + (f.element->kind == Kind::Enum ? "strings, each " : std::string()) +
+             type_name(*f.element);
+    }
   }
   return "?";
 }
@@ -61,7 +67,8 @@ class Writer {
       for (const auto& m : extra) nested.push_back(&m);
     for (const auto* m : nested) {
       if (m->kind == Kind::Object) object(*m, path + "/" + m->key);
-      if (m->kind == Kind::Array) object(*m->element, path + "/" + m->key + "/*");
+      if (m->kind == Kind::Array && m->element->kind == Kind::Object)
+        object(*m->element, path + "/" + m->key + "/*");
     }
   }
 

@@ -92,9 +92,11 @@ std::string Field::expectation() const {
     case Kind::Vector:
       return fmt::format("an array of {} numbers{}", length, range.empty() ? "" : " each " + range);
     case Kind::Object: return "an object";
-    case Kind::Array:
-      return min_items > 0 ? fmt::format("an array of at least {} object(s)", min_items)
-                           : "an array of objects";
+    case Kind::Array: {
+      const std::string items = element->kind == Kind::Object ? "object(s)" : "values, each " + element->expectation();
+      return min_items > 0 ? fmt::format("an array of at least {} {}", min_items, items)
+                           : "an array of " + (element->kind == Kind::Object ? std::string("objects") : items);
+    }
   }
   return "?";
 }

@@ -100,7 +100,7 @@ class CoupledSolver {
   /// The next solve must not lean on anything kept from earlier solves (schur_cg's lagged
   /// factor): the caller changed A by more than a step's drift (contact penalty rows).
   virtual void request_fresh_solve() {}
-  /// Checkpoints (schur_state.cpp): what a solver keeps between solves and that changes its
+  /// Checkpoints (schur_checkpoint.cpp): what a solver keeps between solves and that changes its
   /// answers (schur_cg's lagged factor and preconditioner, rebuilt from the matrices they were
   /// made of, and its counters). The direct and BiCGSTAB solvers keep nothing.
   virtual void write_state(BinaryWriter& /*out*/) const {}

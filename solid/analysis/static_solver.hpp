@@ -1,9 +1,9 @@
 #pragma once
 /// @file static_solver.hpp
 /// Quasi-static equilibrium of a solid (any ElasticModel: tet or hex8) by load stepping with
-/// Newton-Raphson (seed paper 002):
+/// Newton-Raphson (Bathe 1996, *Finite Element Procedures*, sec. 8.4.1):
 ///   K_T Delta u_f = R = lambda (F_ext + F_p(u)) - F_int(u)  on the free dofs,
-/// after moving the prescribed dofs to the right-hand side (seed: K_ff u_f = -K_fs u_s).
+/// after moving the prescribed dofs to the right-hand side (partitioned: K_ff u_f = -K_fs u_s).
 /// F_ext are the dead loads, F_p the follower pressure (solid/loads/follower_pressure.hpp), whose
 /// load stiffness -lambda dF_p/du enters K_T: the tangent is then the consistent, non-symmetric
 /// one and the solves use Eigen's SparseLU instead of Cholesky or CG, whatever `linear_solver`

@@ -3,7 +3,7 @@
 /// Hyperelastic laws for the Total Lagrangian hex8 element, written in terms of the
 /// Green-Lagrange strain E = (C - I)/2, C = F^T F, and the 2nd Piola-Kirchhoff stress S = dpsi/dE.
 ///
-/// Voigt order (as in the seed paper 002, matrix B_L): [xx, yy, zz, xy, yz, zx]; strains carry
+/// Voigt order (as in Bathe 1996, sec. 6.3.2, matrix B_L): [xx, yy, zz, xy, yz, zx]; strains carry
 /// engineering shears (2 E_xy, ...), stresses the tensor components (S_xy, ...), so that
 /// S_voigt . dE_voigt = S : dE and D = dS_voigt / dE_voigt is symmetric.
 #include <Eigen/Core>

@@ -4,7 +4,7 @@
 The sheet turns at omega = 2 rad/s about the scene's y axis through c = (0.1, 0, 0); 5 frames at
 10 frames/s. The run goes through `tetfsi run` twice, export.up_axis "y" (the script turns the
 files) and "z" (files read as they are), each is imported with `blender -b`, and a second Blender
-session opens the .blend and reports what it holds. Checked:
+process opens the .blend and reports what it holds. Checked:
 
 - one collection `sheet` with sheet_00000..sheet_00004, frame range 1..5, fps / fps_base = 10,
   Cycles with motion blur, exactly the frame's object visible (render and viewport) at each frame;
@@ -54,7 +54,7 @@ SCENE = {
 FRAMES, FPS, U, SHUTTER = 5, 10.0, 4.0, 0.5
 PIXELS, ORTHO = 128, 1.6  # 1.6 m across 128 pixels: 12.5 mm per pixel
 
-# Runs in the second Blender session (bpy): prints one line "CHECK <json>".
+# Runs in the second Blender process (bpy): prints one line "CHECK <json>".
 REPORT = r"""
 import bpy, json
 sc = bpy.context.scene
@@ -74,7 +74,7 @@ out["triangles"] = len(m.polygons)
 print("CHECK " + json.dumps(out))
 """
 
-# Second session on the liquid run: prints "LIQUID <json>" (counts per frame, last frame's data).
+# Second process on the liquid run: prints "LIQUID <json>" (counts per frame, last frame's data).
 LIQUID = r"""
 import bpy, json
 objs = sorted(bpy.data.collections["liquid"].objects, key=lambda o: o.name)
@@ -99,7 +99,7 @@ for f in range(sc.frame_start, sc.frame_end + 1):
 print("VOLUME " + json.dumps(out))
 """
 
-# Second session on the every-second-frame volume run: visible volume objects per Blender frame.
+# Second process on the every-second-frame volume run: visible volume objects per Blender frame.
 VOLUME_GAPS = r"""
 import bpy, json
 sc = bpy.context.scene

@@ -38,7 +38,7 @@ BallRun run_ball(const TempDir& dir, const std::string& name, double density, do
   // Pa) bounces on the floor for most of a second at h = 1/120 s.
   scene["solids"][0]["material"]["rayleigh_beta"] = 1e-3;
   scene["solids"][0]["initial_velocity"] = {0, -initial_speed, 0};
-  scene["coupling"].erase("newmark");  // the default, eq. (18) as printed
+  scene["coupling"].erase("newmark");  // the default, Chentanez et al. 2006's eq. (18) as printed
   scene["export"] = {{"vtu", false}, {"surfaces", "none"}};
   const fs::path file = dir.path() / (name + ".json");
   std::ofstream(file) << scene.dump(2);

@@ -1,7 +1,8 @@
 // `mpirun -n 2 tetfsi run` (parallel/: the pressure and coupled solves on PETSc with BoomerAMG,
 // the rows spread over the processes) gives the probes of the one-process shared-memory run (hypre
 // BoomerAMG-PCG) to 1e-6 of each probe's size, on a coupled scene (light_ball_in_water: a light
-// ball rising in water, eq. 7 by Schur-complement CG) and a fluid-only one (pipe_flow, coarsened).
+// ball rising in water, Chentanez et al. 2006's eq. 7 by Schur-complement CG) and a fluid-only
+// one (pipe_flow, coarsened).
 // Only the first process writes the output folder; a serial solver with two processes is refused
 // by validate and run alike (exit 2, naming the key).
 #include <gtest/gtest.h>

@@ -2,7 +2,9 @@
 // "did you mean" picks the nearest key, and docs/scene_format.md is the generated text.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "apps/scene/docs.hpp"
@@ -84,4 +86,64 @@ TEST(SceneSchema, CommittedDocsMatchTheSchema) {
   EXPECT_EQ(ss.str(), schema_markdown(scene_schema()))
       << "docs/scene_format.md is out of date: regenerate it with "
          "`./build/apps/tetfsi schema > docs/scene_format.md`";
+}
+
+namespace {
+
+/// Calls `visit(field, row_key)` for every Enum / EnumSet in the schema, with the key of the table
+/// row that documents it (an array of plain values is documented in the array's own row).
+void for_each_enum(const Field& f, const std::string& row_key,
+                   const std::function<void(const Field&, const std::string&)>& visit) {
+  if (f.kind == Kind::Enum || f.kind == Kind::EnumSet) visit(f, row_key);
+  for (const auto& m : f.members) for_each_enum(m, m.key, visit);
+  for (const auto& [name, extra] : f.variants)
+    for (const auto& m : extra) for_each_enum(m, m.key, visit);
+  if (f.kind == Kind::Array)
+    for_each_enum(*f.element, f.element->kind == Kind::Object ? std::string() : row_key, visit);
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
+TEST(SceneSchema, NoKeyTableInTheDocsIsEmpty) {
+  const auto lines = lines_of(schema_markdown(scene_schema()));
+  int tables = 0;
+  for (std::size_t i = 0; i + 1 < lines.size(); ++i) {
+    if (lines[i].rfind("| key |", 0) != 0) continue;
+    ++tables;
+    ASSERT_LT(i + 2, lines.size());
+    EXPECT_EQ(lines[i + 2].rfind("| `", 0), 0u)
+        << "the key table above line " << i + 3 << " of docs/scene_format.md has no rows";
+  }
+  EXPECT_GT(tables, 20);
+}
+
+TEST(SceneSchema, EveryEnumValueAppearsInItsRow) {
+  const auto lines = lines_of(schema_markdown(scene_schema()));
+  int enums = 0;
+  for_each_enum(scene_schema(), "", [&](const Field& f, const std::string& row_key) {
+    ++enums;
+    ASSERT_FALSE(row_key.empty()) << "an enum documented in no row";
+    const std::string row_start = "| `" + row_key + "` |";
+    // Some keys occur in several tables (e.g. `type`): one of their rows must list every value.
+    bool found = false;
+    for (const auto& line : lines) {
+      if (line.rfind(row_start, 0) != 0) continue;
+      found = found || std::all_of(f.choices.begin(), f.choices.end(), [&](const std::string& c) {
+                return line.find("`" + c + "`") != std::string::npos;
+              });
+    }
+    EXPECT_TRUE(found) << "no row of `" << row_key << "` lists all its values";
+  });
+  EXPECT_GT(enums, 20);
+  // The box faces are an array of strings (their spellings checked above), not of objects.
+  const std::string doc = schema_markdown(scene_schema());
+  EXPECT_NE(doc.find("| `open_faces` | array of strings, each `x-` \\| `x+`"), std::string::npos);
+  EXPECT_EQ(doc.find("/domain/open_faces/*"), std::string::npos);
 }

@@ -8,9 +8,9 @@
 //    1.0053 m; turned about x (gravity along -z) 1.0125 m (+0.7%), x and z exchanged 1.0143 m
 //    (+0.9%), mirrored in x 1.0073 m (+0.2%). (At edge 0.08 m the same runs differ by up to 1.4%:
 //    there the front moves a tenth of a cell between meshes.)
-//  - a coupled scene: floating_block_ci (eq. 7, block and liquid): the heave's period and its mean
-//    position (mean of consecutive extrema). Measured 0.6084 s and -17.89 mm; turned about x:
-//    0.6110 s (+0.4%) and -17.86 mm (-0.2%).
+//  - a coupled scene: floating_block_ci (Chentanez et al. 2006, eq. 7, block and liquid): the
+//    heave's period and its mean position (mean of consecutive extrema). Measured 0.6084 s and
+//    -17.89 mm; turned about x: 0.6110 s (+0.4%) and -17.86 mm (-0.2%).
 #include <gtest/gtest.h>
 
 #include <algorithm>

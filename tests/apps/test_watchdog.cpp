@@ -116,7 +116,7 @@ TEST(Watchdog, AllowInvertedLetsTheRunContinueAndTheValidSceneRunsToItsEnd) {
 // above its mass) with the time-splitting baseline is the added-mass instability (the total
 // energy oscillates with a growing amplitude), and the run stops with exit 1 on the energy rise,
 // naming the step, the rise and the keys, before its step fails. The same scene with the
-// simultaneous solve (eq. 7) runs to its end (its energy stays within 0.03 J of 113 J).
+// simultaneous solve (Chentanez et al. 2006, eq. 7) runs to its end (its energy stays within 0.03 J of 113 J).
 TEST(Watchdog, CoupledTimeSplittingWithALightBlockStopsOnTheEnergyRise) {
   tetfsi::test::TempDir tmp("watchdog_coupled");
   json s = committed("floating_block_ci.json");

@@ -7,8 +7,8 @@
 //  - the start-velocity projection leaves aᵀu = 0, changes nothing that already keeps the volume,
 //    and removes the kinetic energy (aᵀu)²/(2 aᵀM⁻¹a) of the M-orthogonal projection;
 //  - a heavy soft ball dropped onto the floor of the closed box keeps its volume within 1e-4 (its
-//    volume can change only by what the fluid, which cannot, gives up), where eq. (7) alone loses
-//    more than ten times that in the same run.
+//    volume can change only by what the fluid, which cannot, gives up), where eq. (7) of
+//    Chentanez et al. 2006 alone loses more than ten times that in the same run.
 #include <gtest/gtest.h>
 
 #include <cmath>

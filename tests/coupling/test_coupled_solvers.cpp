@@ -1,4 +1,4 @@
-// The three solvers of eq. (7) agree with a dense LU of the same system to their tolerance,
+// The three solvers of eq. (7) of Chentanez et al. 2006 agree with a dense LU of the same system to their tolerance,
 // report honestly, and never fall back silently.
 #include <gtest/gtest.h>
 

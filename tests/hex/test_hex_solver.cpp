@@ -1,4 +1,4 @@
-// Static Newton solver (solid/hex/static_solver.hpp): quadratic convergence, the patch test
+// Static Newton solver (solid/analysis/static_solver.hpp, on hex8 models): quadratic convergence, the patch test
 // through the solver, bad input and non-convergence errors, determinism, VTU output.
 #include <gtest/gtest.h>
 

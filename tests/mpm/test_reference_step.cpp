@@ -1,7 +1,7 @@
 // A short, readable MPM step for linear-elastic particles (Lian, Liu & Zhang 2014, section 6,
 // USF form; equal steps; free grid faces), written with plain loops over particles and nodes, and
-// the fast per-cell passes of mpm/particles/MpmSolver tested against it. The reference step is the
-// algorithm of mpm_solver.hpp and nothing more:
+// the fast per-cell passes of MpmSolver (mpm/particles/mpm_solver.hpp) tested against it. The
+// reference step is the algorithm of mpm_solver.hpp and nothing more:
 //   1. particle-to-grid: m_I = sum_p N_Ip m_p, p_I = sum_p N_Ip m_p v_p            (eqs. 60, 61)
 //   2. grid velocity v_I = p_I / m_I; velocity gradient L_p = sum_I v_I (grad N_Ip)^T (eqs. 62, 63)
 //   3. stress: sigma += h (lambda tr D I + 2 G D + W sigma - sigma W), rho *= exp(-h tr D)

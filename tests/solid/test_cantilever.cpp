@@ -75,7 +75,7 @@ TEST(Cantilever, DynamicFrequencyMatchesModalAnalysis) {
 }
 
 // Rayleigh damping: log decrement of the first-mode amplitude gives zeta within 5% of
-// alpha / (2 omega) + beta omega / 2 (Rayleigh damping). With the paper's scheme (eq. 18) the
+// alpha / (2 omega) + beta omega / 2 (Rayleigh damping). With Chentanez et al. 2006's scheme (eq. 18) the
 // numerical damping of Newmark gamma = 1, about omega h / 4 [calc], adds to it.
 namespace {
 double measured_damping_ratio(NewmarkScheme scheme, double& expected) {

@@ -105,7 +105,7 @@ TEST(SurfaceContact, FallingApexLandsAFilmAboveTheFaceAndConservesMomentum) {
   const Eigen::VectorXd u_next = contact_step(contact, s.X, u, s.masses, h, &rounds);
   ASSERT_GE(contact.num_active(), 1);
   EXPECT_GE(rounds, 2);
-  // End-of-step positions (eq. 5): the apex is δ above the face's plane, which moved down.
+  // End-of-step positions (Chentanez et al. 2006, eq. 5): the apex is δ above the face's plane, which moved down.
   const Eigen::VectorXd x_next = s.X + 0.5 * h * (u + u_next);
   // The apex is over the face's point y = (x0 + x1)/4 + x2/2 (barycentric weights at (0, 0)).
   const double face_z = 0.25 * x_next[3 * 0 + 2] + 0.25 * x_next[3 * 1 + 2] + 0.5 * x_next[3 * 2 + 2];

@@ -1,7 +1,7 @@
 /// @file bench_mesh.cpp
-/// Benchmark of the CGAL Mesh_3 complex (issue 2) and of the per-step remesh (issue 5): the bunny
-/// (../shared/data/bunny.obj) in a fluid
-/// box at about 25k and 100k tets, and a sphere in a box. Error: volume of the meshed solid against
+/// Benchmark of the CGAL Mesh_3 complex (issue 2) and of the per-step remesh (issue 5): the
+/// Stanford bunny (not shipped: the path given, or bunny.obj in the data folder of
+/// TETFSI_SHARED_DIR) in a fluid box at about 25k and 100k tets, and a sphere in a box. Error: volume of the meshed solid against
 /// the volume enclosed by the input surface (and, for the sphere, against 4/3 pi r^3). Each case
 /// runs in its own process (fork) so that the peak memory column is that case's own.
 ///

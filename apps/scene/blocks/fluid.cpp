@@ -154,8 +154,10 @@ Field fluid() {
                                            "and the cavities of `sphere_shell` solids; `cavities`: only the "
                                            "cavity of the scene's one `sphere_shell` (a liquid-filled toy "
                                            "with nothing outside; no domain box); `regions`: the liquid "
-                                           "fills `regions` and has a free surface (static or kinematic "
-                                           "solids only).")
+                                           "fills `regions` and has a free surface; it couples two-way with "
+                                           "deforming `tet_fem` solids as well as static and kinematic ones (a "
+                                           "free `hex8` solid and `coupling.constraint` `step_mean` are "
+                                           "refused).")
                             .def("domain"),
                         liquid_regions(),
                         Field::number("surface_edge_length", "m",
