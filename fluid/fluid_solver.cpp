@@ -206,7 +206,25 @@ void FluidSolver::apply_sources(const BoundaryConditions& bc, double h) {
 }
 
 StepReport FluidSolver::step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h) {
-  return finish(bc, h, predict(mesh, bc, h));
+  if (!viscous()) return finish(bc, h, predict(mesh, bc, h));
+  struct After {  // predict() without the viscous step, also when it throws
+    bool& flag;
+    explicit After(bool& f) : flag(f) { flag = true; }
+    ~After() { flag = false; }
+  };
+  StepReport rep;
+  {
+    After after(viscosity_after_projection_);
+    rep = predict(mesh, bc, h);
+  }
+  const ProjectionReport first = project_velocity(h);
+  apply_viscosity_step(bc, h, rep);
+  rep = finish(bc, h, rep);
+  pressure_ += first.pressure;
+  rep.solve_seconds += first.solve_seconds;
+  rep.iterations += first.solve.iterations;
+  rep.assemble_seconds += first.assemble_seconds;
+  return rep;
 }
 
 StepReport FluidSolver::predict(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h) {
@@ -289,7 +307,7 @@ StepReport FluidSolver::add_forces(const BoundaryConditions& bc, double h, StepR
   rep.forces_seconds = now() - t0;
   // Viscosity acts on the advected (divergence-free up to the advection's error) field, before the
   // body forces: a force that the pressure balances (still water) never meets the no-slip walls.
-  if (viscous()) apply_viscosity_step(bc, h, rep);
+  if (viscous() && !viscosity_after_projection_) apply_viscosity_step(bc, h, rep);
   t0 = now();
   if (params_.apply_gravity)
     for (auto& u : writable_fields().velocity) u += h * params_.gravity;
@@ -393,12 +411,15 @@ StepReport FluidSolver::project_only(const BoundaryConditions& bc, double h) {
   return finish(bc, h, rep);
 }
 
-StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport rep) {
+ProjectionReport FluidSolver::project_velocity(double h) {
   // A liquid that fills every node has no free surface this step: the ordinary projection.
   const bool surface = free_surface_ && liquid_.num_air_nodes > 0;
-  ProjectionReport pr =
-      surface ? project_free_surface(*mesh_, boundary_, liquid_, h, params_.density, writable_fields().velocity, params_.solver)
-              : project(*mesh_, boundary_, h, params_.density, writable_fields().velocity, params_.solver);
+  return surface ? project_free_surface(*mesh_, boundary_, liquid_, h, params_.density, writable_fields().velocity, params_.solver)
+                 : project(*mesh_, boundary_, h, params_.density, writable_fields().velocity, params_.solver);
+}
+
+StepReport FluidSolver::finish(const BoundaryConditions&, double h, StepReport rep) {
+  ProjectionReport pr = project_velocity(h);
   pressure_ = std::move(pr.pressure);
   if (free_surface_) {
     const double t0 = now();

@@ -102,8 +102,14 @@ class FluidSolver {
   /// @throws std::invalid_argument if the field sizes do not match the fluid tets
   void initialize(const mesh::TetMesh& mesh, FluidFields fields = {});
 
-  /// Advances by h [s] onto `mesh` (may differ from the previous mesh). @throws std::runtime_error
-  /// on NaN/Inf, SolverError if the pressure solve fails.
+  /// Advances by h [s] onto `mesh` (may differ from the previous mesh): advection, sources, body
+  /// forces, projection. A viscous fluid then takes its implicit viscous step on the projected
+  /// velocity and a second projection (the pressure is the sum of both): a liquid at rest under
+  /// gravity is at rest after the first projection (hydrostatic pressure), so the no-slip walls
+  /// never hold its weight, and the viscous step sees the flow the body forces start (before it
+  /// saw only the advected velocity, zero in a first step, so a liquid of 1e9 Pa s fell as an
+  /// inviscid one does in its first step and crept at about g h per step after).
+  /// @throws std::runtime_error on NaN/Inf, SolverError if the pressure solve fails.
   StepReport step(const mesh::TetMesh& mesh, const BoundaryConditions& bc, double h);
 
   /// Makes the fluid a liquid with a free surface: `level_set` (one value per fluid node of the
@@ -221,6 +227,8 @@ class FluidSolver {
   /// Step 5 of particles.hpp (G2P) after the pressure, if this step carried particles to the mesh.
   void transfer_to_particles(StepReport& rep);
   StepReport finish(const BoundaryConditions& bc, double h, StepReport rep);
+  /// The projection of finish(): with p = 0 on a free surface when the liquid has air nodes.
+  ProjectionReport project_velocity(double h);
   /// True if `mesh` has the tets and labels mesh_ was built from (moved, not remeshed), so that
   /// its fluid mesh is mesh_ with new geometry (update_fluid_mesh_geometry).
   bool built_from(const mesh::TetMesh& mesh) const;
@@ -269,6 +277,7 @@ class FluidSolver {
   Eigen::VectorXd pressure_;
   ClassifiedBoundary boundary_;
   bool initialized_ = false;
+  bool viscosity_after_projection_ = false;  ///< step(): add_forces leaves the viscous step out
   bool free_surface_ = false;
   LiquidOptions liquid_options_;
   Eigen::VectorXd level_set_;

@@ -12,8 +12,10 @@
 #include "apps/run/preflight_ignored.hpp"
 #include "apps/run/preflight_liquid.hpp"
 #include "apps/run/preflight_models.hpp"
+#include "apps/run/preflight_mpm.hpp"
 #include "apps/run/preflight_obstacles.hpp"
 #include "apps/run/preflight_particles.hpp"
+#include "apps/run/preflight_sizes.hpp"
 #include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_params.hpp"
@@ -197,6 +199,7 @@ class Checker {
       try {
         std::vector<std::string> warnings;
         const auto surface = liquid_region_surface(regions[i], warnings);
+        liquid_mesh_areas_.push_back(surface_area(surface));
         for (auto& w : warnings) report_.warnings.push_back(std::move(w));
         Eigen::Vector3d lo, hi;
         mesh::bounding_box(surface, lo, hi);
@@ -415,7 +418,15 @@ class Checker {
       const Eigen::Vector3d size = vec3(js_["domain"]["hi"]) - vec3(js_["domain"]["lo"]);
       count(kTetsPerCube * size.prod() / std::pow(far, 3), "/mesh/edge_length",
             fmt::format("the fluid box at /mesh/edge_length {:g} m", far));
+      const double hs = js_["fluid"].value("surface_edge_length", 0.0);
+      if (js_["fluid"]["type"] == "liquid" && hs > 0) {  // the refined band (surface_refinement.hpp)
+        const double area = free_surface_area(js_, liquid_mesh_areas_);
+        count(surface_band_tets(area, hs, far, grading), "/fluid/surface_edge_length",
+              fmt::format("the band refined to /fluid/surface_edge_length {:g} m around the liquid's free surface "
+                          "of about {:.3g} m^2", hs, area));
+      }
     }
+    const double facet_distance = m.at("facet_distance").get<double>();
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       const auto& p = placed_[i];
       if (!p.ok || js_["solids"][i]["model"]["type"] == "hex8" || runner_->name == "kinematic") continue;  // not tet-meshed
@@ -434,6 +445,11 @@ class Checker {
         count(estimate_solid_tets(p.volume, p.area, h_solid),
               fluid && near < far ? "/mesh/edge_length_near_solids" : "/mesh/edge_length",
               fmt::format("solid '{}' at edge length {:g} m", name, h_solid));
+      const double h_facet = facet_edge(h_solid, facet_distance, thickness);
+      if (h_facet < h_solid)  // surface facets finer than the edge length, on both sides in a fluid
+        count(kTetsPerCube * (fluid ? 2 : 1) * p.area / (h_facet * h_facet), "/mesh/facet_distance",
+              fmt::format("the surface facets of solid '{}' at /mesh/facet_distance {:g} m (edges of about {:.3g} m "
+                          "on its curvature radius {:.3g} m, 3 volume / area)", name, facet_distance, h_facet, thickness));
       if (fluid && grading > 0 && near < far)
         count(kTetsPerCube * p.area * grading / std::pow(0.5 * (near + far), 3), "/mesh/grading_distance",
               fmt::format("the graded band of {:g} m around solid '{}'", grading, name));
@@ -469,6 +485,8 @@ class Checker {
     if (load_steps > 0) {
       report_.steps = load_steps;
       report_.frames = load_steps + 1;
+    } else if (runner_->name == "mpm") {
+      check_mpm_steps(end, max_steps);
     } else if (!(report_.steps <= max_steps))
       add(sim.contains("dt") && end / sim["dt"].get<double>() >= report_.frames - 1 ? "/simulation/dt" : "/simulation/frame_rate",
           fmt::format("the run would take at least {:.3g} steps (end_time {:g} s, {}), more than /simulation/max_steps "
@@ -493,6 +511,22 @@ class Checker {
                       "= {:g}: lower /simulation/frame_rate, raise /export/every_n_frames, or raise "
                       "/export/max_output_gb",
                       format_bytes(report_.output_bytes), written, format_bytes(frame_bytes), max_bytes / 1e9));
+  }
+
+  /// An mpm scene: at least end_time / (its explicit step at t = 0) steps (preflight_mpm.hpp).
+  void check_mpm_steps(double end, double max_steps) {
+    MpmStepBound b;
+    try {
+      b = mpm_step_bound(js_);
+    } catch (const std::exception&) {  // the schema check reports the setup's problems
+      return;
+    }
+    report_.steps = std::max(report_.steps, std::ceil(end / b.dt));
+    if (!(report_.steps <= max_steps))
+      add(b.key, fmt::format("the run would take at least {:.3g} steps (end_time {:g} s over a step of {:.3g} s at t = 0, "
+                             "{}), more than /simulation/max_steps = {:g}: change {}, shorten /simulation/end_time "
+                             "or raise /simulation/max_steps",
+                             report_.steps, end, b.dt, b.what, max_steps, b.key));
   }
 
   /// export.volumes "vdb": the voxel estimate and its limit (preflight_volumes.hpp).
@@ -520,6 +554,7 @@ class Checker {
   const RunnerEntry* runner_ = nullptr;
   std::vector<Placed> placed_;
   double hex_cells_ = 0;
+  std::vector<double> liquid_mesh_areas_;  ///< surface area of each `mesh` liquid region [m^2]
   double voxels_ = 0;  ///< estimated voxels of a volume frame (export.volumes)
   bool edge_reported_ = false;
   std::string worst_key_ = "/mesh/edge_length", worst_what_;

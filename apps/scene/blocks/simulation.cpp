@@ -11,7 +11,11 @@ Field simulation() {
       Field::number("cfl", "", "Courant number used to choose the step when `dt` is absent.")
           .greater(0).def(0.5),
       Field::number("frame_rate", "1/s", "Output frames per simulated second.").greater(0).def(30),
-      Field::vector("gravity", 3, "m/s^2", "Gravitational acceleration.").def({0, -9.81, 0}),
+      Field::vector("gravity", 3, "m/s^2", "Gravitational acceleration (or any uniform body acceleration). Each component is bounded by "
+                    "1e7 m/s^2, about 1e6 g, the strongest ultracentrifuges: no liquid, gas or rubber of these "
+                    "models is put under more (beyond it the first steps' velocities g dt leave any physical "
+                    "range, and a CFL-chosen step shrinks as 1 / (g t)).")
+          .at_least(-1e7).at_most(1e7).def({0, -9.81, 0}),
       Field::integer("threads", "Worker threads; 0 uses every core. `--threads` overrides it.")
           .at_least(0).at_most(1024).def(0),
       Field::integer("max_steps", "Largest number of steps the run may take; a scene whose end_time, dt or "
