@@ -98,7 +98,7 @@ TEST(RunawayEstimates, FacetDistanceEntersTheTetEstimate) {
   expect_validate_and_run_refuse(dir, "facet_distance_1e-9", s, "/mesh/facet_distance");
 }
 
-// The MPM step estimate includes eq. (21)'s CFL factor, the viscous bound and the membrane's step:
+// The MPM step estimate includes Lian, Liu & Zhang 2014's eq. (21) CFL factor, the viscous bound and the membrane's step:
 // each of these balloons would take more than /simulation/max_steps (1e6) steps.
 TEST(RunawayEstimates, MpmStepsIncludeCflAndViscousBounds) {
   TempDir dir("runaway_mpm");
