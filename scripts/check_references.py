@@ -9,7 +9,8 @@ are a bare C++ file name (`name.cpp`, `name.hpp`). A path must exist relative to
 root or to the citing file's folder (Markdown links), or be the stem of such a file
 (`mesh/io/vtu_reader` for vtu_reader.hpp and .cpp, a test or bench target); a glob
 (`apps/scene/blocks/*.cpp`) must match a file; a bare C++ file name must be the name of some file in the repository. Paths outside
-the repository (`/work/...`, `../shared/...`) are never allowed. URLs and placeholders (`NAME`,
+the repository (a machine's absolute folders such as `/home/...` or `/root/...`, and `../shared/...`)
+are never allowed. URLs and placeholders (`NAME`,
 `NNNNN`, `<dir>`) are skipped.
 
 An equation reference (`eq. (7)`, `eqs. 60, 61`, `equation 5`) in a file's comments or Markdown
@@ -40,7 +41,8 @@ HASH_EXT = (".py", ".sh", ".cmake")
 TOKEN = re.compile(r"(?<![\w./:*~-])(\.{0,2}/?[\w.*-]+(?:/[\w.*-]+)*/?)")
 BARE_CPP = re.compile(r"(?<![\w./*<>-])([A-Za-z_][\w-]+\.(?:cpp|hpp))\b(?!/)")
 PLACEHOLDER = re.compile(r"\b(?:[A-Z]{2,}[A-Z0-9_]*|N{2,})\b|\bX+\b|\.\.\.")
-OUTSIDE = re.compile(r"(?:\.\./shared\b|/work/)")
+# A machine's own folders (home, root and the sandbox's work tree), named by their first component.
+OUTSIDE = re.compile(r"(?:\.\./shared\b|(?<![\w.~-])/(?:home|root|work)/)")
 DIARY = re.compile(r"\bseed paper|(?<![\w-])sessions?\b|\b(?:this|earlier) rounds?\b|"
                    r"\b(?:the|two|three|four|five|\d+) rounds? before\b|\bthe round after\b", re.IGNORECASE)
 EQUATION = re.compile(r"\beqs?\.\s*\(?\d|\bequations?\s+\(?\d", re.IGNORECASE)
