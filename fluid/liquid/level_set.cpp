@@ -10,52 +10,10 @@
 #include <unordered_map>
 
 #include "fluid/liquid/cut_tet.hpp"
+#include "fluid/liquid/zero_set_distance.hpp"
 
 namespace tetfsi::fluid {
 namespace {
-
-/// Closest point to p on triangle (a, b, c), by the Voronoi regions of its vertices, edges and face
-/// (Ericson, "Real-Time Collision Detection", 2005, sec. 5.1.5). Written here: Eigen has no such
-/// query, and CGAL's AABB tree must stay inside mesh/.
-Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                    const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-/// Squared distance from x to the half-strip that continues triangle (p, q, r) across its edge pq:
-/// the points of its plane beyond the line pq, between the normals to pq at p and at q.
-double strip_distance2(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const Eigen::Vector3d& q,
-                       const Eigen::Vector3d& r) {
-  const Eigen::Vector3d e = q - p, n = e.cross(r - p);
-  const double length = e.norm(), area2 = n.norm();
-  if (!(length > 0.0) || !(area2 > 0.0)) return std::numeric_limits<double>::infinity();
-  const Eigen::Vector3d along = e / length, normal = n / area2, out = along.cross(normal);  // out: away from r
-  const Eigen::Vector3d d = x - p;
-  const double s = d.dot(along), w = d.dot(out), h = d.dot(normal);
-  const double ds = s < 0.0 ? s : (s > length ? s - length : 0.0), dw = std::min(w, 0.0);
-  return h * h + ds * ds + dw * dw;
-}
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-}
 
 /// Builds surfaces whose vertices are mesh nodes or edge crossings, each made once.
 class SurfaceBuilder {
@@ -88,11 +46,14 @@ class SurfaceBuilder {
     const auto& x = surface.vertices;
     if ((x[j] - x[i]).cross(x[k] - x[i]).dot(direction) < 0) std::swap(j, k);
     surface.triangles.push_back({i, j, k});
+    triangle_tet.push_back(tet);
   }
 
   mesh::SurfaceMesh surface;
   std::vector<std::array<int, 2>> edge;  ///< per vertex: its edge (a == b for a node)
   std::vector<double> weight;            ///< per vertex: theta along the edge from its first node
+  std::vector<int> triangle_tet;         ///< per triangle: the tet it cuts (-1: a boundary face's part)
+  int tet = -1;                          ///< the tet whose triangles are being added
 
  private:
   const FluidMesh& mesh_;
@@ -107,6 +68,7 @@ void add_zero_set(const FluidMesh& mesh, const Eigen::VectorXd& phi, SurfaceBuil
     int liquid[4], air[4], nl = 0, na = 0;
     for (int k = 0; k < 4; ++k) (phi[tet[k]] < 0.0 ? liquid[nl++] : air[na++]) = tet[k];
     if (nl == 0 || nl == 4) continue;
+    out.tet = t;
     Eigen::Vector3d grad_phi = Eigen::Vector3d::Zero();
     for (int k = 0; k < 4; ++k) grad_phi += phi[tet[k]] * mesh.grad[t][k];
     if (nl == 1) {
@@ -123,107 +85,6 @@ void add_zero_set(const FluidMesh& mesh, const Eigen::VectorXd& phi, SurfaceBuil
     }
   }
 }
-
-/// Uniform grid of triangle bounding boxes for distance queries within `reach`.
-class TriangleGrid {
- public:
-  TriangleGrid(const mesh::SurfaceMesh& s, double reach) : s_(s), cell_(reach) {
-    lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
-    hi_ = -lo_;
-    for (const auto& v : s.vertices) {
-      lo_ = lo_.cwiseMin(v);
-      hi_ = hi_.cwiseMax(v);
-    }
-    for (int c = 0; c < 3; ++c) dims_[c] = std::max(1, static_cast<int>(std::ceil((hi_[c] - lo_[c]) / cell_)) + 1);
-    const long long cells = static_cast<long long>(dims_[0]) * dims_[1] * dims_[2];
-    if (cells > 8LL * std::max<long long>(1, s.num_triangles()) + 1024) {  // keep memory bounded
-      cell_ *= std::cbrt(static_cast<double>(cells) / (8.0 * std::max(1, s.num_triangles()) + 1024));
-      for (int c = 0; c < 3; ++c) dims_[c] = std::max(1, static_cast<int>(std::ceil((hi_[c] - lo_[c]) / cell_)) + 1);
-    }
-    start_.assign(static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2] + 1, 0);
-    std::vector<std::array<Eigen::Vector3i, 2>> range(s.num_triangles());
-    for (int f = 0; f < s.num_triangles(); ++f) {
-      Eigen::Vector3d a = s.vertices[s.triangles[f][0]], b = a;
-      for (int k = 1; k < 3; ++k) {
-        a = a.cwiseMin(s.vertices[s.triangles[f][k]]);
-        b = b.cwiseMax(s.vertices[s.triangles[f][k]]);
-      }
-      range[f] = {cell_of(a), cell_of(b)};
-      for_cells(range[f][0], range[f][1], [&](size_t c) { ++start_[c + 1]; });
-    }
-    for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-    items_.resize(start_.back());
-    std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (int f = 0; f < s.num_triangles(); ++f)
-      for_cells(range[f][0], range[f][1], [&](size_t c) { items_[fill[c]++] = f; });
-    mark_open_features();
-  }
-
-  /// Distance from x to the nearest triangle, or `reach` if none is nearer. A triangle with an
-  /// edge on the zero set's open boundary (where the surface meets a wall or a solid) counts as
-  /// continued across it in its plane (strip_distance2): the surface goes on across the wall, so
-  /// that a liquid resting against a wall that leans outward (a bowl) keeps a linear phi next to it
-  /// and the next transfer does not move its waterline (the distance to the cut-off surface grew
-  /// towards its rim and drained such a layer). The continued distance is taken no smaller than
-  /// half the distance to the triangle itself (a node that sees the surface edge-on across a thin
-  /// wall). Continuous in x, so round-off in phi does not switch a node between the two.
-  double distance(const Eigen::Vector3d& x, double reach) const {
-    double best2 = reach * reach;
-    const Eigen::Vector3d r = Eigen::Vector3d::Constant(reach);
-    if (((x + r).array() < lo_.array()).any() || ((x - r).array() > hi_.array()).any()) return reach;
-    for_cells(cell_of(x - r), cell_of(x + r), [&](size_t c) {
-      for (int i = start_[c]; i < start_[c + 1]; ++i) {
-        const int t = items_[i];
-        const auto& f = s_.triangles[t];
-        const Eigen::Vector3d &a = s_.vertices[f[0]], &b = s_.vertices[f[1]], &c = s_.vertices[f[2]];
-        const double d2 = (closest_on_triangle(x, a, b, c) - x).squaredNorm();
-        best2 = std::min(best2, d2);
-        for (int e = 0; e < 3; ++e)  // the triangle continued across its open edges
-          if (open_[t] >> e & 1) {
-            const Eigen::Vector3d& p = s_.vertices[f[e]];
-            const Eigen::Vector3d& q = s_.vertices[f[(e + 1) % 3]];
-            const Eigen::Vector3d& r = s_.vertices[f[(e + 2) % 3]];
-            best2 = std::min(best2, std::max(strip_distance2(x, p, q, r), 0.25 * d2));
-          }
-      }
-    });
-    return std::sqrt(best2);
-  }
-
- private:
-  Eigen::Vector3i cell_of(const Eigen::Vector3d& x) const {
-    Eigen::Vector3i c;
-    for (int k = 0; k < 3; ++k)
-      c[k] = std::clamp(static_cast<int>(std::floor((x[k] - lo_[k]) / cell_)), 0, dims_[k] - 1);
-    return c;
-  }
-  template <class F>
-  void for_cells(const Eigen::Vector3i& a, const Eigen::Vector3i& b, F&& f) const {
-    for (int k = a[2]; k <= b[2]; ++k)
-      for (int j = a[1]; j <= b[1]; ++j)
-        for (int i = a[0]; i <= b[0]; ++i)
-          f((static_cast<size_t>(k) * dims_[1] + j) * dims_[0] + i);
-  }
-
-  /// Per triangle, bit e set if its edge e (vertices e, e + 1 mod 3) is on the zero set's boundary
-  /// (used by this triangle only): where the surface meets a wall or a solid.
-  void mark_open_features() {
-    std::unordered_map<std::uint64_t, int> uses;
-    for (const auto& f : s_.triangles)
-      for (int k = 0; k < 3; ++k) ++uses[edge_key(f[k], f[(k + 1) % 3])];
-    open_.assign(s_.num_triangles(), 0);
-    for (int t = 0; t < s_.num_triangles(); ++t)
-      for (int e = 0; e < 3; ++e)
-        if (uses[edge_key(s_.triangles[t][e], s_.triangles[t][(e + 1) % 3])] == 1) open_[t] |= 1 << e;
-  }
-
-  const mesh::SurfaceMesh& s_;
-  std::vector<unsigned char> open_;
-  double cell_;
-  Eigen::Vector3d lo_, hi_;
-  int dims_[3] = {1, 1, 1};
-  std::vector<int> start_, items_;
-};
 
 /// Per-tet liquid volumes summed in tet order (deterministic for any thread count).
 double volume_of(const FluidMesh& mesh, const Eigen::VectorXd& phi, double shift, std::vector<double>& scratch) {
@@ -331,7 +192,8 @@ void wet_enclosed_zeros(const FluidMesh& mesh, Eigen::VectorXd& phi) {
 void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool keep_cut_tets) {
   if (!(band > 0.0)) throw std::invalid_argument("redistance: the band must be positive");
   if (phi.size() != mesh.num_nodes()) throw std::invalid_argument("redistance: phi does not match the mesh");
-  const mesh::SurfaceMesh s = zero_set(mesh, phi);
+  SurfaceBuilder zero(mesh, phi);
+  add_zero_set(mesh, phi, zero);
   std::vector<char> keep(keep_cut_tets ? phi.size() : 0, 0);
   if (keep_cut_tets)
     for (const auto& tet : mesh.tets) {
@@ -340,21 +202,22 @@ void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool k
       if (nl > 0 && nl < 4)
         for (int k = 0; k < 4; ++k) keep[tet[k]] = 1;
     }
-  if (s.num_triangles() == 0) {
+  if (zero.surface.num_triangles() == 0) {
     for (Eigen::Index i = 0; i < phi.size(); ++i) phi[i] = phi[i] < 0.0 ? -band : band;
     return;
   }
-  const TriangleGrid grid(s, 0.5 * band);
+  // Exact in the inner half of the band (where the next steps move the surface), propagated beyond.
+  const std::vector<double> distance = propagated_distance(mesh, zero.surface, zero.triangle_tet, band, 0.5 * band);
   Eigen::VectorXd out(phi.size());
-  // Only nodes inside the band need the query: a node that had the clamped value +-band and
-  // whose foot stayed where every value was clamped still reads +-band, and is at least a band
-  // from the surface up to the step's motion, which the clamp does not see.
+  // A node that had the clamped value +-band keeps it: whose foot stayed where every value was
+  // clamped still reads +-band, and is at least a band from the surface up to the step's motion,
+  // which the clamp does not see.
   tbb::parallel_for(0, mesh.num_nodes(), [&](int i) {
     if (keep_cut_tets && keep[i]) {
       out[i] = phi[i];
       return;
     }
-    const double d = std::abs(phi[i]) >= band ? band : grid.distance(mesh.nodes[i], band);
+    const double d = std::abs(phi[i]) >= band ? band : distance[i];
     out[i] = phi[i] < 0.0 ? -d : d;
   });
   // A liquid node on the surface itself (d = 0) would turn to air: keep it liquid by a hair.

@@ -69,7 +69,9 @@ void wet_enclosed_zeros(const FluidMesh& mesh, Eigen::VectorXd& phi);
 /// keep_cut_tets the nodes of tets that phi cuts keep their values, so the liquid volume is kept
 /// exactly; without, a liquid against a wall that leans outward (in a bowl) lost 0.5% of its volume
 /// per step at 2 cells deep (fluid/README.md). Nodes of a phi without zero set keep their sign at
-/// distance band. @throws std::invalid_argument if band <= 0 or phi does not match the mesh
+/// distance band. The distance is exact in the inner half of the band and found by closest-triangle
+/// propagation beyond (zero_set_distance.hpp: a few distance evaluations per node instead of a
+/// search over every triangle within the band). @throws std::invalid_argument if band <= 0 or phi does not match the mesh
 void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool keep_cut_tets = false);
 
 /// Adds the constant delta to phi for which liquid_volume equals `target` within
