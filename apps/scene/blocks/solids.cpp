@@ -111,6 +111,11 @@ Field model() {
                                            "brings its own cells).").at_least(1).def(8),
                       Field::integer("ny", "Cells along the box's y edge (box geometry).").at_least(1).def(2),
                       Field::integer("nz", "Cells along the box's z edge (box geometry).").at_least(1).def(2),
+                      Field::enumeration("formulation", {"enhanced", "standard"},
+                                         "`enhanced`: 9 incompatible modes on the displacement gradient per "
+                                         "hex, condensed in the element (Simo & Armero 1992; CalculiX C3D8I), "
+                                         "which remove the shear locking in bending; `standard`: the fully "
+                                         "integrated trilinear hex (C3D8).").def("enhanced"),
                       analysis()});
 }
 
