@@ -4,8 +4,8 @@
 /// gradient, condensed at element level: Wilson's incompatible modes (Wilson, Taylor, Doherty &
 /// Ghaboussi 1973) with Taylor's correction (Taylor, Beresford & Wilson 1976) that makes every
 /// distorted mesh pass the patch test, used at finite strain in the form of Simo & Armero 1992
-/// (eqs. 3.4 and 4.10: the enhanced field is added to the displacement gradient, 9 parameters in
-/// 3D, "H1/E9") -- the element CalculiX calls C3D8I.
+/// (the enhanced field added to the displacement gradient, 9 parameters in 3D); the same idea as
+/// CalculiX's C3D8I, whose numbers differ (solid/hex/README.md, Cook's membrane).
 ///
 ///   F = I + sum_a u_a (x) grad N_a + sum_m alpha_m (x) G_m,          m = 1..3,
 ///   G_m(xi) = (j0 / j(xi)) J0^-T dM_m/dxi,   M_m = 1 - xi_m^2,

@@ -113,9 +113,10 @@ Field model() {
                       Field::integer("nz", "Cells along the box's z edge (box geometry).").at_least(1).def(2),
                       Field::enumeration("formulation", {"enhanced", "standard"},
                                          "`enhanced`: 9 incompatible modes on the displacement gradient per "
-                                         "hex, condensed in the element (Simo & Armero 1992; CalculiX C3D8I), "
-                                         "which remove the shear locking in bending; `standard`: the fully "
-                                         "integrated trilinear hex (C3D8).").def("enhanced"),
+                                         "hex, condensed in the element (Taylor, Beresford & Wilson 1976; "
+                                         "Simo & Armero 1992), which remove the shear locking in bending; "
+                                         "`standard`: the fully integrated trilinear hex (as CalculiX's "
+                                         "C3D8).").def("enhanced"),
                       analysis()});
 }
 
