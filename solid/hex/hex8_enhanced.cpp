@@ -42,9 +42,12 @@ bool make_geometry(const Matrix83d& X, Geometry& g) {
   return true;
 }
 
-/// The 33-dof element at node displacements u and mode amplitudes A (row m = alpha_m).
-ElementStatus evaluate33(const Material& m, const Geometry& g, const Matrix83d& u, const Eigen::Matrix3d& A,
-                         Vector33d& f, Matrix33x33d& K, double* energy) {
+/// The element at node displacements u and mode amplitudes A (row m = alpha_m): all 33 dofs
+/// (N = 11), or only the modes' residual h and K_aa (N = 3: rows 8-10 of the gradients, whose B_L
+/// columns and K_NL block need nothing else), the cheap evaluation of the local Newton.
+template <int N>
+ElementStatus evaluate(const Material& m, const Geometry& g, const Matrix83d& u, const Eigen::Matrix3d& A,
+                       Eigen::Matrix<double, 3 * N, 1>& f, Eigen::Matrix<double, 3 * N, 3 * N>& K, double* energy) {
   f.setZero();
   K.setZero();
   if (energy) *energy = 0.0;
@@ -57,12 +60,13 @@ ElementStatus evaluate33(const Material& m, const Geometry& g, const Matrix83d& 
     double psi = 0.0;
     if (!evaluate_material(m, F, S, &D, energy ? &psi : nullptr)) return ElementStatus::Inverted;
     if (energy) *energy += psi * g.detJ[q];
-    add_tl_point<11>(g.grad[q], F, S, &D, g.detJ[q], &f, &K);
+    const Eigen::Matrix<double, N, 3> rows = g.grad[q].template bottomRows<N>();
+    add_tl_point<N>(rows, F, S, &D, g.detJ[q], &f, &K);
   }
   return ElementStatus::Ok;
 }
 
-/// Newton on h(u, alpha) = 0 from alpha = 0; f, K at the converged alpha.
+/// Newton on h(u, alpha) = 0 from alpha = 0; f, K of all 33 dofs at the converged alpha.
 ElementStatus solve_modes(const Material& m, const Geometry& g, const Matrix83d& u, Eigen::Matrix3d& A,
                           Vector33d& f, Matrix33x33d& K, double* energy) {
   A.setZero();
@@ -71,18 +75,20 @@ ElementStatus solve_modes(const Material& m, const Geometry& g, const Matrix83d&
   // which keeps only ~1e-16 / |E| of its digits (1e-10 at a strain of 1e-6).
   const double scale = (u.rowwise() - u.row(0)).cwiseAbs().maxCoeff();
   double previous = std::numeric_limits<double>::infinity();
-  for (int it = 0; it < 30; ++it) {
-    const ElementStatus s = evaluate33(m, g, u, A, f, K, energy);
+  Eigen::Matrix<double, 9, 1> h;
+  Eigen::Matrix<double, 9, 9> Kaa;
+  for (int it = 0;; ++it) {
+    if (it == 30) return ElementStatus::Inverted;
+    const ElementStatus s = evaluate<3>(m, g, u, A, h, Kaa, nullptr);
     if (s != ElementStatus::Ok) return s;
-    const Eigen::Matrix<double, 9, 1> step =
-        -K.bottomRightCorner<9, 9>().partialPivLu().solve(f.tail<9>());
+    const Eigen::Matrix<double, 9, 1> step = -Kaa.partialPivLu().solve(h);
     if (!step.allFinite()) return ElementStatus::Inverted;
     const double size = step.lpNorm<Eigen::Infinity>(), ref = std::max(scale, A.cwiseAbs().maxCoeff());
-    if (size <= 1e-10 * ref || (size > 0.25 * previous && size <= 1e-6 * ref)) return ElementStatus::Ok;
+    if (size <= 1e-10 * ref || (size > 0.25 * previous && size <= 1e-6 * ref)) break;
     previous = size;
     for (int r = 0; r < 3; ++r) A.row(r) += step.segment<3>(3 * r).transpose();
   }
-  return ElementStatus::Inverted;
+  return evaluate<11>(m, g, u, A, f, K, energy);
 }
 
 }  // namespace
