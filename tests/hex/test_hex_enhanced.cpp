@@ -98,10 +98,16 @@ TEST(Hex8Enhanced, RigidRotationLeavesNoForce) {
   EXPECT_LE(alpha.cwiseAbs().maxCoeff(), 1e-13);
 }
 
-// The MacNeal-Harder mesh has a corner with a negative corner Jacobian (hex 3, corner 5) but a
+// The MacNeal-Harder mesh has a negative corner Jacobian (hex 3, corner 4: -0.01265) but a
 // positive Jacobian at every Gauss point: accepted, as by other codes.
 TEST(MacNealHarder, StandardMeshIsAccepted) {
   tetfsi::mesh::HexMesh m = tetfsi::test::macneal_harder_mesh();
+  const auto& h = m.hexes[3];
+  const auto& n = tetfsi::mesh::kHexCornerNeighbours[4];
+  Eigen::Matrix3d J;
+  J << m.vertices[h[n[0]]] - m.vertices[h[4]], m.vertices[h[n[1]]] - m.vertices[h[4]],
+      m.vertices[h[n[2]]] - m.vertices[h[4]];
+  EXPECT_NEAR(J.determinant(), -0.01265, 1e-5);
   std::vector<std::string> warnings;
   EXPECT_NO_THROW(tetfsi::mesh::check_hex_volume_mesh(m, "macneal_harder", warnings));
   EXPECT_TRUE(warnings.empty());
