@@ -32,36 +32,41 @@ double longest_edge(const HexMesh& m, const std::array<int, 8>& h) {
   return l;
 }
 
-/// J_i = det[x_a - x_i, x_b - x_i, x_c - x_i] at corner i (kHexCornerNeighbours).
-double corner_jacobian(const HexMesh& m, const std::array<int, 8>& h, int i) {
-  const auto& n = kHexCornerNeighbours[i];
-  const Eigen::Vector3d& x = m.vertices[h[i]];
-  Eigen::Matrix3d J;
-  J << m.vertices[h[n[0]]] - x, m.vertices[h[n[1]]] - x, m.vertices[h[n[2]]] - x;
-  return J.determinant();
+/// The Gauss point g of the 2 x 2 x 2 rule, (+-1/sqrt 3)^3 in the corner order of VTK.
+Eigen::Vector3d gauss_point(int g) {
+  static constexpr int s[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                  {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  return Eigen::Vector3d(s[g][0], s[g][1], s[g][2]) / std::sqrt(3.0);
 }
 
-/// +1 if every corner Jacobian is positive, -1 if every one is negative.
-/// @throws MeshError naming the hex and corner if a corner is degenerate or the signs differ
+std::string point_name(int g) {
+  const Eigen::Vector3d xi = gauss_point(g);
+  return "Gauss point " + str(g) + " (xi, eta, zeta) = (" + num(xi.x()) + ", " + num(xi.y()) + ", " + num(xi.z()) + ")";
+}
+
+/// +1 if det(dX/dxi) is positive at all 8 Gauss points, -1 if negative at all.
+/// @throws MeshError naming the hex and Gauss point if one is degenerate or the signs differ
 int orientation(const HexMesh& m, int e, const std::string& label) {
   const auto& h = m.hexes[e];
-  const double l = longest_edge(m, h), floor = kDegenerateHexCorner * l * l * l;
+  const double l = longest_edge(m, h), floor = kDegenerateHexJacobian * l * l * l / 8;
+  std::array<Eigen::Vector3d, 8> x;
+  for (int a = 0; a < 8; ++a) x[a] = m.vertices[h[a]];
   std::array<double, 8> J{};
   int positive = 0;
-  for (int i = 0; i < 8; ++i) {
-    J[i] = corner_jacobian(m, h, i);
-    if (!(std::fabs(J[i]) > floor))
-      throw MeshError(label + ": hex " + str(e) + " is degenerate at its corner " + str(i) + " (node " + str(h[i]) +
-                      "): corner Jacobian " + num(J[i]) + " m^3 for a longest edge of " + num(l) + " m");
-    positive += J[i] > 0;
+  for (int g = 0; g < 8; ++g) {
+    J[g] = hex_jacobian_determinant(x, gauss_point(g));
+    if (!(std::fabs(J[g]) > floor))
+      throw MeshError(label + ": hex " + str(e) + " is degenerate at its " + point_name(g) + ": det(dX/dxi) " +
+                      num(J[g]) + " m^3 for a longest edge of " + num(l) + " m");
+    positive += J[g] > 0;
   }
   if (positive == 8) return 1;
   if (positive == 0) return -1;
-  const bool few = positive >= 4;  // name a corner of the minority sign
-  const int i = static_cast<int>(std::find_if(J.begin(), J.end(), [&](double j) { return few ? j < 0 : j > 0; }) - J.begin());
-  throw MeshError(label + ": hex " + str(e) + " is inverted or folded at its corner " + str(i) + " (node " + str(h[i]) +
-                  "): corner Jacobian " + num(J[i]) + " m^3, while " + str(few ? positive : 8 - positive) +
-                  " of its 8 corners have the opposite sign (the element turns inside out)");
+  const bool few = positive >= 4;  // name a point of the minority sign
+  const int g = static_cast<int>(std::find_if(J.begin(), J.end(), [&](double j) { return few ? j < 0 : j > 0; }) - J.begin());
+  throw MeshError(label + ": hex " + str(e) + " is inverted or folded at its " + point_name(g) + ": det(dX/dxi) " +
+                  num(J[g]) + " m^3, while " + str(few ? positive : 8 - positive) +
+                  " of its 8 Gauss points have the opposite sign (the element turns inside out)");
 }
 
 /// Refuses two nodes closer than `tol` (every node is used by a hex at this point).

@@ -42,7 +42,12 @@ def main():
             for i in range(nt):
                 bottom = [tag(i, j, k), tag(i, j + 1, k), tag(i + 1, j + 1, k), tag(i + 1, j, k)]
                 hexes.append(bottom + [t + (nt + 1) * (nr + 1) for t in bottom])
-    with open(a.out, "w") as f:
+    write_msh(a.out, nodes, hexes)
+
+
+def write_msh(path, nodes, hexes):
+    """Writes nodes (x, y, z) and hexes (node tags from 1, Gmsh order) as .msh 4.1 ASCII."""
+    with open(path, "w") as f:
         n, e = len(nodes), len(hexes)
         f.write("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n")
         f.write(f"$Nodes\n1 {n} 1 {n}\n3 1 0 {n}\n")

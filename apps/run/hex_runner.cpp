@@ -52,6 +52,8 @@ hex::BlockProblem problem_of(const scene::Json& s, std::vector<std::string>& war
   hex::BlockProblem p;
   p.mesh = hex_mesh_of(s, warnings);
   p.material = hex_material(s.at("material"));
+  p.formulation = s.at("model").value("formulation", "enhanced") == "standard" ? hex::Hex8Formulation::Standard
+                                                                              : hex::Hex8Formulation::Enhanced;
   p.conditions = region_conditions(s, true);
   p.options = static_options(s);
   return p;

@@ -11,7 +11,7 @@ std::unique_ptr<HexModel> make_model(const BlockProblem& p) {
   mesh::HexMesh mesh = !p.mesh.hexes.empty() ? p.mesh
                        : p.vtu_path.empty()  ? block_mesh(p.lo, p.hi, p.nx, p.ny, p.nz)
                                              : mesh::io::read_hex_mesh_vtu(p.vtu_path);
-  return std::make_unique<HexModel>(std::move(mesh), p.material);
+  return std::make_unique<HexModel>(std::move(mesh), p.material, p.formulation);
 }
 
 BoundaryConditions make_conditions(const BlockProblem& p, const HexModel& model) {

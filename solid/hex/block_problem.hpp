@@ -26,6 +26,7 @@ struct BlockProblem {
   Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Ones();
   int nx = 1, ny = 1, nz = 1;
   Material material;
+  Hex8Formulation formulation = Hex8Formulation::Enhanced;
   std::vector<RegionCondition> conditions;
   solid::StaticOptions options;
 };

@@ -3,6 +3,8 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "solid/hex/tl_point.hpp"
+
 namespace tetfsi::solid::hex {
 
 Eigen::Matrix<double, 8, 1> hex8_shape(const Eigen::Vector3d& xi) {
@@ -42,7 +44,6 @@ ElementStatus hex8_evaluate(const Material& m, const Matrix83d& X, const Matrix8
   if (f) f->setZero();
   if (K) K->setZero();
   if (energy) *energy = 0.0;
-  Eigen::Matrix<double, 6, 24> BL;
   Eigen::Matrix3d S;
   Matrix6d D;
   for (const auto& xi : hex8_gauss_points()) {
@@ -55,31 +56,7 @@ ElementStatus hex8_evaluate(const Material& m, const Matrix83d& X, const Matrix8
     double psi = 0.0;
     if (!evaluate_material(m, F, S, K ? &D : nullptr, energy ? &psi : nullptr)) return ElementStatus::Inverted;
     if (energy) *energy += psi * detJ;
-    // B_L = B_L0 + B_L1(u), column (a, k): see the header.
-    for (int a = 0; a < 8; ++a) {
-      for (int k = 0; k < 3; ++k) {
-        const int c = 3 * a + k;
-        BL(0, c) = F(k, 0) * dN(a, 0);
-        BL(1, c) = F(k, 1) * dN(a, 1);
-        BL(2, c) = F(k, 2) * dN(a, 2);
-        BL(3, c) = F(k, 0) * dN(a, 1) + F(k, 1) * dN(a, 0);
-        BL(4, c) = F(k, 1) * dN(a, 2) + F(k, 2) * dN(a, 1);
-        BL(5, c) = F(k, 2) * dN(a, 0) + F(k, 0) * dN(a, 2);
-      }
-    }
-    Vector6d Sv;
-    for (int v = 0; v < 6; ++v) Sv(v) = S(kVoigt[v][0], kVoigt[v][1]);
-    if (f) f->noalias() += detJ * (BL.transpose() * Sv);
-    if (K) {
-      K->noalias() += detJ * (BL.transpose() * (D * BL));  // K_L
-      // K_NL = B_NL^T blockdiag(S,S,S) B_NL: entry (a k, b l) = delta_kl dN_a . S dN_b.
-      const Eigen::Matrix<double, 8, 8> G = detJ * (dN * S * dN.transpose());
-      for (int a = 0; a < 8; ++a) {
-        for (int b = 0; b < 8; ++b) {
-          for (int k = 0; k < 3; ++k) (*K)(3 * a + k, 3 * b + k) += G(a, b);
-        }
-      }
-    }
+    add_tl_point<8>(dN, F, S, K ? &D : nullptr, detJ, f, K);  // B_L, K_L, K_NL: tl_point.hpp
   }
   return ElementStatus::Ok;
 }

@@ -39,6 +39,10 @@ Matrix83d hex8_shape_gradient(const Eigen::Vector3d& xi);
 /// The 8 Gauss points of the 2 x 2 x 2 rule (weights all 1).
 const std::array<Eigen::Vector3d, 8>& hex8_gauss_points();
 
+/// Which hex8 a solid uses: `Enhanced` adds 9 condensed incompatible modes (hex8_enhanced.hpp),
+/// which remove the shear locking of the fully integrated `Standard` element in bending.
+enum class Hex8Formulation { Standard, Enhanced };
+
 /// Why an element evaluation failed.
 enum class ElementStatus { Ok, DegenerateReference, Inverted };
 

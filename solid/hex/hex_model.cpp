@@ -15,8 +15,8 @@
 
 namespace tetfsi::solid::hex {
 
-HexModel::HexModel(mesh::HexMesh mesh, Material material)
-    : mesh_(std::move(mesh)), material_(material) {
+HexModel::HexModel(mesh::HexMesh mesh, Material material, Hex8Formulation formulation)
+    : mesh_(std::move(mesh)), material_(material), formulation_(formulation) {
   material_.validate();
   const int n = mesh_.num_vertices();
   const int ne = mesh_.num_hexes();
@@ -145,8 +145,7 @@ bool HexModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
       Matrix24d Ke;
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const int e = elements[i];
-        const auto status = hex8_evaluate(material_, element_positions(e), element_displacements(e, d), &fe,
-                                          tangent ? &Ke : nullptr, nullptr);
+        const auto status = evaluate_element(e, d, &fe, tangent ? &Ke : nullptr, nullptr);
         if (status != ElementStatus::Ok) {
           int cur = failed.load();
           while (e < cur && !failed.compare_exchange_weak(cur, e)) {
@@ -176,6 +175,13 @@ bool HexModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   return force.allFinite();
 }
 
+ElementStatus HexModel::evaluate_element(int e, const Eigen::VectorXd& d, Vector24d* f, Matrix24d* K,
+                                         double* energy) const {
+  const Matrix83d X = element_positions(e), u = element_displacements(e, d);
+  return formulation_ == Hex8Formulation::Enhanced ? hex8_enhanced_evaluate(material_, X, u, f, K, energy)
+                                                   : hex8_evaluate(material_, X, u, f, K, energy);
+}
+
 std::string HexModel::last_error() const {
   if (failed_non_finite_) return "hex8 model: the displacement is not finite";
   if (failed_element_ < 0) return "";
@@ -183,7 +189,8 @@ std::string HexModel::last_error() const {
   for (int a : mesh_.hexes[failed_element_]) centre += mesh_.vertices[a] / 8.0;
   std::ostringstream msg;
   msg << "hex8 element " << failed_element_ << " (rest centre " << centre.transpose()
-      << " m) is inverted: det F <= 0 at a Gauss point";
+      << " m) is inverted: det F <= 0 at a Gauss point"
+      << (formulation_ == Hex8Formulation::Enhanced ? " (or its incompatible modes found no equilibrium)" : "");
   return msg.str();
 }
 
@@ -195,7 +202,7 @@ std::vector<int> HexModel::failed_elements(const Eigen::VectorXd& d) const {
   } else {
     tbb::parallel_for(0, ne, [&](int e) {
       double w = 0.0;
-      failed[e] = hex8_evaluate(material_, element_positions(e), element_displacements(e, d), nullptr, nullptr, &w) !=
+      failed[e] = evaluate_element(e, d, nullptr, nullptr, &w) !=
                   ElementStatus::Ok;
     });
   }
@@ -210,8 +217,7 @@ double HexModel::strain_energy(const Eigen::VectorXd& d) const {
   std::vector<double> energy(ne, 0.0);
   tbb::parallel_for(0, ne, [&](int e) {
     double w = 0.0;
-    const auto status = hex8_evaluate(material_, element_positions(e), element_displacements(e, d), nullptr,
-                                      nullptr, &w);
+    const auto status = evaluate_element(e, d, nullptr, nullptr, &w);
     energy[e] = status == ElementStatus::Ok ? w : std::numeric_limits<double>::infinity();
   });
   double total = 0.0;
@@ -226,7 +232,10 @@ void HexModel::element_stresses(const Eigen::VectorXd& d, std::vector<double>& c
   pk2 = cauchy;
   tbb::parallel_for(0, ne, [&](int e) {
     Eigen::Matrix3d F, S;
-    if (!hex8_average_stress(material_, element_positions(e), element_displacements(e, d), F, S)) return;
+    const Matrix83d X = element_positions(e), u = element_displacements(e, d);
+    const bool ok = formulation_ == Hex8Formulation::Enhanced ? hex8_enhanced_average_stress(material_, X, u, F, S)
+                                                              : hex8_average_stress(material_, X, u, F, S);
+    if (!ok) return;
     const Eigen::Matrix3d sigma = cauchy_stress(F, S);
     for (int v = 0; v < 6; ++v) {
       cauchy[6 * e + v] = sigma(kVoigt[v][0], kVoigt[v][1]);

@@ -18,6 +18,7 @@
 #include "mesh/hex_mesh.hpp"
 #include "solid/elastic_model.hpp"
 #include "solid/hex/hex8_element.hpp"
+#include "solid/hex/hex8_enhanced.hpp"
 #include "solid/hex/material.hpp"
 
 namespace tetfsi::solid::hex {
@@ -26,7 +27,8 @@ class HexModel : public ElasticModel {
  public:
   /// @throws std::invalid_argument for an empty mesh, an out-of-range or repeated node index,
   ///         an element with det J <= 0 at a Gauss point (wrong node order), or a bad material
-  HexModel(mesh::HexMesh mesh, Material material);
+  /// `formulation`: the element (hex8_element.hpp, hex8_enhanced.hpp); enhanced by default.
+  HexModel(mesh::HexMesh mesh, Material material, Hex8Formulation formulation = Hex8Formulation::Enhanced);
 
   int num_nodes() const override { return mesh_.num_vertices(); }
   const Eigen::VectorXd& reference_positions() const override { return reference_; }
@@ -39,6 +41,7 @@ class HexModel : public ElasticModel {
 
   const mesh::HexMesh& mesh() const { return mesh_; }
   const Material& material() const { return material_; }
+  Hex8Formulation formulation() const { return formulation_; }
   /// The (full, symmetric) sparsity pattern of K_T with zero values.
   const SparseMatrix& pattern() const { return pattern_; }
   int num_colors() const { return static_cast<int>(colors_.size()); }
@@ -57,9 +60,12 @@ class HexModel : public ElasticModel {
  private:
   Matrix83d element_positions(int e) const;
   Matrix83d element_displacements(int e, const Eigen::VectorXd& d) const;
+  /// The element of `formulation_` at d (hex8_evaluate or hex8_enhanced_evaluate).
+  ElementStatus evaluate_element(int e, const Eigen::VectorXd& d, Vector24d* f, Matrix24d* K, double* energy) const;
 
   mesh::HexMesh mesh_;
   Material material_;
+  Hex8Formulation formulation_;
   Eigen::VectorXd reference_;
   Eigen::VectorXd masses_;
   std::vector<std::vector<int>> colors_;  ///< element ids per colour

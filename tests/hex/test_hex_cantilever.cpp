@@ -60,10 +60,12 @@ struct Cantilever {
 // finer, less locked 200 x 4 x 2 mesh of bench_hex). The tip position does not depend on the
 // moment law as long as the curvature is uniform, so it is the sharp check. At theta = 2 pi the
 // tip is back at the root within 2 % of L (the benchmark, at a finer resolution, checks 1 %).
+// The error budget above is the standard element's: the enhanced one (hex8_enhanced.hpp) does not
+// lock, and its moment at 2 pi is the softening alone (-4.5% on this mesh), outside the 4% band.
 TEST(HexCantilever, EndMomentRollsUpIntoCircle) {
   const double theta_max = 2 * M_PI;
   Cantilever c(100, 2, 1, theta_max);
-  const HexModel model(c.mesh, c.material);
+  const HexModel model(c.mesh, c.material, Hex8Formulation::Standard);
   StaticOptions opt;
   opt.load_steps = 16;
   opt.log = false;

@@ -110,13 +110,16 @@ TEST(HexVolumeMesh, BadMeshesAreRefusedNamingTheElement) {
   h1 = {h1[4], h1[5], h1[6], h1[7], h1[0], h1[1], h1[2], h1[3]};
   expect_refused(one_mirrored, "hex 1 is inverted: 1 of 12 hexes");
 
-  HexMesh folded = unit_cube();  // node 4 pushed below the bottom face: corners of both signs
-  folded.vertices[4] = {0, 0, -0.5};
-  expect_refused(folded, "hex 0 is inverted or folded at its corner");
+  HexMesh folded = unit_cube();  // node 4 pushed far below the bottom face: Gauss points of both signs
+  folded.vertices[4] = {0, 0, -1.5};
+  expect_refused(folded, "hex 0 is inverted or folded at its Gauss point 0 (xi, eta, zeta) = (-0.5774, -0.5774, -0.5774)");
+  HexMesh corner = unit_cube();  // pushed less: its corner 0 is negative, every Gauss point positive
+  corner.vertices[4] = {0, 0, -0.5};
+  EXPECT_EQ(check_message(corner), "");
 
   HexMesh flat = unit_cube();  // top face collapsed onto the bottom one
   for (int i = 4; i < 8; ++i) flat.vertices[i].z() = 0;
-  expect_refused(flat, "hex 0 is degenerate at its corner 0 (node 0)");
+  expect_refused(flat, "hex 0 is degenerate at its Gauss point 0 (xi, eta, zeta) = (-0.5774, -0.5774, -0.5774)");
 
   HexMesh repeated = unit_cube();
   repeated.hexes[0][6] = repeated.hexes[0][0];

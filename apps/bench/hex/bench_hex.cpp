@@ -43,7 +43,7 @@ void compression_case(int n, LinearSolverKind solver) {
   fix_component(bc, {n}, 1);
   for (int v : nodes_in_box(mesh, {-1, -1, 1}, {2, 2, 1})) bc.prescribed.emplace_back(3 * v + 2, -0.2);
   bench::Stopwatch watch;
-  const HexModel model(mesh, m);
+  const HexModel model(mesh, m, Hex8Formulation::Standard);  // the element of the table in solid/hex/README.md
   StaticOptions opt;
   opt.load_steps = 2;
   opt.linear_solver = solver;
@@ -73,7 +73,7 @@ void assembly_speedup(int n) {
   const auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, n, n, n);
   Material m;
   m.law = MaterialLaw::NeoHookean;
-  const HexModel model(mesh, m);
+  const HexModel model(mesh, m, Hex8Formulation::Standard);  // the element of the table in solid/hex/README.md
   Eigen::VectorXd d(3 * model.num_nodes());
   for (int i = 0; i < model.num_nodes(); ++i) d.segment<3>(3 * i) = 0.1 * mesh.vertices[i].array().square().matrix();
   Eigen::VectorXd f;
@@ -118,7 +118,7 @@ void rollup_case(int nx, int ny, int nz, const std::string& out, double slendern
     return Eigen::Vector3d(c / static_cast<double>(face.nodes.size()));
   };
   bench::Stopwatch watch;
-  const HexModel model(mesh, m);
+  const HexModel model(mesh, m, Hex8Formulation::Standard);  // the element of the table in solid/hex/README.md
   StaticOptions opt;
   opt.load_steps = 16;
   double worst_tip = 0, worst_moment = 0;

@@ -111,6 +111,12 @@ Field model() {
                                            "brings its own cells).").at_least(1).def(8),
                       Field::integer("ny", "Cells along the box's y edge (box geometry).").at_least(1).def(2),
                       Field::integer("nz", "Cells along the box's z edge (box geometry).").at_least(1).def(2),
+                      Field::enumeration("formulation", {"enhanced", "standard"},
+                                         "`enhanced`: 9 incompatible modes on the displacement gradient per "
+                                         "hex, condensed in the element (Taylor, Beresford & Wilson 1976; "
+                                         "Simo & Armero 1992), which remove the shear locking in bending; "
+                                         "`standard`: the fully integrated trilinear hex (as CalculiX's "
+                                         "C3D8).").def("enhanced"),
                       analysis()});
 }
 
