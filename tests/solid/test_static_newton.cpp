@@ -134,3 +134,81 @@ TEST(StaticNewton, CookMembraneTetsConvergeQuadratically) {
     EXPECT_LT(exact.total_iterations, projected.total_iterations) << hyperelastic_law_name(law);
   }
 }
+
+namespace {
+
+// One node whose three components are springs f(u) = k u (1 - (u/a)^2)^2 (energy k a^2 / 6 (1 - (1 -
+// (u/a)^2)^3)): exact tangent f'(u) = k (1 - (u/a)^2)(1 - 5 (u/a)^2), negative for a/sqrt(5) < |u| < a
+// (a snap-through), and a modified tangent that leaves out the negative part, k (1 + 5 (u/a)^4) > 0.
+class SnapSpring : public ElasticModel {
+ public:
+  int num_nodes() const override { return 1; }
+  const Eigen::VectorXd& reference_positions() const override { return X_; }
+  const Eigen::VectorXd& lumped_masses() const override { return m_; }
+  bool modifies_tangent() const override { return true; }
+  bool evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& f, SparseMatrix* K) const override {
+    return eval(d, f, K, false);
+  }
+  bool evaluate_exact(const Eigen::VectorXd& d, Eigen::VectorXd& f, SparseMatrix* K) const override {
+    return eval(d, f, K, true);
+  }
+  double strain_energy(const Eigen::VectorXd& d) const override {
+    double w = 0;
+    for (int i = 0; i < 3; ++i) w += (1 - std::pow(1 - d(i) * d(i), 3)) / 6;
+    return w;
+  }
+
+ private:
+  bool eval(const Eigen::VectorXd& d, Eigen::VectorXd& f, SparseMatrix* K, bool exact) const {
+    f.resize(3);
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < 3; ++i) {
+      const double u = d(i), s = 1 - u * u;
+      f(i) = u * s * s;  // k = a = 1
+      t.emplace_back(i, i, exact ? s * (1 - 5 * u * u) : 1 + 5 * u * u * u * u);
+    }
+    if (K) {
+      K->resize(3, 3);
+      K->setFromTriplets(t.begin(), t.end());
+    }
+    return true;
+  }
+  Eigen::VectorXd X_ = Eigen::VectorXd::Zero(3), m_ = Eigen::VectorXd::Ones(1);
+};
+
+}  // namespace
+
+// Where the exact tangent is not positive definite (inside the snap-through) the solver takes the
+// model's modified tangent for that solve, and returns to the exact one, with quadratic convergence,
+// once past it: load f = 0.5 > max f(u < a) = 0.286 in one step from u = 0 must end at the root of
+// u (1 - u^2)^2 = 0.5 above u = 1 (u = 1.2852 by bisection here), each component.
+TEST(StaticNewton, FallsBackToTheModifiedTangentWhereTheExactOneIsIndefinite) {
+  SnapSpring model;
+  BoundaryConditions bc;
+  bc.forces = Eigen::Vector3d(0.5, 0.5, 0.5);
+  StaticOptions opt;
+  opt.load_steps = 1;
+  opt.max_iterations = 50;
+  const StaticResult r = solve_static(model, bc, opt);
+  double lo = 1.0, hi = 2.0;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (mid * (1 - mid * mid) * (1 - mid * mid) < 0.5 ? lo : hi) = mid;
+  }
+  ASSERT_EQ(r.steps.size(), 1u);
+  const auto& s = r.steps[0];
+  std::printf("snap-through spring: u = %.10f (root %.10f), %d solves, %d with the modified tangent; residuals:",
+              r.displacement(0), lo, s.iterations, s.modified_tangent_solves);
+  for (double x : s.residuals) std::printf(" %.2e", x);
+  std::printf("\n");
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.displacement(i), lo, 1e-9);
+  EXPECT_GE(s.modified_tangent_solves, 1);
+  EXPECT_LT(s.modified_tangent_solves, s.iterations);
+  const auto& res = s.residuals;  // the last two ratios before the tolerance: quadratic
+  std::size_t n = 0;
+  while (n < res.size() && res[n] > opt.residual_tolerance) ++n;
+  ASSERT_LT(n, res.size());
+  ASSERT_GE(n, 2u);
+  EXPECT_LE(res[n] / res[n - 1], 0.05);
+  EXPECT_LE(res[n - 1] / res[n - 2], 0.05);
+}
