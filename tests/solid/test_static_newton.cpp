@@ -181,7 +181,7 @@ class SnapSpring : public ElasticModel {
 // Where the exact tangent is not positive definite (inside the snap-through) the solver takes the
 // model's modified tangent for that solve, and returns to the exact one, with quadratic convergence,
 // once past it: load f = 0.5 > max f(u < a) = 0.286 in one step from u = 0 must end at the root of
-// u (1 - u^2)^2 = 0.5 above u = 1 (u = 1.2852 by bisection here), each component.
+// u (1 - u^2)^2 = 0.5 above u = 1 (u = 1.27521 by bisection here), each component.
 TEST(StaticNewton, FallsBackToTheModifiedTangentWhereTheExactOneIsIndefinite) {
   SnapSpring model;
   BoundaryConditions bc;
