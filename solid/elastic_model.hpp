@@ -38,6 +38,16 @@ class ElasticModel {
   virtual bool evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force,
                         SparseMatrix* tangent) const = 0;
 
+  /// True if evaluate() assembles a modified tangent instead of dK/dd (e.g. TetModelOptions::project_spd,
+  /// kept positive semi-definite per element for the dynamic step).
+  virtual bool modifies_tangent() const { return false; }
+
+  /// evaluate() with the exact tangent dK/dd even where evaluate() modifies it; static Newton uses it
+  /// wherever the assembled system is positive definite (quadratic convergence).
+  virtual bool evaluate_exact(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const {
+    return evaluate(d, force, tangent);
+  }
+
   /// Elastic (strain) energy at d [J].
   virtual double strain_energy(const Eigen::VectorXd& d) const = 0;
 

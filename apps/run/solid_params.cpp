@@ -4,16 +4,22 @@
 #include <string>
 
 #include "apps/run/scene_values.hpp"
+#include "solid/solid_error.hpp"
 
 namespace tetfsi::run {
+
+solid::HyperelasticLaw hyperelastic_law(const scene::Json& m) {
+  const auto law = solid::parse_hyperelastic_law(m.at("constitutive").get<std::string>());
+  if (!law) throw solid::SolidError("material: unknown constitutive law " + m.at("constitutive").dump());
+  return *law;
+}
 
 solid::TetMaterial tet_material(const scene::Json& m) {
   solid::TetMaterial mat;
   mat.density = m.at("density").get<double>();
   mat.youngs_modulus = m.at("youngs_modulus").get<double>();
   mat.poisson_ratio = m.at("poissons_ratio").get<double>();
-  mat.law = m.at("constitutive") == "neohookean" ? solid::ConstitutiveLaw::kStableNeoHookean
-                                                 : solid::ConstitutiveLaw::kStVK;
+  mat.law = hyperelastic_law(m);
   mat.rayleigh_alpha = m.at("rayleigh_alpha").get<double>();
   mat.rayleigh_beta = m.at("rayleigh_beta").get<double>();
   return mat;
@@ -21,14 +27,13 @@ solid::TetMaterial tet_material(const scene::Json& m) {
 
 solid::TetModelOptions tet_model_options(const scene::Json& m) {
   solid::TetModelOptions options;
-  options.project_spd = m.at("constitutive") == "neohookean";
+  options.project_spd = hyperelastic_law(m) != solid::HyperelasticLaw::kStVK;
   return options;
 }
 
 solid::hex::Material hex_material(const scene::Json& m) {
   solid::hex::Material mat;
-  mat.law = m.at("constitutive") == "neohookean" ? solid::hex::MaterialLaw::NeoHookean
-                                                 : solid::hex::MaterialLaw::StVenantKirchhoff;
+  mat.law = hyperelastic_law(m);
   mat.youngs_modulus = m.at("youngs_modulus").get<double>();
   mat.poisson_ratio = m.at("poissons_ratio").get<double>();
   mat.density = m.at("density").get<double>();

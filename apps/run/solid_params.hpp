@@ -12,11 +12,16 @@
 
 namespace tetfsi::run {
 
+/// /solids/i/material/constitutive: the law of every element (solid/laws/hyperelastic_law.hpp).
+/// @throws solid::SolidError on a name the schema would have refused
+solid::HyperelasticLaw hyperelastic_law(const scene::Json& material);
+
 /// /solids/i/material of a tet FEM solid: E, nu, density, Rayleigh damping, constitutive law.
 solid::TetMaterial tet_material(const scene::Json& material);
 
-/// Element options /solids/i/material implies: the neo-Hookean law projects the element tangent to
-/// PSD (TetModelOptions::project_spd), which keeps A positive definite under strong compression.
+/// Element options /solids/i/material implies: every neo-Hookean law projects the element tangent to
+/// PSD (TetModelOptions::project_spd), which keeps A positive definite under strong compression in the
+/// dynamic step; the static solver uses the exact tangent wherever it is positive definite.
 solid::TetModelOptions tet_model_options(const scene::Json& material);
 
 /// /solids/i/material of a hex8 solid.

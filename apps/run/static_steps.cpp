@@ -20,8 +20,9 @@ StaticSteps solve_in_steps(const std::string& name, const solid::ElasticModel& m
     std::string ratios;
     for (std::size_t k = 1; k < l.residuals.size(); ++k)
       ratios += fmt::format(" {:.3g}", l.residuals[k - 1] > 0 ? l.residuals[k] / l.residuals[k - 1] : 0.0);
-    log.info("solid '{}': load factor {:.6g}: {} Newton solves, {} cuts, residuals [{}], ratios [{} ]", name,
-             l.load_factor, l.iterations, l.cuts, fmt::join(l.residuals, ", "), ratios);
+    log.info("solid '{}': load factor {:.6g}: {} Newton solves ({} with the projected tangent), {} cuts, "
+             "residuals [{}], ratios [{} ]", name, l.load_factor, l.iterations, l.modified_tangent_solves, l.cuts,
+             fmt::join(l.residuals, ", "), ratios);
     s.load_factors.push_back(l.load_factor);
     s.states.push_back(u);
     s.logs.push_back(l);
@@ -54,11 +55,12 @@ const Eigen::VectorXd& state_at(const StaticSteps& steps, double lambda) {
 
 void write_load_steps(Output& out, const std::string& name, const StaticSteps& steps) {
   std::ofstream csv(out.dir() / fmt::format("{}_load_steps.csv", name));
-  csv << "load_factor,iterations,cuts,final_residual_ratio,reaction_moment\n";
+  csv << "load_factor,iterations,cuts,final_residual_ratio,reaction_moment,projected_tangent_solves\n";
   for (std::size_t k = 0; k < steps.logs.size(); ++k) {
     const auto& l = steps.logs[k];
     csv << csv_row({l.load_factor, double(l.iterations), double(l.cuts),
-                    l.residuals.empty() ? 0.0 : l.residuals.back(), steps.moments[k]});
+                    l.residuals.empty() ? 0.0 : l.residuals.back(), steps.moments[k],
+                    double(l.modified_tangent_solves)});
   }
 }
 

@@ -32,7 +32,8 @@ StaticSteps solve_in_steps(const std::string& name, const solid::ElasticModel& m
 /// different intermediate load factors (step cuts); lambda < 0 gives the final state.
 const Eigen::VectorXd& state_at(const StaticSteps& steps, double lambda);
 
-/// Writes <name>_load_steps.csv: load factor, iterations, cuts, final residual ratio, reaction moment.
+/// Writes <name>_load_steps.csv: load factor, iterations, cuts, final residual ratio, reaction moment,
+/// solves with the projected tangent (the exact one not positive definite).
 void write_load_steps(Output& out, const std::string& name, const StaticSteps& steps);
 
 /// Setup statistics of static solids: load steps, Newton iterations, most iterations in a step, cuts.

@@ -139,7 +139,9 @@ void expand_add(const Reduction& r, const Eigen::VectorXd& q, Eigen::VectorXd& f
 class LinearSolver {
  public:
   LinearSolver(const StaticOptions& o, bool nonsymmetric) : options_(o), nonsymmetric_(nonsymmetric) {}
-  bool factorize(const SparseMatrix& A) {
+  // A CHOLMOD factorisation that finds A not positive definite falls back to SimplicialLDLT only
+  // if allow_indefinite; otherwise it fails (the caller then tries the model's modified tangent).
+  bool factorize(const SparseMatrix& A, bool allow_indefinite = true) {
     if (nonsymmetric_) {  // follower pressure: the consistent tangent is not symmetric
       if (!analysed_) {
         lu_.analyzePattern(A);
@@ -161,6 +163,7 @@ class LinearSolver {
     }
     llt_.factorize(A);
     use_ldlt_ = llt_.info() != Eigen::Success;
+    if (use_ldlt_ && !allow_indefinite) return false;
     if (use_ldlt_) {
       ldlt_ = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix>>(A);
       return ldlt_->info() == Eigen::Success;
@@ -226,21 +229,21 @@ StaticResult solve_static(const ElasticModel& model, const BoundaryConditions& b
   std::string cause;
   std::vector<double> last_residuals;
 
-  // One Newton solve with K_T at u: returns Delta q or false on a failed factorisation.
-  auto newton_solve = [&](const Eigen::VectorXd& rhs, Eigen::VectorXd& dq) {
-    const Stopwatch clock;
+  // The exact tangent first (quadratic convergence); the model's modified one (the tets' per-element
+  // PSD projection) only where T^T K_T T is not positive definite. With a follower pressure the LU
+  // solve needs no definiteness: always exact.
+  const bool try_exact = model.modifies_tangent();
+  auto reduce_tangent = [&] {
     std::fill(red.reduced.valuePtr(), red.reduced.valuePtr() + red.reduced.nonZeros(), 0.0);
     for (std::size_t k = 0; k < red.slot.size(); ++k) {
       if (red.slot[k] >= 0) red.reduced.valuePtr()[red.slot[k]] += K.valuePtr()[k];
     }
-    const bool ok = solver.factorize(red.reduced) && solver.solve(rhs, dq);
-    result.solve_seconds += clock.seconds();
-    return ok && dq.allFinite();
   };
-  // F_int - lambda F_p and K_T - lambda dF_p/du at d (the follower load moved to the left).
-  auto assemble = [&](const Eigen::VectorXd& d, double lambda) {
+  // F_int - lambda F_p and K_T - lambda dF_p/du at d (the follower load moved to the left), with the
+  // exact tangent or the model's modified one.
+  auto assemble = [&](const Eigen::VectorXd& d, double lambda, bool exact = true) {
     const Stopwatch clock;
-    bool ok = model.evaluate(d, force, &K);
+    bool ok = exact ? model.evaluate_exact(d, force, &K) : model.evaluate(d, force, &K);
     if (ok && follower) {
       Eigen::VectorXd fp = Eigen::VectorXd::Zero(ndof);
       SparseMatrix dfdu = K * 0.0;
@@ -254,6 +257,26 @@ StaticResult solve_static(const ElasticModel& model, const BoundaryConditions& b
       cause = model.last_error();
       if (cause.empty()) cause = "non-finite displacement or force";
     }
+    return ok;
+  };
+  // One Newton solve with K_T at d: returns Delta q or false on a failed factorisation. If the exact
+  // tangent is not positive definite (CHOLMOD) or CG fails on it, K_T is assembled again with the
+  // model's modified tangent and solved with that (counted in `modified`).
+  auto newton_solve = [&](const Eigen::VectorXd& rhs, Eigen::VectorXd& dq, const Eigen::VectorXd& d, double lambda,
+                          int& modified) {
+    Stopwatch clock;
+    reduce_tangent();
+    bool ok = solver.factorize(red.reduced, !(try_exact && !follower)) && solver.solve(rhs, dq) && dq.allFinite();
+    result.solve_seconds += clock.seconds();
+    if (ok || !try_exact || follower) return ok;
+    const Eigen::VectorXd exact_force = force;
+    if (!assemble(d, lambda, false)) return false;
+    force = exact_force;  // the same force; only the tangent differs
+    ++modified;
+    clock.restart();
+    reduce_tangent();
+    ok = solver.factorize(red.reduced) && solver.solve(rhs, dq) && dq.allFinite();
+    result.solve_seconds += clock.seconds();
     return ok;
   };
 
@@ -281,7 +304,7 @@ StaticResult solve_static(const ElasticModel& model, const BoundaryConditions& b
       Eigen::VectorXd rhs = reduce(red, target * fext - force - K * dg);
       double first = 0.0;
       for (int it = 0; it < options.max_iterations; ++it) {
-        if (!newton_solve(rhs, dq)) {
+        if (!newton_solve(rhs, dq, u, target, step.modified_tangent_solves)) {
           cause = options.linear_solver == LinearSolverKind::ConjugateGradient
                       ? "CG did not reach its tolerance (indefinite or ill-conditioned K_T?)"
                       : "singular or non-finite tangent (missing supports?)";

@@ -21,6 +21,11 @@
 /// A failed step (inverted element, non-finite values, no convergence within max_iterations,
 /// residual growing 1e6-fold, or a failed factorisation) is retried with half the load
 /// increment, up to max_step_cuts times in a row; then NonConvergence is thrown.
+/// Exact Newton: K_T is the model's exact tangent (ElasticModel::evaluate_exact) wherever T^T K_T T is
+/// positive definite (the Cholesky factorisation succeeds), so that convergence is quadratic; where
+/// it is not, and the model offers a modified tangent (the tets' per-element PSD projection,
+/// TetModelOptions::project_spd), that one is assembled and solved instead for this iteration
+/// (StepLog::modified_tangent_solves), as the dynamic step always does.
 /// The linear solves use CHOLMOD's supernodal Cholesky (through Eigen::CholmodSupernodalLLT),
 /// the pattern analysed once; if K_T is not positive definite there, Eigen::SimplicialLDLT.
 /// The tangent's sparsity pattern is the one the model returns at u = 0.
@@ -69,6 +74,7 @@ struct StepLog {
   int iterations = 0;              ///< linear solves in this step (predictor included)
   std::vector<double> residuals;   ///< ||T^T R|| / reference after each solve
   int cuts = 0;                    ///< halvings needed before this step converged
+  int modified_tangent_solves = 0; ///< solves with the model's modified tangent (exact one not PD)
 };
 
 struct StaticResult {

@@ -32,37 +32,35 @@ bool evaluate_material(const Material& m, const Eigen::Matrix3d& F, Eigen::Matri
                        double* psi) {
   const double J = F.determinant();
   if (!(J > 0.0)) return false;
-  const double lambda = m.lame_lambda();
-  const double mu = m.lame_mu();
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d C = F.transpose() * F;
-  if (m.law == MaterialLaw::StVenantKirchhoff) {
-    const Eigen::Matrix3d E = 0.5 * (C - I);
-    const double trE = E.trace();
-    S = lambda * trE * I + 2.0 * mu * E;
-    if (psi) *psi = 0.5 * lambda * trE * trE + mu * E.cwiseAbs2().sum();
-    if (D) {
-      D->setZero();
-      D->topLeftCorner<3, 3>().setConstant(lambda);
-      for (int a = 0; a < 3; ++a) (*D)(a, a) += 2.0 * mu;
-      for (int a = 3; a < 6; ++a) (*D)(a, a) = mu;
-    }
+  const HyperelasticParams p{m.law, m.lame_lambda(), m.lame_mu()};
+  const Eigen::Matrix3d Finv = F.inverse();
+  S = Finv * first_piola(p, F);
+  S = 0.5 * (S + S.transpose()).eval();  // symmetric up to round-off
+  if (psi) *psi = energy_density(p, F);
+  if (!D) return true;
+  if (m.law == MaterialLaw::kStVK) {  // dS/dE is constant: lambda I x I + 2 mu II
+    D->setZero();
+    D->topLeftCorner<3, 3>().setConstant(p.lambda);
+    for (int a = 0; a < 3; ++a) (*D)(a, a) += 2.0 * p.mu;
+    for (int a = 3; a < 6; ++a) (*D)(a, a) = p.mu;
     return true;
   }
-  const Eigen::Matrix3d Ci = C.inverse();
-  const double lnJ = std::log(J);
-  S = mu * (I - Ci) + lambda * lnJ * Ci;
-  if (psi) *psi = 0.5 * mu * (C.trace() - 3.0) - mu * lnJ + 0.5 * lambda * lnJ * lnJ;
-  if (D) {
-    const double c = mu - lambda * lnJ;
-    for (int a = 0; a < 6; ++a) {
-      const int i = kVoigt[a][0], j = kVoigt[a][1];
-      for (int b = 0; b < 6; ++b) {
-        const int k = kVoigt[b][0], l = kVoigt[b][1];
-        (*D)(a, b) = lambda * Ci(i, j) * Ci(k, l) + c * (Ci(i, k) * Ci(j, l) + Ci(i, l) * Ci(j, k));
-      }
+  // B_iJkL = dP_iJ/dF_kL - delta_ik S_LJ, then C_IJKL = Finv_Ii Finv_Kk B_iJkL.
+  Eigen::Matrix<double, 9, 9> B = first_piola_tangent(p, F);
+  for (int i = 0; i < 3; ++i)
+    for (int Jc = 0; Jc < 3; ++Jc)
+      for (int L = 0; L < 3; ++L) B(i + 3 * Jc, i + 3 * L) -= S(L, Jc);
+  for (int a = 0; a < 6; ++a) {
+    const int I = kVoigt[a][0], Jc = kVoigt[a][1];
+    for (int b = 0; b < 6; ++b) {
+      const int K = kVoigt[b][0], L = kVoigt[b][1];
+      double c = 0.0;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) c += Finv(I, i) * Finv(K, k) * B(i + 3 * Jc, k + 3 * L);
+      (*D)(a, b) = c;
     }
   }
+  *D = 0.5 * (*D + D->transpose()).eval();
   return true;
 }
 

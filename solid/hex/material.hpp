@@ -8,24 +8,19 @@
 /// S_voigt . dE_voigt = S : dE and D = dS_voigt / dE_voigt is symmetric.
 #include <Eigen/Core>
 
+#include "solid/laws/hyperelastic_law.hpp"
+
 namespace tetfsi::solid::hex {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-enum class MaterialLaw {
-  /// St. Venant-Kirchhoff: psi = lambda/2 tr(E)^2 + mu E:E, S = lambda tr(E) I + 2 mu E,
-  /// D constant (the linear-elastic matrix of the seed's K_L).
-  StVenantKirchhoff,
-  /// Compressible neo-Hookean (Bonet & Wood, Nonlinear Continuum Mechanics, eq. 6.28):
-  /// psi = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2,
-  /// S = mu (I - C^-1) + lambda ln J C^-1,
-  /// D_IJKL = lambda C^-1_IJ C^-1_KL + (mu - lambda ln J)(C^-1_IK C^-1_JL + C^-1_IL C^-1_JK).
-  NeoHookean,
-};
+/// The laws shared by every element (solid/laws/hyperelastic_law.hpp): St. Venant-Kirchhoff and the
+/// three neo-Hookean forms (Bonet & Wood, stable, isochoric/volumetric split).
+using MaterialLaw = HyperelasticLaw;
 
 struct Material {
-  MaterialLaw law = MaterialLaw::StVenantKirchhoff;
+  MaterialLaw law = MaterialLaw::kStVK;
   double youngs_modulus = 1e6;  ///< E [Pa]
   double poisson_ratio = 0.3;   ///< nu [-], in (-1, 0.5)
   double density = 1000.0;      ///< rho [kg/m^3] (reference configuration)
@@ -36,12 +31,15 @@ struct Material {
   void validate() const;
 };
 
-/// Stress, tangent and energy density at a deformation gradient F.
+/// Stress, tangent and energy density at a deformation gradient F, from the law's P(F) and dP/dF:
+/// S = F^{-1} P, and, since dP = dF S + F dS with dS = C : dE, dE = sym(F^T dF),
+/// C_IJKL = F^{-1}_Ii F^{-1}_Kk (dP_iJ/dF_kL - delta_ik S_LJ)  (Bathe 1996, sec. 6.3.2 notation:
+/// D(a, b) = C_IJKL for the Voigt pairs a = (I, J), b = (K, L)). StVK's D is the constant linear-elastic matrix.
 /// @param F       deformation gradient dx/dX [-]
 /// @param S       out: 2nd Piola-Kirchhoff stress [Pa]
 /// @param D       out (optional): material tangent dS/dE in Voigt form [Pa]
 /// @param psi     out (optional): strain energy density per reference volume [J/m^3]
-/// @return false if det F <= 0 (inverted material point): neither law is then admissible
+/// @return false if det F <= 0 (inverted material point): the element cannot use it
 bool evaluate_material(const Material& m, const Eigen::Matrix3d& F, Eigen::Matrix3d& S, Matrix6d* D,
                        double* psi);
 

@@ -75,6 +75,15 @@ Eigen::Matrix3d TetModel::deformation_gradient(const Eigen::VectorXd& d, int t) 
 }
 
 bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const {
+  return evaluate_with(d, force, tangent, options_.project_spd);
+}
+
+bool TetModel::evaluate_exact(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const {
+  return evaluate_with(d, force, tangent, false);
+}
+
+bool TetModel::evaluate_with(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent,
+                             bool project) const {
   if (d.size() != 3 * num_nodes_) throw SolidError("TetModel::evaluate: displacement has the wrong size");
   const int nt = num_tets();
   element_vectors_.resize(static_cast<size_t>(nt) * 12);
@@ -83,7 +92,9 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   // them are held instead of 1,152 bytes per tet (102 MB for the flagship's sheets at 962k fluid tets).
   constexpr int kElementsPerRange = 8192;
   if (tangent) element_matrices_.resize(static_cast<size_t>(std::min(nt, kElementsPerRange)) * 144);
-  const bool stvk = params_.law == ConstitutiveLaw::kStVK;
+  // Every law but the stable neo-Hookean stops at an inverted element (StVK collapses, ln J and
+  // J^{-2/3} are undefined).
+  const bool stops_at_inversion = params_.law != ConstitutiveLaw::kNeoHookeanStable;
   std::atomic<int> first_bad{std::numeric_limits<int>::max()};
   std::atomic<int> inverted{0};
 
@@ -91,7 +102,7 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
   auto element = [&](int t, int first) {
     const Eigen::Matrix3d F = deformation_gradient(d, t);
     const double J = F.determinant();
-    const bool bad = !std::isfinite(J) || (stvk && J <= options_.min_det) || F.norm() > options_.max_stretch;
+    const bool bad = !std::isfinite(J) || (stops_at_inversion && J <= options_.min_det) || F.norm() > options_.max_stretch;
     if (J <= 0) inverted.fetch_add(1, std::memory_order_relaxed);
     if (bad) {
       int cur = first_bad.load();
@@ -106,7 +117,7 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
     if (!tangent) return;
     // Material tangent C = dP/dF as a 9 x 9 matrix over column-major vec(F).
     Eigen::Matrix<double, 9, 9> C = first_piola_tangent(params_, F);
-    if (options_.project_spd) C = project_to_psd(C);
+    if (project) C = project_to_psd(C);
     // K_e(3i+a, 3j+c) = V [dP(e_c g_j^T) g_i]_a, with vec(dP) = sum_b C(:, c + 3b) g_jb.
     double* ke = element_matrices_.data() + static_cast<size_t>(t - first) * 144;
     for (int j = 0; j < 4; ++j)
@@ -140,7 +151,8 @@ bool TetModel::evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, Sparse
           << ": the simulation diverged (reduce the time step, add damping, or use scheme \"chentanez\")";
     else
       msg << "is inverted or degenerate (det F = " << J << " <= " << options_.min_det
-          << "); St. Venant-Kirchhoff cannot recover from inversion, use model \"stable_neohookean\"";
+          << "); the law \"" << hyperelastic_law_name(params_.law)
+          << "\" cannot recover from inversion, use constitutive \"neohookean_stable\"";
     last_error_ = msg.str();
     return false;
   }

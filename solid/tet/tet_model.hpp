@@ -29,7 +29,7 @@ struct TetModelOptions {
   /// semi-definite matrix (negative eigenvalues clamped to zero, as in Teran et al. 2005)
   /// before assembling K'. K' is then no longer the exact Jacobian, but A = M/h + C + (h/2) K'
   /// stays positive definite under strong compression, so the Cholesky solve cannot fail.
-  /// Recommended with kStableNeoHookean for large time steps; costs a 9x9 eigensolve per tet.
+  /// Recommended with kNeoHookeanStable for large time steps; costs a 9x9 eigensolve per tet.
   bool project_spd = false;
   /// Divergence guard: an element with |F|_2 (largest stretch, bounded by the Frobenius norm)
   /// above this stops the run with an error naming it, for every law.
@@ -53,8 +53,11 @@ class TetModel : public ElasticModel {
 
   /// K(d) and optionally K'(d). Returns false, with last_error() naming the first such
   /// element, if an element has non-finite F, is stretched beyond options.max_stretch
-  /// (diverged), or (StVK only) has det F <= options.min_det.
+  /// (diverged), or (every law but kNeoHookeanStable) has det F <= options.min_det.
   bool evaluate(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const override;
+  /// The same force with the exact tangent dK/dd (no projection): for static Newton.
+  bool evaluate_exact(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent) const override;
+  bool modifies_tangent() const override { return options_.project_spd; }
   double strain_energy(const Eigen::VectorXd& d) const override;
   std::string last_error() const override { return last_error_; }
   int last_inverted_count() const override { return last_inverted_; }
@@ -73,6 +76,8 @@ class TetModel : public ElasticModel {
   double rest_volume(int t) const { return volume_[t]; }
 
  private:
+  bool evaluate_with(const Eigen::VectorXd& d, Eigen::VectorXd& force, SparseMatrix* tangent, bool project) const;
+
   int num_nodes_ = 0;
   TetMaterial material_;
   ConstitutiveParams params_;

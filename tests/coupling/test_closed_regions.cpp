@@ -133,7 +133,7 @@ double ball_volume_drift(bool keep_closed_volumes) {
   mat.density = 4000;
   mat.youngs_modulus = 1e5;
   mat.poisson_ratio = 0.3;
-  mat.law = solid::ConstitutiveLaw::kStableNeoHookean;
+  mat.law = solid::ConstitutiveLaw::kNeoHookeanStable;
   coupling::CoupledSettings cs;
   cs.time_step = 1.0 / 30;
   cs.solid_gravity = fp.gravity;

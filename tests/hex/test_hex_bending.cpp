@@ -93,7 +93,7 @@ double cook_uy(Hex8Formulation f, int n, int steps) {
     v.y() = 44e-3 * s + t * (44e-3 + 16e-3 * s - 44e-3 * s);
   }
   Material mat;
-  mat.law = MaterialLaw::NeoHookean;
+  mat.law = MaterialLaw::kNeoHookeanBonetWood;
   mat.poisson_ratio = 0.3;
   mat.youngs_modulus = 2 * 422.5e3 * 1.3;
   const HexModel model(mesh, mat, f);

@@ -26,7 +26,7 @@ struct Cantilever {
   double EI() const { return material.youngs_modulus * b * h * h * h / 12.0; }
 
   Cantilever(int nx, int ny, int nz, double theta) {
-    material.law = MaterialLaw::StVenantKirchhoff;
+    material.law = MaterialLaw::kStVK;
     material.youngs_modulus = 1.0e7;
     material.poisson_ratio = 0.0;  // Euler-Bernoulli comparison without anticlastic curvature
     mesh = block_mesh({0, 0, 0}, {L, h, b}, nx, ny, nz);

@@ -48,7 +48,7 @@ Matrix83d random_displacement(std::mt19937& rng, const Matrix83d& X) {
 // K_T = K_L + K_NL must be the derivative of F_int: central differences, 1e-6 relative.
 TEST(Hex8Element, TangentMatchesFiniteDifferenceOfInternalForce) {
   std::mt19937 rng(7);
-  for (auto law : {MaterialLaw::StVenantKirchhoff, MaterialLaw::NeoHookean}) {
+  for (auto law : {MaterialLaw::kStVK, MaterialLaw::kNeoHookeanBonetWood}) {
     const Material m = make_material(law);
     for (int trial = 0; trial < 5; ++trial) {
       const Matrix83d X = distorted_hex(rng);
@@ -77,7 +77,7 @@ TEST(Hex8Element, TangentMatchesFiniteDifferenceOfInternalForce) {
 // F_int must be the gradient of the strain energy (so that K_T is the energy's Hessian).
 TEST(Hex8Element, InternalForceIsEnergyGradient) {
   std::mt19937 rng(11);
-  for (auto law : {MaterialLaw::StVenantKirchhoff, MaterialLaw::NeoHookean}) {
+  for (auto law : {MaterialLaw::kStVK, MaterialLaw::kNeoHookeanBonetWood}) {
     const Material m = make_material(law);
     const Matrix83d X = distorted_hex(rng);
     const Matrix83d u = random_displacement(rng, X);
@@ -104,7 +104,7 @@ TEST(HexModel, AssembledTangentMatchesFiniteDifference) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> jitter(-0.08, 0.08);
   for (auto& p : mesh.vertices) p += Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
-  const HexModel model(mesh, make_material(MaterialLaw::NeoHookean));
+  const HexModel model(mesh, make_material(MaterialLaw::kNeoHookeanBonetWood));
   Eigen::VectorXd d(3 * model.num_nodes());
   for (int i = 0; i < d.size(); ++i) d(i) = 0.5 * jitter(rng);
   Eigen::VectorXd f;
@@ -132,7 +132,7 @@ TEST(HexModel, AssembledTangentMatchesFiniteDifference) {
 // deformed state rotates its internal forces (f(R x) = R f(x)), to round-off.
 TEST(Hex8Element, RigidRotationGivesNoInternalForce) {
   std::mt19937 rng(5);
-  for (auto law : {MaterialLaw::StVenantKirchhoff, MaterialLaw::NeoHookean}) {
+  for (auto law : {MaterialLaw::kStVK, MaterialLaw::kNeoHookeanBonetWood}) {
     const Material m = make_material(law);
     const Matrix83d X = distorted_hex(rng);
     const Eigen::Matrix3d R = Eigen::AngleAxisd(1.3, Eigen::Vector3d(1, 2, -0.5).normalized()).toRotationMatrix();
@@ -160,7 +160,7 @@ TEST(Hex8Element, PatchTestConstantStrainOnDistortedHexes) {
   auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, 2, 2, 2);
   mesh.vertices[13] += Eigen::Vector3d(0.12, -0.09, 0.07);  // the centre node (1,1,1)
   mesh.vertices[4] += Eigen::Vector3d(0.05, 0.1, 0.0);      // a face-interior node (bottom face)
-  const Material m = make_material(MaterialLaw::StVenantKirchhoff);
+  const Material m = make_material(MaterialLaw::kStVK);
   const HexModel model(mesh, m);
   Eigen::Matrix3d A;
   A << 0.05, -0.02, 0.03, 0.01, -0.04, 0.02, 0.03, 0.015, 0.06;
@@ -184,7 +184,7 @@ TEST(Hex8Element, PatchTestConstantStrainOnDistortedHexes) {
 // Coloured assembly: F_int and K_T are bitwise the same on 1 and 2 threads.
 TEST(HexModel, AssemblyIsBitwiseIndependentOfThreadCount) {
   auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, 6, 5, 4);
-  const HexModel model(mesh, make_material(MaterialLaw::StVenantKirchhoff));
+  const HexModel model(mesh, make_material(MaterialLaw::kStVK));
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> dist(-0.02, 0.02);
   Eigen::VectorXd d(3 * model.num_nodes());

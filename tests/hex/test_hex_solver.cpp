@@ -20,7 +20,7 @@ namespace {
 
 Material neo_hookean() {
   Material m;
-  m.law = MaterialLaw::NeoHookean;
+  m.law = MaterialLaw::kNeoHookeanBonetWood;
   m.youngs_modulus = 1.0e6;
   m.poisson_ratio = 0.3;
   return m;
@@ -95,7 +95,7 @@ TEST(HexStatic, PatchTestRecoversLinearFieldInInterior) {
     if (!on_boundary[i]) mesh.vertices[i] += Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
   }
   Material m;
-  m.law = MaterialLaw::StVenantKirchhoff;
+  m.law = MaterialLaw::kStVK;
   m.youngs_modulus = 1e6;
   m.poisson_ratio = 0.25;
   const HexModel model(mesh, m);

@@ -41,7 +41,7 @@ TEST(SolidRobustness, SoftBodyDroppedOnFloorStaysBounded) {
   const auto mesh = mesh::structured_box({-0.1, -0.1, 0.5}, {0.1, 0.1, 0.7}, 4, 4, 4);
   // The StVK body is 5x stiffer: at 20 kPa its bottom layer inverts on impact (it then stops
   // with a SolidError, see the squash tests below).
-  for (auto law : {ConstitutiveLaw::kStableNeoHookean, ConstitutiveLaw::kStVK}) {
+  for (auto law : {ConstitutiveLaw::kNeoHookeanStable, ConstitutiveLaw::kStVK}) {
     TetModelOptions options;
     options.project_spd = true;
     TetMaterial mat = soft(law);
@@ -92,7 +92,7 @@ TEST(SolidRobustness, InvertedStVKElementStopsWithClearMessage) {
 }
 
 TEST(SolidRobustness, InvertedNeoHookeanElementRecovers) {
-  TetModel model(unit_tet(), soft(ConstitutiveLaw::kStableNeoHookean));
+  TetModel model(unit_tet(), soft(ConstitutiveLaw::kNeoHookeanStable));
   NewmarkSettings settings;
   settings.time_step = 1.0 / 30.0;
   settings.rayleigh_beta = 0.05;
@@ -116,7 +116,7 @@ TEST(SolidRobustness, InvertedNeoHookeanElementRecovers) {
 TEST(SolidRobustness, FrictionStopsSlidingBlockNearCoulombDistance) {
   // Stiff small block sliding on the floor at v0 = 1 m/s, mu = 0.5: s = v0^2 / (2 mu g).
   const auto mesh = mesh::structured_box({0, 0, 0}, {0.1, 0.1, 0.05}, 2, 2, 1);
-  TetMaterial mat = soft(ConstitutiveLaw::kStableNeoHookean);
+  TetMaterial mat = soft(ConstitutiveLaw::kNeoHookeanStable);
   mat.youngs_modulus = 1e6;
   TetModel model(mesh, mat);
   NewmarkSettings settings;
@@ -168,7 +168,7 @@ TEST(SolidRobustness, RunIsBitwiseReproducibleAcrossThreadCounts) {
   const auto mesh = mesh::structured_box({-0.1, -0.1, 0.05}, {0.1, 0.1, 0.25}, 3, 3, 3);
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    TetModel model(mesh, soft(ConstitutiveLaw::kStableNeoHookean));
+    TetModel model(mesh, soft(ConstitutiveLaw::kNeoHookeanStable));
     NewmarkSettings settings;
     settings.gravity = {0, 0, -9.81};
     NewmarkIntegrator integ(model, settings);
@@ -190,7 +190,7 @@ TEST(SolidRobustness, DivergingRunStopsWithClearMessage) {
   const auto mesh = mesh::structured_box({-0.1, -0.1, 0.5}, {0.1, 0.1, 0.7}, 4, 4, 4);
   TetModelOptions options;
   options.project_spd = true;
-  TetModel model(mesh, soft(ConstitutiveLaw::kStableNeoHookean), options);
+  TetModel model(mesh, soft(ConstitutiveLaw::kNeoHookeanStable), options);
   NewmarkSettings settings;
   settings.gravity = {0, 0, -9.81};
   settings.scheme = NewmarkScheme::kTrapezoidal;
@@ -221,7 +221,7 @@ TEST(SolidRobustness, BlockRestsOnBoxObstacle) {
   EXPECT_NEAR(probe.signed_distance({2, 2, 1}, n), std::sqrt(3.0), 1e-15);
 
   const auto mesh = mesh::structured_box({-0.05, -0.05, 0.2}, {0.05, 0.05, 0.3}, 2, 2, 2);
-  TetMaterial mat = soft(ConstitutiveLaw::kStableNeoHookean);
+  TetMaterial mat = soft(ConstitutiveLaw::kNeoHookeanStable);
   mat.youngs_modulus = 1e5;
   TetModel model(mesh, mat);
   NewmarkSettings settings;

@@ -33,7 +33,7 @@ namespace {
 void compression_case(int n, LinearSolverKind solver) {
   const auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, n, n, n);
   Material m;
-  m.law = MaterialLaw::NeoHookean;
+  m.law = MaterialLaw::kNeoHookeanBonetWood;
   m.youngs_modulus = 1e6;
   m.poisson_ratio = 0.3;
   BoundaryConditions bc;
@@ -72,7 +72,7 @@ void compression_case(int n, LinearSolverKind solver) {
 void assembly_speedup(int n) {
   const auto mesh = block_mesh({0, 0, 0}, {1, 1, 1}, n, n, n);
   Material m;
-  m.law = MaterialLaw::NeoHookean;
+  m.law = MaterialLaw::kNeoHookeanBonetWood;
   const HexModel model(mesh, m, Hex8Formulation::Standard);  // the element of the table in solid/hex/README.md
   Eigen::VectorXd d(3 * model.num_nodes());
   for (int i = 0; i < model.num_nodes(); ++i) d.segment<3>(3 * i) = 0.1 * mesh.vertices[i].array().square().matrix();
@@ -99,7 +99,7 @@ void assembly_speedup(int n) {
 void rollup_case(int nx, int ny, int nz, const std::string& out, double slenderness = 20) {
   const double L = 1, h = L / slenderness, b = h;
   Material m;
-  m.law = MaterialLaw::StVenantKirchhoff;
+  m.law = MaterialLaw::kStVK;
   m.youngs_modulus = 1e7;
   m.poisson_ratio = 0.0;
   const double EI = m.youngs_modulus * b * h * h * h / 12;

@@ -83,8 +83,24 @@ Field material() {
       Field::number("density", "kg/m^3", "Mass density.").req().greater(0),
       youngs_modulus("Young's modulus E."),
       Field::number("poissons_ratio", "", "Poisson's ratio nu (-1 < nu < 0.5).").req().greater(-1).less(0.5),
-      Field::enumeration("constitutive", {"stvk", "neohookean"},
-                         "Stress law: St. Venant-Kirchhoff (Green strain, linear stress) or neo-Hookean.")
+      Field::enumeration("constitutive",
+                         {"stvk", "neohookean", "neohookean_bonet_wood", "neohookean_stable", "neohookean_split"},
+                         "Hyperelastic law, the same on tet and hex8 elements (solid/laws/hyperelastic_law.hpp), "
+                         "with lambda, mu the Lame parameters of E and nu, J = det F, I1 = tr(F^T F), "
+                         "E = (F^T F - I)/2; each has the linear-elastic small-strain limit. `stvk`: "
+                         "St. Venant-Kirchhoff, W = lambda/2 tr(E)^2 + mu E:E (collapses under strong "
+                         "compression). `neohookean_bonet_wood`: Bonet & Wood 1997 eq. 6.28, "
+                         "W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 (J > 0). `neohookean_stable`: "
+                         "Smith, de Goes & Kim 2018 without the log term, W = mu/2 (I1 - 3) + "
+                         "lambda'/2 (J - a)^2 + const, lambda' = lambda + mu, a = 1 + mu/lambda' (smooth "
+                         "through inversion, which pushes inverted tets back). `neohookean_split`: the "
+                         "isochoric/volumetric form of Abaqus and CalculiX, W = C10 (J^(-2/3) I1 - 3) + "
+                         "(J - 1)^2 / D1 with C10 = mu/2, D1 = 2/K, K = E/(3(1 - 2 nu)) (J > 0). "
+                         "`neohookean` = `neohookean_stable` on every element (hex8 used Bonet & Wood's "
+                         "law under this name before; name it to keep that). A law defined for J > 0 "
+                         "only stops the run at an inverted element. Every neo-Hookean law projects the "
+                         "tet tangent to PSD in dynamic steps; static Newton uses the exact tangent "
+                         "wherever it is positive definite.")
           .def("stvk"),
       Field::number("rayleigh_alpha", "1/s", "Mass-proportional Rayleigh damping.").at_least(0).def(0),
       Field::number("rayleigh_beta", "s", "Stiffness-proportional Rayleigh damping.").at_least(0).def(0),
