@@ -5,6 +5,7 @@
 /// process runs the command; the first prints, any error ends them all with its exit code.
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 #include <iostream>
 
@@ -40,7 +41,11 @@ int fail(int code, const std::string& message, bool same_everywhere) {
 int main(int argc, char** argv) {
   using namespace tetfsi;
   // Before anything allocates: undo a library's allocator settings (apps/cli/allocator.hpp).
-  cli::use_huge_pages_or_reexec(argv);
+  // Huge pages serve a run's per-step arrays; `validate` and `schema` allocate little, and
+  // starting the program again would double their start-up (0.2 s of CPU: loading and binding its
+  // 121 shared libraries, docs/reliability.md).
+  const bool light = argc >= 2 && (std::strcmp(argv[1], "validate") == 0 || std::strcmp(argv[1], "schema") == 0);
+  if (!light) cli::use_huge_pages_or_reexec(argv);
   cli::restore_large_block_mapping();
   std::string command_line;
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
