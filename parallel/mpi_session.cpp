@@ -31,12 +31,6 @@ void finalize_petsc() {
 
 }  // namespace
 
-bool launched_by_mpirun() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (std::getenv(name)) return true;
-  return false;
-}
-
 void initialize_mpi() {
   static const bool ready = [] {
     int initialized = 0;

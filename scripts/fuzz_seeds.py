@@ -2,8 +2,11 @@
 """Writes seed corpora for the libFuzzer targets (fuzz/): generated shapes (tetrahedron, cube,
 octahedron, icosphere) as PLY (ASCII, binary little/big endian), OBJ, STL (ASCII, binary), OFF,
 glTF; and as .vtu grids of triangles (zlib-compressed raw appended as tetfsi writes by default,
-uncompressed inline base64, ASCII). Usage: fuzz_seeds.py OUT_DIR  -> OUT_DIR/ply/*,
-OUT_DIR/surface/* (first byte = format), OUT_DIR/vtu/*."""
+uncompressed inline base64, ASCII); a unit cube as 5 tets and as 1 hex in Gmsh .msh 2.2 and 4.1 (with a
+boundary triangle and a $PhysicalNames section); checkpoints (apps/run/checkpoint.hpp) of a driver
+state with .pvd lists, probes and a runner state. Usage: fuzz_seeds.py OUT_DIR  -> OUT_DIR/ply/*,
+OUT_DIR/surface/* (first byte = format), OUT_DIR/vtu/*, OUT_DIR/msh/* (first byte: tets or hexes), OUT_DIR/checkpoint/* (first
+byte even: payload behind a valid header; odd: whole file)."""
 import base64
 import math
 import os
@@ -124,11 +127,96 @@ def vtu(v, f, encoding):
     return data + b"</VTKFile>\n"
 
 
+CUBE = [(x, y, z) for z in (0, 1) for y in (0, 1) for x in (0, 1)]
+CUBE_TETS = [(0, 1, 3, 5), (0, 3, 2, 6), (0, 5, 6, 4), (3, 6, 5, 7), (0, 3, 6, 5)]
+CUBE_HEX = [(0, 1, 3, 2, 4, 5, 7, 6)]
+
+
+def msh22(cells, gmsh_type):
+    """Gmsh 2.2 ASCII: nodes tagged from 1, a boundary triangle (type 2), then the 3-D cells."""
+    out = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "1", '3 1 "solid"', "$EndPhysicalNames",
+           "$Nodes", str(len(CUBE))] + ["%d %g %g %g" % (i + 1, *p) for i, p in enumerate(CUBE)] + ["$EndNodes"]
+    out += ["$Elements", str(len(cells) + 1), "1 2 2 0 1 1 2 4"]
+    out += ["%d %d 2 1 1 " % (k + 2, gmsh_type) + " ".join(str(i + 1) for i in c) for k, c in enumerate(cells)]
+    return ("\n".join(out + ["$EndElements"]) + "\n").encode()
+
+
+def msh41(cells, gmsh_type):
+    """Gmsh 4.1 ASCII: one node block (tags, then coordinates), a triangle block, a 3-D block."""
+    n = len(CUBE)
+    out = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$Entities", "0 0 0 1", "1 0 0 0 1 1 1 0 0", "$EndEntities",
+           "$Nodes", "1 %d 1 %d" % (n, n), "3 1 0 %d" % n] + [str(i + 1) for i in range(n)]
+    out += ["%g %g %g" % p for p in CUBE] + ["$EndNodes"]
+    m = len(cells)
+    out += ["$Elements", "2 %d 1 %d" % (m + 1, m + 1), "2 1 2 1", "1 1 2 4", "3 1 %d %d" % (gmsh_type, m)]
+    out += ["%d " % (k + 2) + " ".join(str(i + 1) for i in c) for k, c in enumerate(cells)]
+    return ("\n".join(out + ["$EndElements"]) + "\n").encode()
+
+
+def fnv1a(data):
+    h = 1469598103934665603
+    for b in data:
+        h = ((h ^ b) * 1099511628211) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def checkpoint_payload(objects, warned, runner):
+    """The driver state of apps/run/checkpoint.cpp, then the runner's bytes after their length."""
+    def string(t):
+        return struct.pack("<Q", len(t)) + t.encode()
+    out = struct.pack("<dqii", 0.25, 30, 3, 3) + struct.pack("<Q", len(objects))
+    for name, entries in objects.items():
+        out += string(name) + struct.pack("<Q", len(entries))
+        out += b"".join(struct.pack("<d", t) + string(f) for t, f in entries)
+    out += struct.pack("<QQQdddQQ", 1000, 200, 0, 0.01, 0.005, 0.02, 120, 64)
+    out += struct.pack("<Q", len(warned)) + b"".join(struct.pack("<Q", w) for w in warned)
+    return out + struct.pack("<Q", len(runner)) + runner
+
+
+def fuzz_runner_state():
+    """What fuzz/fuzz_checkpoint.cpp reads: t, vector<double>, vector<bool>, vector<Vector3d>, VectorXd,
+    MatrixXd, SparseMatrix<double> (2x2 identity), string, a stored size 3."""
+    out = struct.pack("<d", 0.25)
+    out += struct.pack("<Q3d", 3, 1.0, 2.0, 3.0) + struct.pack("<Q3B", 3, 1, 0, 1)
+    out += struct.pack("<Q6d", 2, 0, 0, 0, 1, 1, 1) + struct.pack("<Q2d", 2, 0.5, 1.5)
+    out += struct.pack("<qq4d", 2, 2, 1, 0, 0, 1)
+    out += struct.pack("<qqq", 2, 2, 2) + struct.pack("<3i", 0, 1, 2) + struct.pack("<2i", 0, 1) + struct.pack("<2d", 1, 1)
+    return out + struct.pack("<Q", 5) + b"solid" + struct.pack("<Q", 3)
+
+
+def checkpoint_version():
+    """kCheckpointVersion of apps/run/checkpoint.hpp."""
+    import re
+    here = os.path.dirname(os.path.abspath(__file__))
+    text = open(os.path.join(here, "..", "apps", "run", "checkpoint.hpp")).read()
+    return int(re.search(r"kCheckpointVersion = (\d+);", text).group(1))
+
+
+def checkpoints():
+    objects = {"solid": [(0.0, "solid/solid_00000.vtu"), (0.1, "solid/solid_00001.vtu")], "fluid": [(0.0, "f.vtu")]}
+    payloads = {"plain": checkpoint_payload({}, [], b""), "lists": checkpoint_payload(objects, [3, 7], b"\0" * 16),
+                "runner": checkpoint_payload(objects, [1], fuzz_runner_state())}
+    out = {}
+    for name, p in payloads.items():
+        out[name + "_payload"] = b"\0" + p
+        header = b"TETFSICK" + struct.pack("<IQ", checkpoint_version(), 0x1234567890abcdef) + struct.pack("<Q", 4) + b"fuzz"
+        out[name + "_file"] = b"\1" + header + struct.pack("<QQ", len(p), fnv1a(p)) + p
+    return out
+
+
 def main():
     out = sys.argv[1]
     os.makedirs(os.path.join(out, "ply"), exist_ok=True)
     os.makedirs(os.path.join(out, "surface"), exist_ok=True)
     os.makedirs(os.path.join(out, "vtu"), exist_ok=True)
+    os.makedirs(os.path.join(out, "msh"), exist_ok=True)
+    os.makedirs(os.path.join(out, "checkpoint"), exist_ok=True)
+    # fuzz_msh: first byte even reads tets, odd hexes
+    for name, cells, gmsh_type, code in (("tets", CUBE_TETS, 4, b"\0"), ("hex", CUBE_HEX, 5, b"\1")):
+        open(os.path.join(out, "msh", f"cube_{name}_22.msh"), "wb").write(code + msh22(cells, gmsh_type))
+        open(os.path.join(out, "msh", f"cube_{name}_41.msh"), "wb").write(code + msh41(cells, gmsh_type))
+    for name, data in checkpoints().items():
+        open(os.path.join(out, "checkpoint", name), "wb").write(data)
     # fuzz_surface: first byte % 6 picks .obj .stl .off .ply .gltf .fbx
     for name, (v, f) in shapes().items():
         plys = {"ascii": ply_ascii(v, f), "le": ply_binary(v, f, False), "be": ply_binary(v, f, True)}

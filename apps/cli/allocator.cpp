@@ -24,19 +24,25 @@ bool huge_pages_on_request() {
 
 }  // namespace
 
-void use_huge_pages_or_reexec(char** argv) {
+bool request_huge_pages() {
 #ifdef __GLIBC__
   const char* set = std::getenv("GLIBC_TUNABLES");
   const std::string tunables = set ? set : "";
-  if (tunables.find("glibc.malloc.hugetlb") != std::string::npos || !huge_pages_on_request()) return;
+  if (tunables.find("glibc.malloc.hugetlb") != std::string::npos || !huge_pages_on_request()) return false;
   const std::string with_huge_pages = tunables.empty() ? kHugePagesTunable : tunables + ":" + kHugePagesTunable;
-  if (setenv("GLIBC_TUNABLES", with_huge_pages.c_str(), 1) != 0) return;
-  execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
-  if (set) setenv("GLIBC_TUNABLES", set, 1);
-  else unsetenv("GLIBC_TUNABLES");
+  return setenv("GLIBC_TUNABLES", with_huge_pages.c_str(), 1) == 0;
 #else
-  (void)argv;
+  return false;
 #endif
+}
+
+void use_huge_pages_or_reexec(char** argv) {
+  const char* set = std::getenv("GLIBC_TUNABLES");
+  const std::string before = set ? set : "";
+  if (!request_huge_pages()) return;
+  execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
+  if (set) setenv("GLIBC_TUNABLES", before.c_str(), 1);
+  else unsetenv("GLIBC_TUNABLES");
 }
 
 bool restore_large_block_mapping() {

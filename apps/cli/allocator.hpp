@@ -25,6 +25,12 @@ namespace tetfsi::cli {
 /// GLIBC_TUNABLES=glibc.malloc.hugetlb=0 (or =1) set by the caller.
 void use_huge_pages_or_reexec(char** argv);
 
+/// The environment part of use_huge_pages_or_reexec: adds glibc.malloc.hugetlb=1 to
+/// GLIBC_TUNABLES under the same conditions, for a program this one starts (front.cpp starts
+/// tetfsi-solver with it, so that the solver need not start itself again).
+/// @return whether GLIBC_TUNABLES was changed
+bool request_huge_pages();
+
 /// Maps blocks of at least 4 MB on their own and trims the heaps' free tops above 8 MB (the
 /// thresholds fixed: glibc's self-adjusting ones are off once any mallopt call was made).
 /// @return false if glibc refused a setting

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "apps/cli/validate_command.hpp"
 #include "apps/run/driver.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/run/output.hpp"
@@ -22,28 +23,13 @@
 #include "apps/version.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
+#include "parallel/mpi_session.hpp"
 #include "mesh/surface_checks.hpp"
 #include "mesh/io/msh_writer.hpp"
 #include "mesh/io/vtu_writer.hpp"
 
 namespace tetfsi::cli {
 namespace {
-
-/// `tetfsi validate`: the scene checks and every check of run::preflight (the ones `tetfsi run`
-/// makes before it meshes), so that both give the same verdict.
-int validate(const run::RunOptions& opt, bool print_resolved) {
-  const auto scene = run::load_with_overrides(opt);
-  run::PreflightOptions checks;
-  checks.max_tets = opt.max_tets;
-  const auto report = run::preflight(scene, checks);
-  for (const auto& w : report.warnings) std::cerr << "warning: " << w << "\n";
-  if (print_resolved) std::cout << scene.json.dump(2) << "\n";
-  std::cout << fmt::format("{}: valid ({} solid(s), fluid: {}; runner {}, about {:.3g} tets, at least {:.3g} steps, "
-                           "{:.3g} frames, about {:.3g} GB of output)\n",
-                           opt.scene_file.string(), scene["solids"].size(), scene["fluid"]["type"].get<std::string>(),
-                           report.runner, report.tets, report.steps, report.frames, report.output_bytes / 1e9);
-  return 0;
-}
 
 int mesh_command(const std::string& in, const std::string& out, double edge, double scale, double max_tets) {
   run::check_output_file(out, "output");
@@ -120,20 +106,11 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
                 "Continue the run in the output folder from its newest checkpoint (export.checkpoint_every); the "
                 "scene may differ only in simulation.end_time / --end-time");
   double max_tets = 0;
-  const std::string max_tets_help = fmt::format(
-      "Refuse scenes whose mesh is estimated above this many tets (default: half of this machine's memory at {:.0f} "
-      "bytes per tet: {:.3g})", run::kBytesPerTet, run::default_max_tets());
+  const std::string max_tets_help = cli::max_tets_help();
   auto* run_tets = run->add_option("--max-tets", max_tets, max_tets_help)->check(CLI::PositiveNumber);
 
-  run::RunOptions vopt;
-  auto* val = app.add_subcommand("validate", "Check a scene file and report every problem (exit 2 if any): the same "
-                                             "checks as `run` makes before meshing");
-  val->add_option("scene", vopt.scene_file, "Scene file (JSON)")->required();
-  bool print_resolved = false;
-  val->add_flag("--resolved", print_resolved, "Also print the scene with every default filled in");
-  double vend_time = 0, vmax_tets = 0;
-  auto* vend_opt = val->add_option("--end-time", vend_time, "Check with this end time [s] (as `run --end-time`)");
-  auto* val_tets = val->add_option("--max-tets", vmax_tets, max_tets_help)->check(CLI::PositiveNumber);
+  ValidateArgs validate_args;
+  auto* val = add_validate_command(app, validate_args);
 
   std::string mesh_in, mesh_out;
   double edge = 0.1, scale = 1.0;
@@ -176,11 +153,7 @@ int dispatch(int argc, char** argv, const std::string& command_line) {
                                              opt.out_dir.string());
     return 0;
   }
-  if (*val) {
-    if (*vend_opt) vopt.end_time = vend_time;
-    if (*val_tets) vopt.max_tets = vmax_tets;
-    return validate(vopt, print_resolved);
-  }
+  if (*val) return validate(validate_args, parallel::num_processes());
   if (*msh) return mesh_command(mesh_in, mesh_out, edge, scale, *msh_tets ? mmax_tets : run::default_max_tets());
   if (*rep) return report_command(rep->remaining());
   if (*sch) {

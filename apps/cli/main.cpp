@@ -1,10 +1,10 @@
 /// @file main.cpp
-/// The `tetfsi` command line. Exit codes: 0 success, 2 invalid scene or input (bad options,
-/// unreadable or malformed files), 1 the run failed (e.g. diverged) or an internal error.
-/// Every exception is caught here: tetfsi reports, it does not crash. Under `mpirun -n N` every
-/// process runs the command; the first prints, any error ends them all with its exit code.
+/// The full `tetfsi` program (tetfsi-solver, started by the front program `tetfsi`, front.cpp):
+/// every command. Exit codes in exit_codes.hpp. Under `mpirun -n N` every process runs the
+/// command; the first prints, any error ends them all with its exit code.
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 #include <iostream>
 
@@ -13,6 +13,7 @@
 
 #include "apps/cli/allocator.hpp"
 #include "apps/cli/commands.hpp"
+#include "apps/cli/exit_codes.hpp"
 #include "apps/run/errors.hpp"
 #include "apps/scene/scene.hpp"
 #include "apps/version.hpp"
@@ -40,30 +41,24 @@ int fail(int code, const std::string& message, bool same_everywhere) {
 int main(int argc, char** argv) {
   using namespace tetfsi;
   // Before anything allocates: undo a library's allocator settings (apps/cli/allocator.hpp).
-  cli::use_huge_pages_or_reexec(argv);
+  // Huge pages serve a run's per-step arrays; `validate` and `schema` allocate little, and
+  // starting the program again would double their start-up (0.2 s of CPU: loading and binding its
+  // 121 shared libraries, docs/reliability.md).
+  const bool light = argc >= 2 && (std::strcmp(argv[1], "validate") == 0 || std::strcmp(argv[1], "schema") == 0);
+  if (!light) cli::use_huge_pages_or_reexec(argv);
   cli::restore_large_block_mapping();
   std::string command_line;
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
-  try {
-    // Under mpirun every process runs the same command (parallel/mpi_session.hpp); only the first
-    // prints its results.
-    if (parallel::launched_by_mpirun()) {
-      parallel::initialize_mpi();
-      if (parallel::rank() > 0 && !std::freopen("/dev/null", "w", stdout))
-        throw std::runtime_error("cannot silence the standard output of an MPI process");
-    }
-    return cli::dispatch(argc, argv, command_line);
-  } catch (const scene::SceneError& e) {
-    return fail(2, fmt::format("{}\n{} problem(s) in the scene; nothing was run. The key reference is `tetfsi schema` "
-                               "(docs/scene_format.md).\n", e.what(), e.issues().size()),
-                true);
-  } catch (const run::InputError& e) {
-    return fail(2, fmt::format("error: {}\n", e.what()), true);
-  } catch (const run::RunError& e) {
-    return fail(1, fmt::format("error: {}\n", e.what()), true);
-  } catch (const std::exception& e) {
-    return fail(1, fmt::format("internal error: {}\n(please report this with the scene file)\n", e.what()), false);
-  } catch (...) {
-    return fail(1, "internal error: unknown exception\n", false);
-  }
+  return cli::with_exit_codes(
+      [&] {
+        // Under mpirun every process runs the same command (parallel/mpi_session.hpp); only the
+        // first prints its results.
+        if (parallel::launched_by_mpirun()) {
+          parallel::initialize_mpi();
+          if (parallel::rank() > 0 && !std::freopen("/dev/null", "w", stdout))
+            throw std::runtime_error("cannot silence the standard output of an MPI process");
+        }
+        return cli::dispatch(argc, argv, command_line);
+      },
+      fail);
 }

@@ -110,24 +110,10 @@ fs::path write_checkpoint(const fs::path& out_dir, std::uint64_t scene_hash, con
   return path;
 }
 
-LoadedCheckpoint read_latest_checkpoint(const fs::path& out_dir, std::uint64_t scene_hash, const std::string& runner) {
-  const std::vector<fs::path> files = checkpoint_files(out_dir);
-  if (files.empty())
-    throw InputError(fmt::format("--resume: no checkpoint in {} (checkpoint_NNNNN.bin): the run wrote none "
-                                 "(export.checkpoint_every is 0, or it stopped before its first); run without --resume",
-                                 checkpoint_folder(out_dir).string()));
-  LoadedCheckpoint c;
-  c.file = files.back();
+void parse_checkpoint(LoadedCheckpoint& c, std::uint64_t scene_hash, const std::string& runner,
+                      const std::string& earlier) {
   const std::string name = c.file.string();
-  const std::string earlier = files.size() > 1 ? fmt::format(" (the earlier checkpoint {} is there too: remove this "
-                                                             "one to resume from it)", files[files.size() - 2].string())
-                                               : std::string();
-  std::string& bytes = c.bytes;
-  {
-    std::ifstream in(c.file, std::ios::binary);
-    if (!in) throw InputError(fmt::format("--resume: cannot read {}", name));
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  const std::string& bytes = c.bytes;
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw InputError(fmt::format("--resume: {} is not a tetfsi checkpoint{}", name, earlier));
   try {
@@ -168,6 +154,26 @@ LoadedCheckpoint read_latest_checkpoint(const fs::path& out_dir, std::uint64_t s
   } catch (const BinaryReadError& e) {
     throw InputError(std::string("--resume: ") + e.what() + earlier);
   }
+}
+
+LoadedCheckpoint read_latest_checkpoint(const fs::path& out_dir, std::uint64_t scene_hash, const std::string& runner) {
+  const std::vector<fs::path> files = checkpoint_files(out_dir);
+  if (files.empty())
+    throw InputError(fmt::format("--resume: no checkpoint in {} (checkpoint_NNNNN.bin): the run wrote none "
+                                 "(export.checkpoint_every is 0, or it stopped before its first); run without --resume",
+                                 checkpoint_folder(out_dir).string()));
+  LoadedCheckpoint c;
+  c.file = files.back();
+  const std::string name = c.file.string();
+  const std::string earlier = files.size() > 1 ? fmt::format(" (the earlier checkpoint {} is there too: remove this "
+                                                             "one to resume from it)", files[files.size() - 2].string())
+                                               : std::string();
+  {
+    std::ifstream in(c.file, std::ios::binary);
+    if (!in) throw InputError(fmt::format("--resume: cannot read {}", name));
+    c.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  parse_checkpoint(c, scene_hash, runner, earlier);
   return c;
 }
 

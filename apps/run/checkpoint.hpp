@@ -69,6 +69,13 @@ struct LoadedCheckpoint {
   BinaryReader runner_state() const { return BinaryReader(bytes.data() + runner_offset, runner_size, file.string()); }
 };
 
+/// Checks and reads the checkpoint held in c.bytes (named c.file in messages): header, payload
+/// hash, driver state and where the runner's state lies; `note` is appended to the errors.
+/// read_latest_checkpoint reads the file and calls it; fuzz/fuzz_checkpoint.cpp feeds it bytes.
+/// @throws InputError as read_latest_checkpoint
+void parse_checkpoint(LoadedCheckpoint& c, std::uint64_t scene_hash, const std::string& runner,
+                      const std::string& note = "");
+
 /// Reads the newest checkpoint of DIR.
 /// @throws InputError naming the folder or file: none there, not a checkpoint, another format
 ///         version, another scene or runner, truncated or corrupt

@@ -59,10 +59,6 @@ namespace tetfsi::run {
 namespace {
 
 
-bool is_deformable_tet(const scene::Json& solid) {
-  return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == "tet_fem";
-}
-
 class CoupledRunner : public Simulation {
  public:
   void setup(const scene::Scene& scene, spdlog::logger& log) override {
@@ -486,25 +482,6 @@ class CoupledRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry coupled_runner() {
-  return {"coupled", "fluid and deformable tet solids in one linear system per step (Chentanez et al. 2006, eq. 7)",
-          [](const scene::Scene& scene) {
-            const auto& s = scene.json;
-            // Fluid, every solid a tet solid, at least one of them deforming (the others kinematic).
-            if (s.at("fluid").at("type") == "none" || s.at("solids").empty()) return false;
-            bool deforming = false;
-            for (const auto& solid : s.at("solids")) {
-              if (solid.at("model").at("type") != "tet_fem") return false;
-              deforming = deforming || is_deformable_tet(solid);
-            }
-            return deforming;
-          },
-          [] { return std::make_unique<CoupledRunner>(); },
-          {"point_displacement", "solid_volume", "total_energy", "fluid_volume", "fluid_point", "fluid_kinetic_energy",
-           "fluid_force", "contact_force"},
-          // Not yet with a free surface's refinement, whose last fit (a copy of that mesh and
-          // level set) a checkpoint does not hold.
-          [](const scene::Scene& s) { return !surface_refinement(s.json).on(); }};
-}
+std::unique_ptr<Simulation> make_coupled_runner() { return std::make_unique<CoupledRunner>(); }
 
 }  // namespace tetfsi::run

@@ -90,7 +90,7 @@ class Driver {
     const auto& entry = choose_runner(scene_);
     log_.info("runner: {}: {}", entry.name, entry.summary);
     if (!quiet()) fmt::print("{}: {}\n", entry.name, entry.summary);
-    auto sim = entry.create();
+    auto sim = create_simulation(entry);
     Output out(opt_.out_dir, scene_["export"]);
     Stopwatch wall;
     sim->setup(scene_, log_);
@@ -357,23 +357,6 @@ void run_on_other_process(const RunOptions& opt, scene::Scene scene) {
 
 }  // namespace
 
-scene::Scene load_with_overrides(const RunOptions& opt) {
-  scene::Scene scene = scene::load_scene(opt.scene_file);
-  if (opt.end_time) {
-    if (!(*opt.end_time > 0) || !std::isfinite(*opt.end_time))
-      throw InputError(fmt::format("--end-time: expected a finite number > 0, got {}", *opt.end_time));
-    scene.json["simulation"]["end_time"] = *opt.end_time;
-  }
-  if (opt.threads) {
-    if (*opt.threads < 0 || *opt.threads > 1024)
-      throw InputError(fmt::format("--threads: expected an integer from 0 to 1024, got {}", *opt.threads));
-    scene.json["simulation"]["threads"] = *opt.threads;
-  }
-  if (opt.max_tets && !(*opt.max_tets >= 1))
-    throw InputError(fmt::format("--max-tets: expected a number >= 1, got {}", *opt.max_tets));
-  return scene;
-}
-
 void run_scene(const RunOptions& opt) {
   scene::Scene scene = load_with_overrides(opt);
   if (parallel::rank() == 0) {  // the paths the run writes, before any work (output.hpp)
@@ -385,6 +368,7 @@ void run_scene(const RunOptions& opt) {
   }
   PreflightOptions checks;
   checks.max_tets = opt.max_tets;
+  checks.processes = parallel::num_processes();
   const PreflightReport report = preflight(scene, checks);
   if (parallel::rank() > 0) {
     run_on_other_process(opt, std::move(scene));

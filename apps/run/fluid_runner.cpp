@@ -447,23 +447,6 @@ class FluidRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry fluid_runner() {
-  return {"fluid",
-          "smoke or liquid around static or kinematic solids (moved with them every step, remeshed when the mesh "
-          "degrades)",
-          [](const scene::Scene& s) {
-            if (s.json.contains("mpm")) return false;  // MPM + membranes: the mpm runner
-            const auto type = s["fluid"].at("type");
-            if (type != "smoke" && type != "liquid") return false;
-            for (const auto& solid : s["solids"])
-              if (solid.at("motion").at("type") == "none") return false;  // deformable: coupled runner
-            return true;
-          },
-          [] { return std::make_unique<FluidRunner>(); },
-          {"fluid_point", "fluid_kinetic_energy", "fluid_volume", "fluid_force"},
-          // Not yet with a free surface's refinement, whose last fit (a copy of that mesh and
-          // level set) a checkpoint does not hold.
-          [](const scene::Scene& s) { return !surface_refinement(s.json).on(); }};
-}
+std::unique_ptr<Simulation> make_fluid_runner() { return std::make_unique<FluidRunner>(); }
 
 }  // namespace tetfsi::run

@@ -44,8 +44,6 @@ namespace {
 
 namespace hex = solid::hex;
 
-bool is_hex(const scene::Json& s) { return s.at("motion").at("type") == "none" && s.at("model").at("type") == "hex8"; }
-
 /// The scene's solid as a hex::BlockProblem on its placed mesh (hex_mesh_of: a box or a file,
 /// rotated and translated; the condition boxes select nodes of the placed mesh).
 hex::BlockProblem problem_of(const scene::Json& s, std::vector<std::string>& warnings) {
@@ -306,19 +304,6 @@ class HexRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry hex_runner() {
-  return {"hex", "Total Lagrangian hex8 blocks without fluid (static load stepping or implicit Newmark dynamics)",
-          [](const scene::Scene& s) {
-            if (s["fluid"].at("type") != "none") return false;
-            bool any = false;
-            for (const auto& solid : s["solids"]) {
-              if (solid.at("motion").at("type") == "none" && solid.at("model").at("type") == "tet_fem") return false;
-              any = any || is_hex(solid);
-            }
-            return any;
-          },
-          [] { return std::make_unique<HexRunner>(); },
-          {"point_displacement", "total_energy"}};
-}
+std::unique_ptr<Simulation> make_hex_runner() { return std::make_unique<HexRunner>(); }
 
 }  // namespace tetfsi::run

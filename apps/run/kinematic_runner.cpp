@@ -126,16 +126,6 @@ class KinematicRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry kinematic_runner() {
-  return {"kinematic", "solids following their prescribed motion (no fluid, no deformation)",
-          [](const scene::Scene& s) {
-            if (s["fluid"].at("type") != "none" || s["solids"].empty()) return false;
-            for (const auto& solid : s["solids"])
-              if (solid.at("motion").at("type") == "none") return false;
-            return true;
-          },
-          [] { return std::make_unique<KinematicRunner>(); },
-          {"point_displacement", "solid_volume"}};
-}
+std::unique_ptr<Simulation> make_kinematic_runner() { return std::make_unique<KinematicRunner>(); }
 
 }  // namespace tetfsi::run

@@ -135,11 +135,6 @@ class MeshOnlyRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry mesh_only_runner() {
-  return {"mesh_only", "meshes the scene and exports frame 0 (no physics yet)",
-          [](const scene::Scene&) { return true; },
-          [] { return std::make_unique<MeshOnlyRunner>(); },
-          {"solid_volume"}};
-}
+std::unique_ptr<Simulation> make_mesh_only_runner() { return std::make_unique<MeshOnlyRunner>(); }
 
 }  // namespace tetfsi::run

@@ -171,12 +171,6 @@ class MpmRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry mpm_runner() {
-  return {"mpm", "MPM particles + Belytschko-Tsay membranes with grid contact (Lian, Liu & Zhang 2014)",
-          [](const scene::Scene& s) { return s.json.contains("mpm"); },
-          [] { return std::make_unique<MpmRunner>(); },
-          {},
-          [](const scene::Scene&) { return true; }};
-}
+std::unique_ptr<Simulation> make_mpm_runner() { return std::make_unique<MpmRunner>(); }
 
 }  // namespace tetfsi::run

@@ -24,7 +24,6 @@
 #include "apps/run/tet_tools.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/surface_checks.hpp"
-#include "parallel/mpi_session.hpp"
 
 namespace tetfsi::run {
 namespace {
@@ -279,7 +278,7 @@ class Checker {
   /// Scenes no runner simulates as written: refused rather than run in part.
   void check_runner() {
     for (auto& issue : model_mix_issues(js_, runner_->name, meshes_fluid())) issues_.push_back(std::move(issue));
-    for (auto& issue : process_issues(js_, runner_->name, parallel::num_processes())) issues_.push_back(std::move(issue));
+    for (auto& issue : process_issues(js_, runner_->name, opt_.processes)) issues_.push_back(std::move(issue));
   }
 
   /// A boundary-condition or fixed-region box that misses the solid's bounding box, or lies wholly

@@ -48,6 +48,9 @@ double default_max_particles();
 
 struct PreflightOptions {
   std::optional<double> max_tets;  ///< --max-tets; default: half the machine's memory / kBytesPerTet
+  /// MPI processes of the run (parallel::num_processes(); 1 without mpirun): passed in, so that
+  /// the checks link no MPI code (`tetfsi validate` runs without it, apps/cli/front.cpp).
+  int processes = 1;
 };
 
 /// What the checks estimated (for run.log and messages).

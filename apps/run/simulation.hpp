@@ -75,7 +75,6 @@ struct RunnerEntry {
   std::string name;
   std::string summary;                                  ///< for run.log
   std::function<bool(const scene::Scene&)> accepts;     ///< can it run this scene?
-  std::function<std::unique_ptr<Simulation>()> create;
   /// Probe kinds (/probes/i/kind) its probe() answers; empty: every kind the scene checks allow.
   std::vector<std::string> probe_kinds = {};
   /// Whether it writes checkpoints for this scene (Simulation::write_checkpoint); empty: never.
@@ -86,5 +85,13 @@ struct RunnerEntry {
 const std::vector<RunnerEntry>& runners();
 /// The runner for `scene`.
 const RunnerEntry& choose_runner(const scene::Scene& scene);
+/// A new simulation of `runner` (runner_factories.cpp; the registry itself links no runner).
+std::unique_ptr<Simulation> create_simulation(const RunnerEntry& runner);
+
+/// Scene predicates of the runner choice (runners.cpp): a solid that deforms (motion "none") as a
+/// tet_fem solid, as a hex8 solid, or as `model`.
+bool is_deformable_tet(const scene::Json& solid);
+bool is_hex(const scene::Json& solid);
+bool deforms_as(const scene::Json& solid, const char* model);
 
 }  // namespace tetfsi::run

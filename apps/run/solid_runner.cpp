@@ -90,10 +90,6 @@ void fix_dofs(solid::NewmarkIntegrator& integ, const std::vector<int>& dofs) {
 /// Kinetic + strain + spring energy of a state [J] (the part that is not gravitational).
 double mechanical(const solid::StepStats& e) { return e.kinetic + e.strain + e.spring; }
 
-bool deforms_as(const scene::Json& solid, const char* model) {
-  return solid.at("motion").at("type") == "none" && solid.at("model").at("type") == model;
-}
-
 class SolidRunner : public Simulation {
  public:
   void setup(const scene::Scene& scene, spdlog::logger& log) override {
@@ -413,21 +409,6 @@ class SolidRunner : public Simulation {
 
 }  // namespace
 
-RunnerEntry solid_runner() {
-  return {"solid", "deformable tet FEM solids without fluid (implicit Newmark integration, contact)",
-          [](const scene::Scene& s) {
-            if (s["fluid"].at("type") != "none") return false;
-            for (const auto& solid : s["solids"])
-              if (deforms_as(solid, "tet_fem")) return true;
-            return false;
-          },
-          [] { return std::make_unique<SolidRunner>(); },
-          {"point_displacement", "solid_volume", "total_energy", "contact_force"},
-          [](const scene::Scene& s) {  // a static analysis has no time loop to resume
-            for (const auto& solid : s["solids"])
-              if (is_static(solid)) return false;
-            return true;
-          }};
-}
+std::unique_ptr<Simulation> make_solid_runner() { return std::make_unique<SolidRunner>(); }
 
 }  // namespace tetfsi::run

@@ -179,6 +179,28 @@ $EndElements
   EXPECT_THROW(read_volume_mesh("/nonexistent/e.msh"), MeshError);
 }
 
+// Found by fuzz_msh (issue 44): a 4.1 node block claiming 8.7e12 nodes made the reader allocate
+// 8 bytes per claimed tag before reading any (std::bad_alloc here; gigabytes for a count near 1e9).
+// Counts the file cannot hold must end in a message naming what is missing, as 2.2's do.
+TEST(VolumeMesh, GmshCountsTheFileCannotHoldAreRefused) {
+  const std::string head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 8 1 8\n3 1 0 ";
+  for (const std::string count : {"8666666666666", "4611686018427387904"}) {
+    SCOPED_TRACE(count);
+    try {
+      io::parse_msh_tets(head + count + "\n1\n2\n0 0 0\n", "big.msh");
+      ADD_FAILURE() << "accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("read_msh(big.msh): expected a node tag"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    io::parse_msh_tets("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8666666666666\n1 0 0 0\n", "big.msh");
+    ADD_FAILURE() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("expected a node tag"), std::string::npos) << e.what();
+  }
+}
+
 TEST(VolumeMesh, VtuOtherCellTypesAreRefusedNamingTheCell) {
   test::TempDir dir("volume_mesh_cells");
   const TetMesh m = one_tet();
