@@ -48,11 +48,14 @@ CASES = os.path.join(ROOT, "data", "report", "cases.json")
 
 
 def set_pointer(doc, pointer, value):
-    """doc[pointer] = value for a JSON pointer (RFC 6901), creating missing objects on the way."""
+    """doc[pointer] = value for a JSON pointer (RFC 6901), creating missing objects on the way; a
+    last key "-" appends to an array."""
     keys = [k.replace("~1", "/").replace("~0", "~") for k in pointer.lstrip("/").split("/")]
     for k in keys[:-1]:
         doc = doc[int(k)] if isinstance(doc, list) else doc.setdefault(k, {})
-    if isinstance(doc, list):
+    if isinstance(doc, list) and keys[-1] == "-":
+        doc.append(value)
+    elif isinstance(doc, list):
         doc[int(keys[-1])] = value
     else:
         doc[keys[-1]] = value

@@ -207,7 +207,7 @@ void redistance(const FluidMesh& mesh, Eigen::VectorXd& phi, double band, bool k
     return;
   }
   // Exact in the inner half of the band (where the next steps move the surface), propagated beyond.
-  const std::vector<double> distance = propagated_distance(mesh, zero.surface, zero.triangle_tet, band, 0.5 * band);
+  const std::vector<double> distance = propagated_distance(mesh, zero.surface, zero.triangle_tet, band, 0.5 * band, keep);
   Eigen::VectorXd out(phi.size());
   // A node that had the clamped value +-band keeps it: whose foot stayed where every value was
   // clamped still reads +-band, and is at least a band from the surface up to the step's motion,

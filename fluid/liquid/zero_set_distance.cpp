@@ -52,18 +52,18 @@ double strip_distance2(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const
   return h * h + ds * ds + dw * dw;
 }
 
-/// Uniform grid of the triangles' bounding boxes (cell side `cell`, enlarged if the grid would hold
-/// more than 8 cells per triangle): the triangles near a point, for the exact search.
+/// Uniform grid of the bounding boxes of the triangles `which` (cell side `cell`, enlarged if the
+/// grid would hold more than 8 cells per triangle): the triangles near a point, for the exact search.
 class TriangleBins {
  public:
-  TriangleBins(const mesh::SurfaceMesh& s, double cell) : cell_(cell) {
+  TriangleBins(const mesh::SurfaceMesh& s, const std::vector<int>& which, double cell) : cell_(cell) {
     lo_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
     Eigen::Vector3d hi = -lo_;
     for (const auto& v : s.vertices) {
       lo_ = lo_.cwiseMin(v);
       hi = hi.cwiseMax(v);
     }
-    const double most = 8.0 * s.num_triangles() + 1024;
+    const double most = 8.0 * which.size() + 1024;
     auto size = [&] {
       for (int c = 0; c < 3; ++c) dims_[c] = std::max(1, static_cast<int>(std::ceil((hi[c] - lo_[c]) / cell_)) + 1);
       return double(dims_[0]) * dims_[1] * dims_[2];
@@ -74,7 +74,7 @@ class TriangleBins {
     }
     start_.assign(static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2] + 1, 0);
     std::vector<std::array<Eigen::Vector3i, 2>> range(s.num_triangles());
-    for (int f = 0; f < s.num_triangles(); ++f) {
+    for (int f : which) {
       Eigen::Vector3d a = s.vertices[s.triangles[f][0]], b = a;
       for (int k = 1; k < 3; ++k) {
         a = a.cwiseMin(s.vertices[s.triangles[f][k]]);
@@ -86,8 +86,7 @@ class TriangleBins {
     for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     items_.resize(start_.back());
     std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (int f = 0; f < s.num_triangles(); ++f)
-      for_cells(range[f][0], range[f][1], [&](size_t c) { items_[fill[c]++] = f; });
+    for (int f : which) for_cells(range[f][0], range[f][1], [&](size_t c) { items_[fill[c]++] = f; });
   }
 
   /// Calls f(triangle) for every triangle whose box meets the cube of half side r around x (a
@@ -132,9 +131,7 @@ ZeroSetDistance::ZeroSetDistance(const mesh::SurfaceMesh& surface) : surface_(su
       if (uses[edge_key(surface.triangles[t][e], surface.triangles[t][(e + 1) % 3])] == 1) open_[t] |= 1 << e;
 }
 
-bool ZeroSetDistance::has_open_edges() const {
-  return std::any_of(open_.begin(), open_.end(), [](unsigned char e) { return e != 0; });
-}
+bool ZeroSetDistance::has_open_edge(int triangle) const { return open_[triangle] != 0; }
 
 double ZeroSetDistance::operator()(int triangle, const Eigen::Vector3d& x) const {
   const auto& f = surface_.triangles[triangle];
@@ -152,12 +149,14 @@ double ZeroSetDistance::operator()(int triangle, const Eigen::Vector3d& x) const
 }
 
 std::vector<double> propagated_distance(const FluidMesh& mesh, const mesh::SurfaceMesh& surface,
-                                        const std::vector<int>& triangle_tet, double reach, double exact_reach) {
+                                        const std::vector<int>& triangle_tet, double reach, double exact_reach,
+                                        const std::vector<char>& kept) {
   if (!(reach > 0.0)) throw std::invalid_argument("propagated_distance: the reach must be positive");
+  if (!kept.empty() && static_cast<int>(kept.size()) != mesh.num_nodes())
+    throw std::invalid_argument("propagated_distance: one kept flag per node expected");
   if (static_cast<int>(triangle_tet.size()) != surface.num_triangles())
     throw std::invalid_argument("propagated_distance: one tet per triangle expected");
   const ZeroSetDistance distance(surface);
-  const bool has_open_edges = distance.has_open_edges();
   const int n = mesh.num_nodes();
   std::vector<double> best(n, reach);
   std::vector<int> nearest(n, -1);  // the triangle that gives best
@@ -231,7 +230,8 @@ std::vector<double> propagated_distance(const FluidMesh& mesh, const mesh::Surfa
     const auto [d, i] = front.top();
     front.pop();
     if (d != best[i]) continue;  // superseded by a nearer triangle
-    descend(i);
+    const bool needed = kept.empty() || !kept[i];
+    if (needed && !(best[i] < exact_reach)) descend(i);  // nearer nodes get the exact minimum below
     const int tri = nearest[i];
     for (int t : mesh.node_tets[i])
       for (int j : mesh.tets[t])
@@ -239,14 +239,21 @@ std::vector<double> propagated_distance(const FluidMesh& mesh, const mesh::Surfa
   }
   // Exact where the surface's next motion reads phi: every triangle within the propagated distance
   // (an upper bound) of a node nearer than exact_reach. Strips extend a triangle by at most half
-  // its distance, so a triangle farther than twice that bound cannot be nearer.
+  // its distance, so a triangle with an open edge counts within twice that bound.
   if (exact_reach > 0.0) {
-    const TriangleBins bins(surface, exact_reach);
+    std::vector<int> all(surface.num_triangles()), open;
+    for (int t = 0; t < surface.num_triangles(); ++t) {
+      all[t] = t;
+      if (distance.has_open_edge(t)) open.push_back(t);
+    }
+    const TriangleBins bins(surface, all, exact_reach), open_bins(surface, open, exact_reach);
     tbb::parallel_for(0, n, [&](int i) {
-      if (!(best[i] < exact_reach)) return;
-      const double r = has_open_edges ? 2.0 * best[i] : best[i];
+      if (!(best[i] < exact_reach) || (!kept.empty() && kept[i])) return;
+      const Eigen::Vector3d& x = mesh.nodes[i];
       double d = best[i];
-      bins.near(mesh.nodes[i], r, [&](int t) { d = std::min(d, distance(t, mesh.nodes[i])); });
+      const auto nearer = [&](int t) { d = std::min(d, distance(t, x)); };
+      bins.near(x, best[i], nearer);
+      if (!open.empty()) open_bins.near(x, 2.0 * best[i], nearer);
       best[i] = d;
     });
   }

@@ -37,8 +37,8 @@ class ZeroSetDistance {
   explicit ZeroSetDistance(const mesh::SurfaceMesh& surface);
   /// d_T(x) [m] for triangle `triangle` of the surface.
   double operator()(int triangle, const Eigen::Vector3d& x) const;
-  /// True if some triangle has an open edge (its distance may be a strip's).
-  bool has_open_edges() const;
+  /// True if the triangle has an open edge (its distance may be a strip's).
+  bool has_open_edge(int triangle) const;
 
  private:
   const mesh::SurfaceMesh& surface_;
@@ -62,7 +62,10 @@ class ZeroSetDistance {
 /// @param triangle_tet per triangle of `surface`: the fluid tet it lies in (its seeds)
 /// @param reach        the distance beyond which nodes are not visited [m] (> 0)
 /// @param exact_reach  nodes nearer than this get the exact minimum [m] (0: none)
+/// @param kept         per node, 1 where the caller keeps its own value (its distance is then only
+///                     carried on, neither searched nor descended); empty: every node is needed
 std::vector<double> propagated_distance(const FluidMesh& mesh, const mesh::SurfaceMesh& surface,
-                                        const std::vector<int>& triangle_tet, double reach, double exact_reach);
+                                        const std::vector<int>& triangle_tet, double reach, double exact_reach,
+                                        const std::vector<char>& kept = {});
 
 }  // namespace tetfsi::fluid
