@@ -9,6 +9,7 @@
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
 #include "apps/run/preflight_container.hpp"
+#include "apps/run/preflight_emitters.hpp"
 #include "apps/run/preflight_ignored.hpp"
 #include "apps/run/preflight_liquid.hpp"
 #include "apps/run/preflight_models.hpp"
@@ -369,29 +370,8 @@ class Checker {
   }
 
   void check_emitters() {
-    const auto& emitters = js_.at("emitters");
-    if (emitters.empty()) return;
-    if (!meshes_fluid() || !js_.contains("domain")) {
-      report_.warnings.push_back("/emitters: the scene has no fluid domain; its emitters do nothing");
-      return;
-    }
-    const Eigen::Vector3d lo = vec3(js_["domain"]["lo"]), hi = vec3(js_["domain"]["hi"]);
-    for (std::size_t i = 0; i < emitters.size(); ++i) {
-      const auto& shape = emitters[i].at("shape");
-      Eigen::Vector3d a, b;
-      if (shape.at("type") == "box") {
-        a = vec3(shape.at("lo")), b = vec3(shape.at("hi"));
-      } else {
-        const double r = shape.at("radius").get<double>();
-        a = vec3(shape.at("center")) - Eigen::Vector3d::Constant(r), b = vec3(shape.at("center")) + Eigen::Vector3d::Constant(r);
-      }
-      const std::string ptr = fmt::format("/emitters/{}/shape", i);
-      check_magnitude(ptr, max_abs(a, b), "a coordinate");
-      if (!boxes_overlap(a, b, lo, hi))
-        report_.warnings.push_back(fmt::format("{}: the emitter lies outside the domain: it does nothing", ptr));
-      else if (!((a - lo).array() >= 0).all() || !((hi - b).array() >= 0).all())
-        report_.warnings.push_back(fmt::format("{}: the emitter reaches outside the domain: only its part inside acts", ptr));
-    }
+    const auto magnitude = [&](const std::string& pointer, double m) { check_magnitude(pointer, m, "a coordinate"); };
+    for (auto& w : emitter_warnings(js_, meshes_fluid(), magnitude)) report_.warnings.push_back(std::move(w));
   }
 
   /// Tet count of a CGAL Mesh_3 mesh: a regular tet of edge h has volume h^3 / (6 sqrt 2), so a

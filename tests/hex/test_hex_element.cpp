@@ -9,8 +9,11 @@
 #include "solid/hex/block_mesh.hpp"
 #include "solid/hex/hex8_element.hpp"
 #include "solid/hex/hex_model.hpp"
+#include "tests/hex/hex_test_states.hpp"
 
 using namespace tetfsi::solid::hex;
+using tetfsi::solid::hex::testing::distorted_hex;
+using tetfsi::solid::hex::testing::random_displacement;
 
 namespace {
 
@@ -23,25 +26,6 @@ Material make_material(MaterialLaw law) {
   return m;
 }
 
-// A distorted unit-ish hexahedron: corners of [0, 1]^3 moved by up to +-0.15.
-Matrix83d distorted_hex(std::mt19937& rng) {
-  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
-  Matrix83d X;
-  for (int a = 0; a < 8; ++a) {
-    for (int k = 0; k < 3; ++k) X(a, k) = 0.5 * (kHexCorners[a][k] + 1.0) + jitter(rng);
-  }
-  return X;
-}
-
-// A random deformed state: a finite homogeneous stretch/shear plus random nodal noise.
-Matrix83d random_displacement(std::mt19937& rng, const Matrix83d& X) {
-  std::uniform_real_distribution<double> d(-0.1, 0.1);
-  Eigen::Matrix3d A;
-  for (int i = 0; i < 9; ++i) A(i) = 2.0 * d(rng);
-  Matrix83d u = X * A.transpose();
-  for (int i = 0; i < 24; ++i) u(i) += d(rng);
-  return u;
-}
 
 }  // namespace
 

@@ -12,9 +12,12 @@
 #include "solid/hex/hex8_enhanced.hpp"
 #include "solid/hex/hex_model.hpp"
 #include "tests/hex/macneal_harder_mesh.hpp"
+#include "tests/hex/hex_test_states.hpp"
 
 using namespace tetfsi::solid;
 using namespace tetfsi::solid::hex;
+using tetfsi::solid::hex::testing::distorted_hex;
+using tetfsi::solid::hex::testing::random_displacement;
 
 namespace {
 
@@ -26,24 +29,6 @@ Material make_material(MaterialLaw law) {
   return m;
 }
 
-// Corners of [0, 1]^3 moved by up to +-0.15 (det J > 0 everywhere).
-Matrix83d distorted_hex(std::mt19937& rng) {
-  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
-  Matrix83d X;
-  for (int a = 0; a < 8; ++a)
-    for (int k = 0; k < 3; ++k) X(a, k) = 0.5 * (kHexCorners[a][k] + 1.0) + jitter(rng);
-  return X;
-}
-
-// A finite homogeneous stretch/shear plus nodal noise of up to 0.1 (the modes are then non-zero).
-Matrix83d random_displacement(std::mt19937& rng, const Matrix83d& X) {
-  std::uniform_real_distribution<double> d(-0.1, 0.1);
-  Eigen::Matrix3d A;
-  for (int i = 0; i < 9; ++i) A(i) = 2.0 * d(rng);
-  Matrix83d u = X * A.transpose();
-  for (int i = 0; i < 24; ++i) u(i) += d(rng);
-  return u;
-}
 
 }  // namespace
 
