@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include <fmt/format.h>
 
 #include "apps/run/errors.hpp"
 #include "apps/run/hex_geometry.hpp"
+#include "apps/run/preflight_contact.hpp"
 #include "apps/run/preflight_container.hpp"
 #include "apps/run/preflight_emitters.hpp"
 #include "apps/run/preflight_ignored.hpp"
@@ -16,6 +16,8 @@
 #include "apps/run/preflight_mpm.hpp"
 #include "apps/run/preflight_obstacles.hpp"
 #include "apps/run/preflight_particles.hpp"
+#include "apps/run/preflight_probes.hpp"
+#include "apps/run/preflight_regions.hpp"
 #include "apps/run/preflight_sizes.hpp"
 #include "apps/run/preflight_volumes.hpp"
 #include "apps/run/scene_values.hpp"
@@ -212,22 +214,24 @@ class Checker {
 
   std::string solid_name(std::size_t i) const { return js_["solids"][i]["name"].get<std::string>(); }
 
-  /// The container's checks (preflight_container.hpp) against the solids read so far.
-  void check_container() {
-    if (!meshes_fluid() || !js_.contains("domain")) return;
+  /// The solids read so far, as the container, liquid and obstacle checks take them.
+  std::vector<ContainedSolid> contained_solids() const {
     std::vector<ContainedSolid> solids;
     for (std::size_t i = 0; i < placed_.size(); ++i)
       solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
-    for (auto& issue : container_issues(js_, solids)) issues_.push_back(std::move(issue));
+    return solids;
+  }
+
+  /// The container's checks (preflight_container.hpp) against the solids read so far.
+  void check_container() {
+    if (!meshes_fluid() || !js_.contains("domain")) return;
+    for (auto& issue : container_issues(js_, contained_solids())) issues_.push_back(std::move(issue));
   }
 
   /// Every liquid region holds liquid (preflight_liquid.hpp), once the surfaces read so far are fine.
   void check_liquid_regions() {
     if (!issues_.empty() || !meshes_fluid()) return;
-    std::vector<ContainedSolid> solids;
-    for (std::size_t i = 0; i < placed_.size(); ++i)
-      solids.push_back({placed_[i].ok ? &placed_[i].surface : nullptr, solid_name(i)});
-    for (auto& issue : liquid_region_issues(js_, solids)) issues_.push_back(std::move(issue));
+    for (auto& issue : liquid_region_issues(js_, contained_solids())) issues_.push_back(std::move(issue));
   }
 
   void check_placements() {
@@ -263,15 +267,13 @@ class Checker {
   /// Solids starting inside an obstacle (preflight_obstacles.hpp), and the values the run would
   /// ignore or cut (preflight_ignored.hpp).
   void check_start() {
-    std::vector<ContainedSolid> solids;
     double largest = 0;  // of the tet-meshed solids (estimate_tets)
     for (std::size_t i = 0; i < placed_.size(); ++i) {
       const auto& p = placed_[i];
-      solids.push_back({p.ok ? &p.surface : nullptr, solid_name(i)});
       if (p.ok && p.tets < 0 && js_["solids"][i]["model"]["type"] != "hex8" && runner_->name != "kinematic")
         largest = std::max(largest, (p.hi - p.lo).maxCoeff());
     }
-    for (auto& issue : obstacle_issues(js_, runner_->name, solids)) issues_.push_back(std::move(issue));
+    for (auto& issue : obstacle_issues(js_, runner_->name, contained_solids())) issues_.push_back(std::move(issue));
     for (auto& w : ignored_value_warnings(scene_, runner_->name, meshes_fluid(), largest))
       report_.warnings.push_back(std::move(w));
   }
@@ -282,91 +284,22 @@ class Checker {
     for (auto& issue : process_issues(js_, runner_->name, opt_.processes)) issues_.push_back(std::move(issue));
   }
 
-  /// A boundary-condition or fixed-region box that misses the solid's bounding box, or lies wholly
-  /// outside the solid, selects no node: the run would stop on it after meshing, so validate says
-  /// so too.
+  /// Boundary-condition and fixed-region boxes that select no node (preflight_regions.hpp).
   void check_load_boxes() {
-    const auto& solids = js_.at("solids");
-    for (std::size_t i = 0; i < solids.size() && i < placed_.size(); ++i) {
-      if (!placed_[i].ok) continue;
-      const auto& p = placed_[i];
-      const double tol = 1e-9 * (p.hi - p.lo).norm();
-      const auto& bcs = solids[i].at("boundary_conditions");
-      // fixed_regions too (a hex8 solid's are checked on its mesh: empty_hex_regions).
-      const Json fixed = solids[i]["model"]["type"] == "hex8" ? Json::array() : solids[i].value("fixed_regions", Json::array());
-      for (std::size_t j = 0; j < bcs.size() + fixed.size(); ++j) {
-        const Json& box = j < bcs.size() ? bcs[j].at("box") : fixed[j - bcs.size()];
-        const Eigen::Vector3d lo = vec3(box.at("lo")), hi = vec3(box.at("hi"));
-        if ((lo.array() <= p.hi.array() + tol).all() && (hi.array() >= p.lo.array() - tol).all() &&
-            !box_outside_solid(p.surface, (lo.array() - tol).matrix(), (hi.array() + tol).matrix()))
-          continue;
-        add(j < bcs.size() ? fmt::format("/solids/{}/boundary_conditions/{}/box", i, j)
-                           : fmt::format("/solids/{}/fixed_regions/{}", i, j - bcs.size()),
-            fmt::format("the box [{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m misses solid '{}' (bounding box "
-                        "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): it selects no node",
-                        lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z(), solid_name(i), p.lo.x(), p.lo.y(), p.lo.z(),
-                        p.hi.x(), p.hi.y(), p.hi.z()));
-      }
-    }
+    std::vector<PlacedBox> boxes;
+    for (const auto& p : placed_) boxes.push_back({p.ok, p.lo, p.hi});
+    for (auto& issue : empty_region_issues(js_, boxes, contained_solids())) issues_.push_back(std::move(issue));
   }
 
   void check_probes() {
-    const auto& probes = js_.at("probes");
-    const bool any_static = [&] {
-      for (const auto& s : js_.at("solids"))
-        if (s.at("motion").at("type") == "none" && is_static(s)) return true;
-      return false;
-    }();
-    for (std::size_t i = 0; i < probes.size(); ++i) {
-      const auto kind = probes[i].at("kind").get<std::string>();
-      const auto& kinds = runner_->probe_kinds;
-      const bool supported = kinds.empty() || std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
-      if (!supported || (any_static && (kind == "total_energy" || kind == "contact_force"))) {
-        std::string list;
-        for (const auto& k : kinds) list += (list.empty() ? "" : ", ") + k;
-        add(fmt::format("/probes/{}/kind", i),
-            fmt::format("the {} runner (which runs this scene) has no probe \"{}\"; it has: {}", runner_->name, kind,
-                        any_static ? "point_displacement, solid_volume (tet_fem) in a static analysis" : list));
-      }
-    }
+    for (auto& issue : probe_issues(js_, runner_->name, runner_->probe_kinds)) issues_.push_back(std::move(issue));
   }
 
-  /// The coupled runner keeps free solids a film of /coupling/contact_gap off the walls of a box
-  /// container (coupled_runner.cpp): a free solid (no fixed region, no motion) that starts inside
-  /// that film would be pushed out of it in its first step. Checked when the gap is given (its
-  /// default follows the meshed edge length, known only after meshing).
+  /// /coupling/contact_gap against the contacts and the placed solids (preflight_contact.hpp).
   void check_contact_gap(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-    if (runner_->name != "coupled" || !js_.contains("coupling")) return;
-    const auto& c = js_["coupling"];
-    const double gap = c.value("contact_gap", 0.0);
-    // A film given for contacts that are all off contradicts itself.
-    if (gap > 0 && !c.value("wall_contact", true)) {
-      bool pairs = c.value("solid_contact", true) && js_["solids"].size() > 1;
-      for (const auto& s : js_["solids"]) pairs = pairs || s.value("self_contact", false);
-      const auto& obstacles = js_.value("obstacles", Json::object());
-      const bool others = !obstacles.value("planes", Json::array()).empty() || !obstacles.value("boxes", Json::array()).empty();
-      if (!pairs && !others)
-        add("/coupling/contact_gap",
-            fmt::format("a fluid film of {:g} m is given, but no contact keeps it: /coupling/wall_contact is false and "
-                        "there is no contact between solids (/coupling/solid_contact with two or more solids, "
-                        "/solids/*/self_contact) and no /obstacles; remove contact_gap or turn a contact on",
-                        gap));
-    }
-    if (js_["domain"].contains("container")) return;
-    if (!c.value("wall_contact", true) || !(gap > 0)) return;
-    for (std::size_t i = 0; i < placed_.size(); ++i) {
-      const auto& p = placed_[i];
-      const auto& solid = js_["solids"][i];
-      if (!p.ok || !solid.value("fixed_regions", Json::array()).empty() ||
-          solid["motion"].value("type", "none") != "none")
-        continue;
-      if (((p.lo - lo).array() >= gap).all() && ((hi - p.hi).array() >= gap).all()) continue;
-      add("/coupling/contact_gap",
-          fmt::format("solid '{}' starts closer than the wall film of {:g} m to the domain's walls (bounding box "
-                      "[{:.4g}, {:.4g}, {:.4g}] to [{:.4g}, {:.4g}, {:.4g}] m): lower /coupling/contact_gap or move "
-                      "/solids/{}/placement",
-                      solid_name(i), gap, p.lo.x(), p.lo.y(), p.lo.z(), p.hi.x(), p.hi.y(), p.hi.z(), i));
-    }
+    std::vector<PlacedBox> boxes;
+    for (const auto& p : placed_) boxes.push_back({p.ok, p.lo, p.hi});
+    for (auto& issue : contact_gap_issues(js_, runner_->name, boxes, lo, hi)) issues_.push_back(std::move(issue));
   }
 
   void check_emitters() {
