@@ -180,6 +180,92 @@ std::vector<int> non_manifold_vertices(const std::vector<std::array<int, 3>>& hu
   return bad;
 }
 
+/// Flags in `reached` (and marks in `seen`) the tets connected to `seed` through shared vertices
+/// among the tets that pass `admit`; `seed` must pass it and not be seen yet.
+template <class Admit>
+void flood_through_vertices(const TetMesh& mesh, const VertexIncidence& tets_around, int seed, const Admit& admit,
+                            std::vector<char>& seen, std::vector<char>& reached) {
+  std::vector<int> stack{seed};
+  seen[seed] = 1;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    reached[u] = 1;
+    for (int v : mesh.tets[u])
+      for (int k = tets_around.start[v]; k < tets_around.start[v + 1]; ++k) {
+        const int w = tets_around.element[k];
+        if (admit(w) && !seen[w]) seen[w] = 1, stack.push_back(w);
+      }
+  }
+}
+
+/// Adds to `region` every solid it reaches (a solid tet sharing a vertex with a region tet),
+/// whole: its tets connected through shared vertices. A band around a solid without the solid is
+/// a shell, not a ball; a solid the region does not reach stays out, so a region far from the
+/// solids (a refit to a liquid surface, resized_tets) stays one piece instead of two, which would
+/// send the whole mesh to CGAL.
+void add_reached_solids(const TetMesh& mesh, const VertexIncidence& tets_around, std::vector<char>& region) {
+  std::vector<char> on_region(mesh.num_vertices(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (region[t])
+      for (int v : mesh.tets[t]) on_region[v] = 1;
+  const auto is_solid = [&](int t) { return mesh.subdomain[t] != kFluidSubdomain; };
+  std::vector<char> seen(mesh.tets.size(), 0);
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    const auto& tet = mesh.tets[t];
+    if (is_solid(t) && !seen[t] && std::any_of(tet.begin(), tet.end(), [&](int v) { return on_region[v] != 0; }))
+      flood_through_vertices(mesh, tets_around, t, is_solid, seen, region);
+  }
+}
+
+/// Adds to `region` the tets of its complement that cannot be reached from the mesh's hull
+/// through faces of complement tets (the cavities the region encloses). Returns false if there
+/// was none to add.
+bool fill_cavities(const TetMesh& mesh, std::vector<char>& region) {
+  struct FaceOfTet {
+    std::array<int, 3> key;
+    int tet;
+    bool operator<(const FaceOfTet& o) const { return key < o.key || (key == o.key && tet < o.tet); }
+  };
+  std::vector<FaceOfTet> faces;
+  faces.reserve(4 * mesh.tets.size());
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    for (const auto& f : kTetFaceVertices) {
+      std::array<int, 3> key{mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]};
+      std::sort(key.begin(), key.end());
+      faces.push_back({key, t});
+    }
+  tbb::parallel_sort(faces.begin(), faces.end());  // a total order: the same for any thread count
+  std::vector<std::array<int, 4>> neighbours(mesh.tets.size(), {-1, -1, -1, -1});  // across each face
+  std::vector<char> num_neighbours(mesh.tets.size(), 0);
+  std::vector<char> reached(mesh.tets.size(), 0);
+  std::vector<int> stack;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1 && !region[faces[i].tet] && !reached[faces[i].tet]) {  // on the mesh's hull
+      reached[faces[i].tet] = 1;
+      stack.push_back(faces[i].tet);
+    }
+    if (j - i == 2) {
+      const int a = faces[i].tet, b = faces[i + 1].tet;
+      neighbours[a][num_neighbours[a]++] = b;
+      neighbours[b][num_neighbours[b]++] = a;
+    }
+    i = j;
+  }
+  while (!stack.empty()) {
+    const int t = stack.back();
+    stack.pop_back();
+    for (int u : neighbours[t])
+      if (u >= 0 && !region[u] && !reached[u]) reached[u] = 1, stack.push_back(u);
+  }
+  bool filled = false;
+  for (int t = 0; t < mesh.num_tets(); ++t)
+    if (!region[t] && !reached[t]) region[t] = 1, filled = true;
+  return filled;
+}
+
 }  // namespace
 
 bool region_is_ball(const TetMesh& mesh, const std::vector<char>& region) {
@@ -222,28 +308,88 @@ bool region_is_ball(const TetMesh& mesh, const std::vector<char>& region) {
   return cells > 0 && chi == 1 && chi_hull == 2;
 }
 
-std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band, int max_rounds) {
-  const int n = mesh.num_vertices();
-  // Vertex -> incident tets (compressed rows).
-  const VertexIncidence tets_around = vertex_incidence(mesh);
-  const std::vector<int>& start = tets_around.start;
-  const std::vector<int>& incident = tets_around.element;
-  std::vector<char> region(mesh.tets.size(), 0);
-  const auto add_star = [&](int v) {
-    for (int k = start[v]; k < start[v + 1]; ++k) region[incident[k]] = 1;
-  };
-  std::vector<char> touched(n, 0);
+namespace {
+
+/// The vertex-connected pieces of `region` (tets sharing a vertex are in one piece), each as a
+/// flag per tet, in the order of their lowest tet.
+std::vector<std::vector<char>> vertex_connected_pieces(const TetMesh& mesh, const VertexIncidence& tets_around,
+                                                       const std::vector<char>& region) {
+  std::vector<std::vector<char>> pieces;
+  std::vector<char> seen(mesh.tets.size(), 0);
+  const auto in_region = [&](int t) { return region[t] != 0; };
   for (int t = 0; t < mesh.num_tets(); ++t) {
-    if (mesh.subdomain[t] != kFluidSubdomain) region[t] = 1;
+    if (!region[t] || seen[t]) continue;
+    pieces.emplace_back(mesh.tets.size(), 0);
+    flood_through_vertices(mesh, tets_around, t, in_region, seen, pieces.back());
+  }
+  return pieces;
+}
+
+/// `piece` grown until its hull is a 2-manifold (the stars of offending hull vertices added, at
+/// most `max_rounds` times) and, if it then encloses a cavity, with the cavity filled. A piece with
+/// a tunnel (a refit zone that wraps around unflagged tets) gets up to two more rings of tets (the
+/// stars of its hull vertices), which close a tunnel up to about two tets across, and the checks
+/// again. False if it is still not a ball (region_is_ball).
+bool grow_to_ball(const TetMesh& mesh, const VertexIncidence& tets_around, std::vector<char>& piece, int max_rounds) {
+  const auto add_stars = [&](const std::vector<int>& vertices) {
+    for (int v : vertices)
+      for (int k = tets_around.start[v]; k < tets_around.start[v + 1]; ++k) piece[tets_around.element[k]] = 1;
+  };
+  constexpr int kTunnelRings = 2;
+  for (int ring = 0; ring <= kTunnelRings; ++ring) {
+    if (ring > 0) {
+      std::vector<int> hull_vertices;
+      for (const auto& f : hull_triangles(mesh, piece)) hull_vertices.insert(hull_vertices.end(), f.begin(), f.end());
+      std::sort(hull_vertices.begin(), hull_vertices.end());
+      hull_vertices.erase(std::unique(hull_vertices.begin(), hull_vertices.end()), hull_vertices.end());
+      add_stars(hull_vertices);
+    }
+    bool manifold = false;
+    for (int round = 0; round < max_rounds && !manifold; ++round) {
+      const std::vector<int> bad = non_manifold_vertices(hull_triangles(mesh, piece));
+      manifold = bad.empty();
+      add_stars(bad);
+    }
+    if (!manifold) return false;
+    if (region_is_ball(mesh, piece)) return true;
+    // A piece that encloses tets of its complement (a fluid pocket inside a refit zone) has a
+    // hull in several sheets; filling the pocket, whose tets CGAL keeps as they are, leaves the
+    // outer sheet, which is a 2-manifold already.
+    if (fill_cavities(mesh, piece) && region_is_ball(mesh, piece)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<std::vector<char>> band_regions(const TetMesh& mesh, const std::vector<char>& band, int max_rounds) {
+  const int n = mesh.num_vertices();
+  const VertexIncidence tets_around = vertex_incidence(mesh);
+  std::vector<char> region(mesh.tets.size(), 0);
+  std::vector<char> touched(n, 0);
+  for (int t = 0; t < mesh.num_tets(); ++t)
     if (band[t])
       for (int v : mesh.tets[t]) touched[v] = 1;
-  }
   for (int v = 0; v < n; ++v)
-    if (touched[v]) add_star(v);
-  for (int round = 0; round < max_rounds; ++round) {
-    const std::vector<int> bad = non_manifold_vertices(hull_triangles(mesh, region));
-    if (bad.empty()) return region_is_ball(mesh, region) ? region : std::vector<char>{};
-    for (int v : bad) add_star(v);
+    if (touched[v])
+      for (int k = tets_around.start[v]; k < tets_around.start[v + 1]; ++k) region[tets_around.element[k]] = 1;
+  add_reached_solids(mesh, tets_around, region);
+  // Each piece is grown to a ball on its own; pieces that grow into each other (share a vertex)
+  // are merged and grown again.
+  for (int merge = 0; merge < 4; ++merge) {
+    std::vector<std::vector<char>> pieces = vertex_connected_pieces(mesh, tets_around, region);
+    std::vector<int> owners(n, 0);
+    for (std::vector<char>& piece : pieces) {
+      if (!grow_to_ball(mesh, tets_around, piece, max_rounds)) return {};
+      std::vector<char> used(n, 0);
+      for (int t = 0; t < mesh.num_tets(); ++t)
+        if (piece[t])
+          for (int v : mesh.tets[t]) used[v] = 1;
+      for (int v = 0; v < n; ++v) owners[v] += used[v];
+    }
+    if (std::all_of(owners.begin(), owners.end(), [](int k) { return k <= 1; })) return pieces;
+    for (const std::vector<char>& piece : pieces)
+      for (int t = 0; t < mesh.num_tets(); ++t) region[t] = region[t] || piece[t];
   }
   return {};
 }

@@ -4,10 +4,13 @@
 ///
 /// The band: fluid tets with a vertex within `band` of a solid vertex. The region given to CGAL:
 /// the band, the tets sharing a vertex with it (so no band tet touches the region's hull), every
-/// solid tet (so the region is a ball around the solids, not a shell), then grown until its hull
-/// is a 2-manifold: CGAL's build_triangulation cones the hull to one infinite vertex, which needs
-/// every hull edge in exactly two hull triangles and a single fan of hull triangles around every
-/// hull vertex. Tets around an offending edge or vertex are added until none is left.
+/// solid that these reach, whole (so the region is a ball around the solids, not a shell; a solid
+/// the region does not reach stays out, so a region far from the solids is one piece), then grown
+/// until its hull is a 2-manifold: CGAL's build_triangulation cones the hull to one infinite
+/// vertex, which needs every hull edge in exactly two hull triangles and a single fan of hull
+/// triangles around every hull vertex. Tets around an offending edge or vertex are added until
+/// none is left. A region that then encloses a cavity (tets of the complement cut off from the
+/// mesh's hull) gets them too.
 #include <functional>
 #include <vector>
 
@@ -43,12 +46,16 @@ std::vector<char> resized_tets(const TetMesh& mesh, const SizeField& size_then, 
 /// Triangulation_data_structure_3::is_valid checks; a region in two pieces, with a tunnel or
 /// with a cavity breaks it (seen in MeshUpdate.RemeshingEveryStepKeepsTheSolidAndItsVertices with
 /// CGAL's checks on: the broken triangulation went into the remesher unnoticed in Release).
-/// @pre the hull of the region is a 2-manifold (band_region grows it until it is)
+/// @pre the hull of the region is a 2-manifold (band_regions grows it until it is)
 bool region_is_ball(const TetMesh& mesh, const std::vector<char>& region);
 
-/// Per tet: 1 if CGAL gets it (see the file comment). Returns an empty vector if no manifold region
-/// that is a ball (region_is_ball) was found within `max_rounds` growth rounds (then the caller
+/// The regions CGAL gets (see the file comment), one flag per tet each: the vertex-connected
+/// pieces of the band's region, each grown to a ball (region_is_ball) on its own, so that surface
+/// patches far apart (a refit to a liquid surface in several places) are remeshed as several
+/// small triangulations rather than as the whole mesh. No two regions share a vertex. Empty if a
+/// piece is not a manifold ball within `max_rounds` growth rounds, or keeps a tunnel that two more
+/// rings of tets do not close (then the caller
 /// hands CGAL the whole mesh).
-std::vector<char> band_region(const TetMesh& mesh, const std::vector<char>& band, int max_rounds = 8);
+std::vector<std::vector<char>> band_regions(const TetMesh& mesh, const std::vector<char>& band, int max_rounds = 8);
 
 }  // namespace tetfsi::mesh

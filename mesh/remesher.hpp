@@ -69,12 +69,13 @@ struct RemeshReport {
   bool quality_ok = false;        ///< min_dihedral_deg >= options.min_dihedral_deg
   double seconds = 0.0;           ///< wall time of the whole step
   bool remeshed = true;           ///< false: the moved mesh was good enough (remesh_only_when_needed)
-  bool local = false;             ///< CGAL got only the band (+ a ring and the solids), not the mesh
+  bool local = false;             ///< CGAL got only the band's regions (+ a ring and the solids), not the mesh
   int remeshed_fluid_tets = 0;    ///< fluid tets handed to CGAL for remeshing (last pass)
-  int region_tets = 0;            ///< tets in CGAL's triangulation (band, ring, solids; last pass)
+  int region_tets = 0;            ///< tets in CGAL's triangulations (band, ring, solids; last pass)
   int slivers_before = 0, slivers_after = 0;  ///< fluid tets below sliver_pass_below_deg around the pass (last pass)
-  /// Wall time [s] of the phases: mesh motion + its inversion check, building CGAL's triangulation
-  /// from the arrays, CGAL's remeshing, copying back, the sliver pass (all passes summed), checks.
+  /// Wall time [s] of the phases: mesh motion + its inversion check, building CGAL's triangulations
+  /// from the arrays (with finding their regions, band_regions), CGAL's remeshing, copying back,
+  /// the sliver pass (all passes summed), checks.
   double motion_seconds = 0.0, build_seconds = 0.0, cgal_seconds = 0.0, copy_seconds = 0.0, sliver_seconds = 0.0,
          check_seconds = 0.0;
   std::string summary() const;

@@ -10,6 +10,16 @@ std::vector<scene::Issue> contact_gap_issues(const scene::Json& js, const std::s
   if (runner != "coupled" || !js.contains("coupling")) return issues;
   const auto& c = js["coupling"];
   const double gap = c.value("contact_gap", 0.0);
+  // A film on two opposite walls that meets in the middle leaves no room for anything, whether
+  // or not a solid moves (checked before the per-solid test, which skips fixed solids).
+  const double narrowest = (hi - lo).minCoeff();
+  if (gap > 0 && narrowest > 0 && 2 * gap >= narrowest) {
+    issues.push_back({"/coupling/contact_gap",
+        fmt::format("the fluid film of {:g} m on two opposite walls is at least the domain's narrowest extent "
+                    "({:.4g} m): lower /coupling/contact_gap below half of it",
+                    gap, narrowest)});
+    return issues;
+  }
   // A film given for contacts that are all off contradicts itself.
   if (gap > 0 && !c.value("wall_contact", true)) {
     bool pairs = c.value("solid_contact", true) && js["solids"].size() > 1;

@@ -78,15 +78,35 @@ std::function<double(const Eigen::Vector3d&)> solid_graded_field(const mesh::Tet
                                                                  const mesh::MeshSizing& sizing) {
   const double near = sizing.edge_length_near_solids, far = sizing.edge_length, grading = sizing.grading_distance;
   if (!(near > 0 && near < far && grading > 0)) return {};
-  mesh::SurfaceMesh surface;  // the interface triangles, on their own vertices
+  // The solids' boundary triangles (faces of one solid tet only), on their own vertices: on a
+  // conforming complex these are the interface triangles, found from the solid tets alone (the
+  // solids are a few percent of the tets, and this runs at every refit).
+  struct SolidFace {
+    std::array<int, 3> key, vertices;
+    bool operator<(const SolidFace& o) const { return key < o.key; }
+  };
+  std::vector<SolidFace> faces;
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    if (mesh.subdomain[t] == mesh::kFluidSubdomain) continue;
+    for (const auto& f : mesh::kTetFaceVertices) {
+      SolidFace face{{}, {mesh.tets[t][f[0]], mesh.tets[t][f[1]], mesh.tets[t][f[2]]}};
+      face.key = face.vertices;
+      std::sort(face.key.begin(), face.key.end());
+      faces.push_back(face);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  mesh::SurfaceMesh surface;
   std::vector<int> index(mesh.num_vertices(), -1);
-  for (const mesh::InterfaceFace& f : mesh::interface_faces(mesh)) {
+  for (std::size_t a = 0; a < faces.size(); ++a) {
+    if ((a > 0 && faces[a - 1].key == faces[a].key) || (a + 1 < faces.size() && faces[a + 1].key == faces[a].key))
+      continue;  // between two solid tets
     std::array<int, 3> tri{};
     for (int k = 0; k < 3; ++k) {
-      int& i = index[f.vertices[k]];
+      int& i = index[faces[a].vertices[k]];
       if (i < 0) {
         i = surface.num_vertices();
-        surface.vertices.push_back(mesh.vertices[f.vertices[k]]);
+        surface.vertices.push_back(mesh.vertices[faces[a].vertices[k]]);
       }
       tri[k] = i;
     }

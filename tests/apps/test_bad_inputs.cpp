@@ -326,6 +326,14 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
          return s;
        },
        "/coupling/contact_gap"},
+      {"contact_gap_wider_than_the_domain_with_a_fixed_solid",  // no solid moves, the film still fills the box
+       [] {
+         auto s = coupled_scene();
+         s["coupling"]["contact_gap"] = 10.0;
+         s["solids"][0]["fixed_regions"] = {{{"lo", {-100, -100, -100}}, {"hi", {100, 100, 100}}}};
+         return s;
+       },
+       "/coupling/contact_gap"},
       {"contact_gap_without_any_contact",  // a film that no contact keeps: contradictory keys
        [] {
          auto s = coupled_scene();

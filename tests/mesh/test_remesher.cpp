@@ -192,28 +192,6 @@ TEST(Remesher, TooLargeAStepIsAnError) {
   EXPECT_THROW(remesh_step(mesh, translated_solid(mesh, {0.4, 0, 0}), options), MeshError);
 }
 
-// region_is_ball (remesh_region.hpp): CGAL's build_triangulation cones the hull of the region to
-// one infinite vertex, which is a valid triangulation (Euler relation V - E + F - C = 0) only if
-// the region is a ball. Two separate slabs, a block with a tunnel and a hollow block are not.
-TEST(RemeshRegion, OnlyBallsAreHandedToCgal) {
-  using tetfsi::mesh::region_is_ball;
-  const auto box = tetfsi::mesh::structured_box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(3.0), 3, 3, 3);
-  auto region = [&](const std::function<bool(int, int, int)>& keep) {
-    std::vector<char> r(box.tets.size(), 0);
-    for (int t = 0; t < box.num_tets(); ++t) {
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
-      for (int v : box.tets[t]) c += box.vertices[v] / 4.0;
-      r[t] = keep(int(std::floor(c.x())), int(std::floor(c.y())), int(std::floor(c.z())));
-    }
-    return r;
-  };
-  EXPECT_TRUE(region_is_ball(box, region([](int, int, int) { return true; })));
-  EXPECT_TRUE(region_is_ball(box, region([](int i, int, int) { return i == 0; })));
-  EXPECT_FALSE(region_is_ball(box, region([](int i, int, int) { return i != 1; })));                // two slabs
-  EXPECT_FALSE(region_is_ball(box, region([](int i, int j, int) { return !(i == 1 && j == 1); })));  // tunnel
-  EXPECT_FALSE(region_is_ball(box, region([](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); })));  // cavity
-}
-
 // resized_tets (remesh_region.hpp): on a 8 x 8 x 8 Kuhn box, a sizing field that moved from 0.125 m
 // to 0.05 m for x < 0.25 m flags exactly the tets with a vertex there, and one ring adds the tets
 // sharing a vertex with them; a field that did not move flags none, one 3x coarser flags all,
