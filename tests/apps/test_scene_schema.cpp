@@ -151,10 +151,21 @@ TEST(SceneSchema, EveryEnumValueAppearsInItsRow) {
   EXPECT_EQ(doc.find("/domain/open_faces/*"), std::string::npos);
 }
 
+namespace {
+
+/// A resolved scene of one solid box with this /simulation block.
+Json scene_with_simulation(const std::string& simulation) {
+  return parse_scene(R"({"simulation": )" + simulation + R"(,
+      "solids": [{"name": "b", "geometry": {"type": "box", "size": [1, 1, 1]},
+                  "material": {"density": 1, "youngs_modulus": 2, "poissons_ratio": 0.25}}]})",
+                     "mem.json")
+      .json;
+}
+
+}  // namespace
+
 TEST(TimeStepPolicy, ReadsTheSimulationBlockOnceWithItsDefaults) {
-  const Scene s = parse_scene(R"({"simulation": {"end_time": 2, "frame_rate": 40}})",
-                              "mem.json");
-  const TimeStepPolicy p = read_time_step_policy(s.json);
+  const TimeStepPolicy p = read_time_step_policy(scene_with_simulation(R"({"end_time": 2, "frame_rate": 40})"));
   EXPECT_FALSE(p.dt.has_value());
   EXPECT_EQ(p.cfl, 0.5);
   EXPECT_EQ(p.frame_rate, 40);
@@ -163,15 +174,14 @@ TEST(TimeStepPolicy, ReadsTheSimulationBlockOnceWithItsDefaults) {
   EXPECT_EQ(p.end_time, 2);
   EXPECT_EQ(p.max_steps, 1000000);
   EXPECT_EQ(p.max_step_halvings, 6);
-  const TimeStepPolicy fixed =
-      read_time_step_policy(parse_scene(R"({"simulation": {"end_time": 1, "dt": 0.01}})", "mem.json").json);
+  const TimeStepPolicy fixed = read_time_step_policy(scene_with_simulation(R"({"end_time": 1, "dt": 0.01})"));
   ASSERT_TRUE(fixed.dt.has_value());
   EXPECT_EQ(*fixed.dt, 0.01);
   EXPECT_EQ(fixed.fixed_step(), 0.01);
 }
 
 TEST(TimeStepPolicy, ABadValueIsAnInputErrorNamingItsKey) {
-  const Json good = parse_scene(R"({"simulation": {"end_time": 1, "dt": 0.01}})", "mem.json").json;
+  const Json good = scene_with_simulation(R"({"end_time": 1, "dt": 0.01})");
   const auto message = [&](const char* key, Json value) {
     Json j = good;
     if (value.is_null()) j["simulation"].erase(key);
