@@ -61,8 +61,8 @@ namespace tetfsi::coupling {
 
 enum class CouplingScheme { kSimultaneous, kTimeSplitting };
 
-/// The coupled model's settings. The step length is not one of them: each step(h) is given its own
-/// (the run's time step policy, apps/scene/time_step_policy.hpp, decides it).
+/// The coupled model's settings. The step length is not one of them: the caller gives each step(h)
+/// its own.
 struct CoupledSettings {
   CouplingScheme scheme = CouplingScheme::kSimultaneous;
   CoupledSolverKind solver = CoupledSolverKind::SchurCG;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file stable_step.hpp
-/// The stable step of the fluid step on a tet mesh (the CFL condition), used by every runner that
-/// steps a fluid (apps/run/fluid_runner.cpp, apps/run/coupled_runner.cpp).
+/// The stable step of the fluid step on a tet mesh (the CFL condition), the one every caller that
+/// chooses a fluid's step from its state uses (the fluid-only and the coupled runs).
 #include "fluid/fluid_solver.hpp"
 
 namespace tetfsi::fluid {

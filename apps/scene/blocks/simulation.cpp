@@ -79,6 +79,7 @@ double simulation_number(const Json& sim, const char* key, double lo, bool above
 
 }  // namespace
 
+/// The reader of the block above (time_step_policy.hpp): its keys once, checked as the schema does.
 TimeStepPolicy read_time_step_policy(const Json& scene) {
   if (!scene.contains("simulation") || !scene.at("simulation").is_object())
     throw InputError("/simulation: missing (it holds the end time)");
