@@ -79,7 +79,6 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
                                const std::vector<solid::TetMaterial>& materials, CoupledSettings settings,
                                const std::vector<solid::TetModelOptions>& model_options)
     : mesh_(std::move(mesh)), settings_(std::move(settings)), fluid_(std::move(fluid)) {
-  if (!(settings_.time_step > 0)) throw std::invalid_argument("coupled step: time step must be positive");
   if (!model_options.empty() && model_options.size() != materials.size())
     throw std::invalid_argument("coupled step: one element option set per solid expected");
   int offset = 0;
@@ -89,7 +88,6 @@ CoupledStepper::CoupledStepper(mesh::TetMesh mesh, fluid::FluidParams fluid,
     s.model = std::make_unique<solid::TetModel>(s.submesh.mesh, materials[i],
                                                 model_options.empty() ? solid::TetModelOptions{} : model_options[i]);
     solid::NewmarkSettings ts;
-    ts.time_step = settings_.time_step;
     ts.rayleigh_alpha = materials[i].rayleigh_alpha;
     ts.rayleigh_beta = materials[i].rayleigh_beta;
     ts.gravity = settings_.solid_gravity;

@@ -38,6 +38,7 @@
 /// velocity as its boundary flux, (h/ρ) L p^{n+1} = r − H u^{n+1}. It is kept to show where it fails
 /// (the added-mass instability of Causin, Gerbeau & Nobile 2005) and the simultaneous system does not.
 #include <Eigen/Core>
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -60,8 +61,9 @@ namespace tetfsi::coupling {
 
 enum class CouplingScheme { kSimultaneous, kTimeSplitting };
 
+/// The coupled model's settings. The step length is not one of them: the caller gives each step(h)
+/// its own.
 struct CoupledSettings {
-  double time_step = 1.0 / 30.0;                        ///< h [s]
   CouplingScheme scheme = CouplingScheme::kSimultaneous;
   CoupledSolverKind solver = CoupledSolverKind::SchurCG;
   CoupledSolverOptions solver_options;
@@ -197,15 +199,23 @@ class CoupledStepper {
   /// that is a closed cavity of a solid (mesh::mesh_filled_shell) this is the cavity's volume.
   double fluid_volume() const;
 
-  /// One coupled step of length settings.time_step.
-  /// @throws CoupledSolveError, fluid::SolverError, solid::SolidError or std::runtime_error on
-  ///         divergence (never returns a non-finite state)
-  CoupledStepReport step() { return step(settings_.time_step); }
   /// One coupled step of length h [s] (e.g. shortened to land on a frame time), halved as
   /// CoupledSettings::max_step_halvings allows when its solid motion would spoil the fluid mesh.
   /// The mesh follows the solids at the end of the step, so that a failed motion is caught while
   /// the step can still be undone.
+  /// @throws CoupledSolveError, fluid::SolverError, solid::SolidError or std::runtime_error on
+  ///         divergence (never returns a non-finite state); std::invalid_argument if h <= 0
   CoupledStepReport step(double h);
+  /// The largest speed of a solid node now, max_a |u_a| over every solid [m/s] (0 without
+  /// solids): the solid speed of the CFL step (fluid/stable_step.hpp).
+  double max_solid_speed() const {
+    double u_max = 0;
+    for (const Solid& s : solids_) {
+      const Eigen::VectorXd& u = s.integrator->velocity();
+      for (Eigen::Index a = 0; a < u.size() / 3; ++a) u_max = std::max(u_max, u.segment<3>(3 * a).norm());
+    }
+    return u_max;
+  }
 
   /// Checkpoints (coupled_stepper_state.cpp): everything the steps change — the shared mesh, the
   /// solid-node maps, the fluid solver, the solids' integrators, the coupled solver's lagged

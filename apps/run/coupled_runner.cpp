@@ -51,6 +51,7 @@
 #include "apps/run/tet_tools.hpp"
 #include "coupling/coupled_stepper.hpp"
 #include "fluid/io/fluid_output.hpp"
+#include "fluid/stable_step.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/quality.hpp"
 #include "solid/integrator/spd_solver.hpp"
@@ -61,7 +62,7 @@ namespace {
 
 class CoupledRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy& time_steps, spdlog::logger& log) override {
     solid::limit_blas_threads(1);  // multi-threaded OpenBLAS slows CHOLMOD here (solid/README.md)
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
@@ -104,13 +105,7 @@ class CoupledRunner : public Simulation {
 
     const auto& c = js.at("coupling");
     coupling::CoupledSettings cs;
-    const auto& sim = js.at("simulation");
-    fixed_h_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
-    cfl_ = sim.at("cfl").get<double>();
-    frame_interval_ = 1.0 / sim.at("frame_rate").get<double>();
     edge_near_ = coupling::fluid_edge_length_near_solids(complex);
-    h_ = fixed_h_ > 0 ? fixed_h_ : frame_interval_;
-    cs.time_step = h_;
     cs.scheme = c.at("scheme") == "time_splitting" ? coupling::CouplingScheme::kTimeSplitting
                                                     : coupling::CouplingScheme::kSimultaneous;
     scheme_ = c.at("scheme").get<std::string>();
@@ -127,7 +122,7 @@ class CoupledRunner : public Simulation {
     cs.solid_gravity = vec3(js.at("simulation").at("gravity"));
     cs.mean_constraint = c.at("constraint") == "step_mean";
     cs.keep_closed_volumes = c.at("keep_closed_volumes").get<bool>();
-    cs.max_step_halvings = sim.at("max_step_halvings").get<int>();
+    cs.max_step_halvings = time_steps.max_step_halvings;
     cs.mesh_update.policy = coupling::parse_mesh_update_policy(c.at("mesh_update").get<std::string>());
     cs.mesh_update.remesh_below_deg = c.at("remesh_below_deg").get<double>();
     cs.mesh_update.motion_solver = coupling::parse_motion_solver(c.at("mesh_motion_solver").get<std::string>());
@@ -208,8 +203,9 @@ class CoupledRunner : public Simulation {
     log.info("coupled model: {} solid(s), {} fluid tets, scheme {}, solver {} (pressure solver: {}), {}, mesh update {} (motion: {})",
              stepper_->num_solids(), stepper_->fluid().mesh().num_tets(), c.at("scheme").get<std::string>(),
              c.at("solver").get<std::string>(), fluid::to_string(stepper_->fluid().params().solver.backend),
-             fixed_h_ > 0 ? fmt::format("dt = {} s", fixed_h_)
-                           : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", cfl_, edge_near_, frame_interval_),
+             time_steps.dt ? fmt::format("dt = {} s", *time_steps.dt)
+                           : fmt::format("CFL {} on edge {:.3g} m, at most {:.4g} s", time_steps.cfl, edge_near_,
+                                         time_steps.frame_interval()),
              c.at("mesh_update").get<std::string>(), c.at("mesh_motion_solver").get<std::string>());
     log_ = &log;
   }
@@ -231,18 +227,12 @@ class CoupledRunner : public Simulation {
       c.insert(c.end(), {"compare_" + name + "_seconds", "compare_" + name + "_iterations"});
     return c;
   }
-  /// The scene's `dt`, or the CFL step cfl dx / u_max with dx the fluid edge length next to the
-  /// solids and u_max the largest fluid or solid speed (so neither the fluid's back-trace nor the
-  /// solid's surface moves more than cfl cells per step), capped at one frame.
-  double max_dt() const override {
-    if (fixed_h_ > 0) return fixed_h_;
-    double umax = 0;
-    for (const auto& u : stepper_->fluid().fields().velocity) umax = std::max(umax, u.norm());
-    for (int i = 0; i < stepper_->num_solids(); ++i) {
-      const Eigen::VectorXd& v = stepper_->solid(i).velocity();
-      for (int a = 0; a < v.size() / 3; ++a) umax = std::max(umax, v.segment<3>(3 * a).norm());
-    }
-    return umax > 0 ? std::min(frame_interval_, cfl_ * edge_near_ / umax) : frame_interval_;
+  /// The scene's `dt`, or the CFL step (fluid/stable_step.hpp) on the fluid edge length next to
+  /// the solids, with the solids' speed and without the free-fall bound, at most one frame.
+  double max_dt(const scene::TimeStepPolicy& time_steps) const override {
+    if (time_steps.dt) return *time_steps.dt;
+    return fluid::cfl_step(stepper_->fluid(), time_steps.cfl, edge_near_, stepper_->max_solid_speed(),
+                           time_steps.frame_interval(), false);
   }
 
   StepReport step(double h) override {
@@ -470,7 +460,7 @@ class CoupledRunner : public Simulation {
   std::vector<std::string> names_;
   coupling::CoupledStepReport last_;
   std::vector<TimedSource> emitters_;
-  double h_ = 1.0 / 60.0, fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, edge_near_ = 0;
+  double edge_near_ = 0;  ///< fluid edge length next to the solids at set-up [m]: the CFL cell, the default film
   spdlog::logger* log_ = nullptr;
   int rejected_remeshes_ = 0;
   mesh::MeshSizing sizing_;                  ///< of the first mesh (its grading toward the solids)

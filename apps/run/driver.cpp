@@ -51,9 +51,11 @@ std::vector<std::string> probe_columns(const scene::Json& p) {
 
 class Driver {
  public:
-  /// `resume`: the checkpoint to continue from (`run --resume`), or null.
-  Driver(const RunOptions& opt, scene::Scene scene, spdlog::logger& log, LoadedCheckpoint* resume)
-      : opt_(opt), scene_(std::move(scene)), log_(log), resume_(resume) {
+  /// `time_steps`: the run's time step policy (read_time_step_policy of the scene); `resume`: the
+  /// checkpoint to continue from (`run --resume`), or null.
+  Driver(const RunOptions& opt, scene::Scene scene, const scene::TimeStepPolicy& time_steps, spdlog::logger& log,
+         LoadedCheckpoint* resume)
+      : opt_(opt), scene_(std::move(scene)), time_steps_(time_steps), log_(log), resume_(resume) {
     checkpoint_every_ = writes_ ? scene_["export"].value("checkpoint_every", 0) : 0;
     scene_hash_ = checkpoint_scene_hash(scene_.json);
   }
@@ -93,7 +95,7 @@ class Driver {
     auto sim = create_simulation(entry);
     Output out(opt_.out_dir, scene_["export"]);
     Stopwatch wall;
-    sim->setup(scene_, log_);
+    sim->setup(scene_, time_steps_, log_);
     log_.info("setup done in {:.3f} s", wall.seconds());
 
     std::vector<std::string> header = {"step", "time", "dt"};
@@ -194,16 +196,16 @@ class Driver {
     std::vector<double> probe_values;
     Stopwatch io;
     double t_output = 0;
-    const double end = scene_["simulation"].at("end_time").get<double>();
-    const double frame_dt = 1.0 / scene_["simulation"].at("frame_rate").get<double>();
+    const double end = time_steps_.end_time;
+    const double frame_dt = time_steps_.frame_interval();
     const double eps = 1e-12 * std::max(end, frame_dt);
-    const long max_steps = scene_["simulation"].at("max_steps").get<long>();
+    const long max_steps = time_steps_.max_steps;
     Progress progress(end, !quiet());
     progress.start(t, wall.seconds());  // the ETA leaves out set-up and frame 0
     try {
       while (t < end - eps) {
         const double next_frame = (frame + 1) * frame_dt;
-        const double h_max = sim->max_dt();
+        const double h_max = sim->max_dt(time_steps_);
         if (!(h_max > 0) || !std::isfinite(h_max))
           throw RunError(fmt::format("step {} (t = {:.6g} s): the model asked for a time step of {} s",
                                      step + 1, t, h_max));
@@ -334,6 +336,8 @@ class Driver {
   /// state: parallel/mpi_session.hpp).
   const bool writes_ = parallel::rank() == 0;
   scene::Scene scene_;
+  /// The one store of the time step above the library: dt or cfl, frame rate, end time, step limits.
+  const scene::TimeStepPolicy time_steps_;
   spdlog::logger& log_;
   std::set<std::size_t> warned_;
   int frames_written_ = 0;
@@ -345,14 +349,14 @@ class Driver {
 
 /// A process other than the first of an MPI run: the same set-up and steps as the first (the
 /// distributed solves need every process), nothing written and nothing logged but errors.
-void run_on_other_process(const RunOptions& opt, scene::Scene scene) {
+void run_on_other_process(const RunOptions& opt, scene::Scene scene, const scene::TimeStepPolicy& time_steps) {
   if (opt.resume) throw InputError("--resume: continue a run on one process (without mpirun); its checkpoints are the same");
   const int threads = scene["simulation"].at("threads").get<int>();
   const int used = threads > 0 ? threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);
   parallel::set_library_threads(used);
   auto log = std::make_shared<spdlog::logger>("run", std::make_shared<spdlog::sinks::null_sink_mt>());
-  Driver(opt, std::move(scene), *log, nullptr).run();
+  Driver(opt, std::move(scene), time_steps, *log, nullptr).run();
 }
 
 }  // namespace
@@ -370,8 +374,9 @@ void run_scene(const RunOptions& opt) {
   checks.max_tets = opt.max_tets;
   checks.processes = parallel::num_processes();
   const PreflightReport report = preflight(scene, checks);
+  const scene::TimeStepPolicy time_steps = scene::read_time_step_policy(scene.json);  // --end-time applied
   if (parallel::rank() > 0) {
-    run_on_other_process(opt, std::move(scene));
+    run_on_other_process(opt, std::move(scene), time_steps);
     return;
   }
   if (opt.resume && parallel::num_processes() > 1)
@@ -390,10 +395,10 @@ void run_scene(const RunOptions& opt) {
       throw InputError(fmt::format("--resume: the {} runner (which runs this scene) does not write checkpoints; the "
                                    "coupled, fluid, solid (dynamic) and mpm runners do", entry.name));
     resume = read_latest_checkpoint(opt.out_dir, checkpoint_scene_hash(scene.json), entry.name);
-    if (!(resume->driver.time < scene["simulation"].at("end_time").get<double>()))
+    if (!(resume->driver.time < time_steps.end_time))
       throw InputError(fmt::format("--resume: {} is at t = {:.6g} s, not before /simulation/end_time = {:.6g} s: "
                                    "nothing to continue (give a later --end-time)", resume->file.string(),
-                                   resume->driver.time, scene["simulation"].at("end_time").get<double>()));
+                                   resume->driver.time, time_steps.end_time));
   }
   std::shared_ptr<spdlog::logger> log;
   try {
@@ -416,7 +421,7 @@ void run_scene(const RunOptions& opt) {
   for (const auto& w : report.warnings) log->warn("{}", w);
   log->info("checks: runner {}, about {:.3g} tets (limit {:.3g}), at least {:.3g} steps (limit {}), {:.3g} frames, "
             "about {:.3g} GB of output", report.runner, report.tets, report.max_tets, report.steps,
-            scene["simulation"].at("max_steps").get<long long>(), report.frames, report.output_bytes / 1e9);
+            time_steps.max_steps, report.frames, report.output_bytes / 1e9);
   const int threads = scene["simulation"].at("threads").get<int>();
   const int used = threads > 0 ? threads : tbb::info::default_concurrency();
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, used);
@@ -429,7 +434,7 @@ void run_scene(const RunOptions& opt) {
   log->info("resolved scene (defaults filled in; FNV-1a hash {:016x}; checkpoints' scene hash {:016x}):\n{}",
             fnv1a(resolved), checkpoint_scene_hash(scene.json), resolved);
   try {
-    Driver(opt, std::move(scene), *log, resume ? &*resume : nullptr).run();
+    Driver(opt, std::move(scene), time_steps, *log, resume ? &*resume : nullptr).run();
   } catch (const std::exception& e) {
     log->sinks().back()->set_level(spdlog::level::off);  // main prints it on the console
     log->error("{}", e.what());

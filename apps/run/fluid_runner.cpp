@@ -33,6 +33,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "fluid/io/fluid_output.hpp"
 #include "fluid/liquid/level_set.hpp"
+#include "fluid/stable_step.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "mesh/surface_import.hpp"
 #include "mesh/quality.hpp"
@@ -65,14 +66,10 @@ bool is_static(const scene::Json& motion) {
 
 class FluidRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy&, spdlog::logger& log) override {
     log_ = &log;
     const auto& js = scene.json;
     const auto& f = js.at("fluid");
-    const auto& sim = js.at("simulation");
-    fixed_h_ = sim.contains("dt") ? sim["dt"].get<double>() : 0.0;
-    cfl_ = sim.at("cfl").get<double>();
-    frame_interval_ = 1.0 / sim.at("frame_rate").get<double>();
 
     // ---- fluid parameters, boundary patches, emitters (fluid_setup.hpp) ----
     const fluid::FluidParams params = fluid_params(js, log);
@@ -163,14 +160,11 @@ class FluidRunner : public Simulation {
     return c;
   }
 
-  double max_dt() const override {
-    if (fixed_h_ > 0) return fixed_h_;
-    double umax = max_solid_speed_;
-    for (const auto& u : solver_->fields().velocity) umax = std::max(umax, u.norm());
-    // A free surface at rest starts to move at once: bound the step by the speed a liquid falling
-    // under gravity reaches over one cell, sqrt(|g| dx).
-    if (solver_->has_free_surface()) umax = std::max(umax, std::sqrt(solver_->params().gravity.norm() * dx_));
-    return umax > 0 ? std::min(frame_interval_, cfl_ * dx_ / umax) : frame_interval_;
+  /// The scene's `dt`, or the CFL step (fluid/stable_step.hpp) on the fluid's mean edge length,
+  /// with the moving solids' speed and the free-fall bound of a liquid, at most one frame.
+  double max_dt(const scene::TimeStepPolicy& time_steps) const override {
+    if (time_steps.dt) return *time_steps.dt;
+    return fluid::cfl_step(*solver_, time_steps.cfl, dx_, max_solid_speed_, time_steps.frame_interval(), true);
   }
 
   StepReport step(double h) override {
@@ -441,7 +435,8 @@ class FluidRunner : public Simulation {
   SurfaceRefinement refinement_;             ///< the mesh finer at the liquid surface (off without one)
   bool surface_left_refined_zone_ = false;   ///< remesh for the surface at the start of the next step
   bool surface_fitted_ = false;              ///< this step fitted the mesh to the surface's sizing field
-  double fixed_h_ = 0, cfl_ = 0.5, frame_interval_ = 1.0 / 30, dx_ = 0, time_ = 0, ambient_ = 293.15;
+  double dx_ = 0;  ///< the fluid's mean edge length [m], the CFL cell
+  double time_ = 0, ambient_ = 293.15;
   double max_solid_speed_ = 0, min_dihedral_ = 0;
 };
 

@@ -77,11 +77,10 @@ double load_potential(const HexBody& b) {
 
 class HexRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy&, spdlog::logger& log) override {
     solid::limit_blas_threads(1);
     const auto& js = scene.json;
     const auto& sim = js.at("simulation");
-    h_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     bool any_static = false, any_dynamic = false;
     for (std::size_t i = 0; i < js.at("solids").size(); ++i) {
       const auto& s = js["solids"][i];
@@ -129,7 +128,7 @@ class HexRunner : public Simulation {
     return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts",
             "load_potential"};
   }
-  double max_dt() const override { return h_; }
+  double max_dt(const scene::TimeStepPolicy& time_steps) const override { return time_steps.fixed_step(); }
   std::vector<double> load_factors() const override {
     return static_ && !bodies_.empty() ? bodies_.front().steps.load_factors : std::vector<double>{};
   }
@@ -244,7 +243,7 @@ class HexRunner : public Simulation {
     if (!b.bc.prescribed.empty() || !b.bc.rotating_faces.empty())
       throw InputError(ptr + "/boundary_conditions: `displacement` and `moment_rotation` need analysis: static");
     try {
-      const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
+      const solid::NewmarkSettings settings = newmark_settings(s, js);
       const solid::ElasticModel* model = b.model.get();
       if (!b.bc.pressures.empty()) {  // follower pressure folded into the model's force
         b.loaded = std::make_unique<solid::FollowerLoadedModel>(*b.model, b.bc.pressures);
@@ -296,7 +295,7 @@ class HexRunner : public Simulation {
   }
 
   std::vector<HexBody> bodies_;
-  double h_ = 0, assemble_ = 0, solve_ = 0;
+  double assemble_ = 0, solve_ = 0;
   bool static_ = false;
   double selected_ = -1;  // static: the load factor probe() answers for (-1: the final state)
   WatchdogSettings watchdog_;

@@ -25,9 +25,7 @@ struct Body {
 
 class KinematicRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
-    const auto& sim = scene["simulation"];
-    h_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy& time_steps, spdlog::logger& log) override {
     for (const auto& s : scene["solids"]) {
       std::vector<std::string> warnings;
       Body b{s.at("name").get<std::string>(), surface_of(s, warnings), {}, {}, s.at("motion")};
@@ -37,12 +35,12 @@ class KinematicRunner : public Simulation {
       bodies_.push_back(std::move(b));
     }
     move(0.0, 0.0);
-    log.info("kinematic runner: {} solid(s) follow their prescribed motion; step {} s", bodies_.size(), h_);
+    log.info("kinematic runner: {} solid(s) follow their prescribed motion; step {} s", bodies_.size(), time_steps.fixed_step());
   }
 
   std::vector<std::string> phases() const override { return {"move"}; }
   std::vector<std::string> columns() const override { return {"vertices", "max_speed"}; }
-  double max_dt() const override { return h_; }
+  double max_dt(const scene::TimeStepPolicy& time_steps) const override { return time_steps.fixed_step(); }
 
   StepReport step(double h) override {
     Stopwatch clock;
@@ -121,7 +119,7 @@ class KinematicRunner : public Simulation {
   }
 
   std::vector<Body> bodies_;
-  double h_ = 0, time_ = 0;
+  double time_ = 0;
 };
 
 }  // namespace

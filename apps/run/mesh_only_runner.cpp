@@ -21,7 +21,7 @@ namespace {
 
 class MeshOnlyRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy&, spdlog::logger& log) override {
     log.warn("no physics model runs this scene yet: meshing and exporting frame 0 only");
     const auto& js = scene.json;
     const auto& m = js.at("mesh");
@@ -87,7 +87,7 @@ class MeshOnlyRunner : public Simulation {
     return {"vertices", "tets", "fluid_tets", "solid_tets", "min_dihedral_deg", "max_dihedral_deg",
             "max_radius_edge"};
   }
-  double max_dt() const override { return 0; }
+  double max_dt(const scene::TimeStepPolicy&) const override { return 0; }
   StepReport step(double) override { return report_; }
   StepReport setup_report() const override { return report_; }
 

@@ -41,7 +41,7 @@ namespace mc = tetfsi::mpm;
 
 class MpmRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy& time_steps, spdlog::logger& log) override {
     const auto& m = scene["mpm"];
     try {
       setup_ = mpm_setup::build_setup(m, vec3(scene["simulation"].at("gravity")));
@@ -54,9 +54,8 @@ class MpmRunner : public Simulation {
     } catch (const std::exception& e) {
       throw InputError(fmt::format("/mpm: {}", e.what()));
     }
-    const auto& sim = scene["simulation"];
-    if (sim.contains("dt")) dt_cap_ = sim["dt"].get<double>();
-    row_dt_ = 1.0 / (sim.at("frame_rate").get<double>() * m.at("stats_rows_per_frame").get<int>());
+    if (time_steps.dt) dt_cap_ = *time_steps.dt;
+    rows_per_frame_ = m.at("stats_rows_per_frame").get<int>();
     energy0_ = model_->stored_energy();
     for (const auto& b : setup_.bodies)
       log.info("mpm runner: body {}: {} particles ({})", b.name, b.particles, setup_.materials[b.material].name);
@@ -77,7 +76,10 @@ class MpmRunner : public Simulation {
                                   "stored_energy", "energy_balance", "energy_loss_fraction"};
     return c;
   }
-  double max_dt() const override { return row_dt_; }
+  /// One stats.csv row: 1 / (frame_rate x mpm.stats_rows_per_frame).
+  double max_dt(const scene::TimeStepPolicy& time_steps) const override {
+    return 1.0 / (time_steps.frame_rate * rows_per_frame_);
+  }
 
   StepReport step(double dt) override {
     long substeps = 0;
@@ -163,8 +165,10 @@ class MpmRunner : public Simulation {
   mpm_setup::Setup setup_;
   std::vector<mpm_setup::Probe> probes_;
   std::unique_ptr<mc::CoupledModel> model_;
+  /// The longest MPM-membrane substep [s]: the policy's dt if the scene gives one (the critical
+  /// step decides below it).
   double dt_cap_ = std::numeric_limits<double>::infinity();
-  double row_dt_ = 0;  // simulated time per driver step (stats row) [s]
+  int rows_per_frame_ = 1;  ///< mpm.stats_rows_per_frame: driver steps (stats rows) per frame
   double energy0_ = 0;
   scene::Json scene_probes_;  // /probes
 };

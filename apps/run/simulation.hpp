@@ -11,6 +11,7 @@
 
 #include "apps/run/output.hpp"
 #include "apps/scene/scene.hpp"
+#include "apps/scene/time_step_policy.hpp"
 #include "support/binary_stream.hpp"
 
 namespace tetfsi::run {
@@ -27,8 +28,10 @@ class Simulation {
  public:
   virtual ~Simulation() = default;
 
-  /// Builds the model. Throw InputError for problems with the scene or its files.
-  virtual void setup(const scene::Scene& scene, spdlog::logger& log) = 0;
+  /// Builds the model. `time_steps` is the driver's policy (read once from /simulation): the
+  /// runner takes what its models need from it (max_step_halvings, a step cap) and never reads
+  /// the time keys of the scene again. Throw InputError for problems with the scene or its files.
+  virtual void setup(const scene::Scene& scene, const scene::TimeStepPolicy& time_steps, spdlog::logger& log) = 0;
   /// False for runners that only prepare and export (no time loop): the driver writes frame 0
   /// and one stats row, then stops.
   virtual bool time_dependent() const { return true; }
@@ -36,8 +39,9 @@ class Simulation {
   virtual std::vector<std::string> phases() const = 0;
   /// Model-specific stats.csv columns (counts, iterations, energies), declared up front.
   virtual std::vector<std::string> columns() const = 0;
-  /// Largest step allowed now (CFL, scene simulation.dt) [s].
-  virtual double max_dt() const = 0;
+  /// Largest step allowed now under the driver's policy [s]: its dt, the CFL step of the state
+  /// (fluid/stable_step.hpp), or one frame interval.
+  virtual double max_dt(const scene::TimeStepPolicy& time_steps) const = 0;
   /// Advances the state by `h` [s] (the driver may shorten steps to land on frame times).
   virtual StepReport step(double h) = 0;
   /// Reports the first non-finite value of the state ("solid 'ball' position of vertex 12"), or

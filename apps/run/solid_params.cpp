@@ -40,9 +40,8 @@ solid::hex::Material hex_material(const scene::Json& m) {
   return mat;
 }
 
-solid::NewmarkSettings newmark_settings(const scene::Json& solid, const scene::Json& scene, double h) {
+solid::NewmarkSettings newmark_settings(const scene::Json& solid, const scene::Json& scene) {
   solid::NewmarkSettings settings;
-  settings.time_step = h;
   settings.rayleigh_alpha = solid.at("material").at("rayleigh_alpha").get<double>();
   settings.rayleigh_beta = solid.at("material").at("rayleigh_beta").get<double>();
   settings.gravity = vec3(scene.at("simulation").at("gravity"));

@@ -27,10 +27,11 @@ solid::TetModelOptions tet_model_options(const scene::Json& material);
 /// /solids/i/material of a hex8 solid.
 solid::hex::Material hex_material(const scene::Json& material);
 
-/// Time integration of a solid alone: step h [s], gravity (/simulation/gravity), the Rayleigh damping
-/// of /solids/i/material and the scheme and linear solver of /solids/i/integrator.
+/// Time integration of a solid alone: gravity (/simulation/gravity), the Rayleigh damping of
+/// /solids/i/material and the scheme and linear solver of /solids/i/integrator (the runner passes
+/// each step's length to NewmarkIntegrator::step(h)).
 /// @throws solid::SolidError on an unknown scheme or solver name
-solid::NewmarkSettings newmark_settings(const scene::Json& solid, const scene::Json& scene, double h);
+solid::NewmarkSettings newmark_settings(const scene::Json& solid, const scene::Json& scene);
 
 /// /solids/i/boundary_conditions as region conditions (solid/loads/region_conditions.hpp); with
 /// `with_fixed_regions`, the /solids/i/fixed_regions first, as `fixed` conditions on their components.

@@ -92,11 +92,10 @@ double mechanical(const solid::StepStats& e) { return e.kinetic + e.strain + e.s
 
 class SolidRunner : public Simulation {
  public:
-  void setup(const scene::Scene& scene, spdlog::logger& log) override {
+  void setup(const scene::Scene& scene, const scene::TimeStepPolicy& time_steps, spdlog::logger& log) override {
     solid::limit_blas_threads(1);  // solid/README.md: a busy-waiting BLAS costs more than it gains here
     const auto& js = scene.json;
     const auto& sim = js.at("simulation");
-    h_ = sim.contains("dt") ? sim["dt"].get<double>() : 1.0 / sim.at("frame_rate").get<double>();
     const auto& m = js.at("mesh");
     const mesh::MeshSizing sizing = mesh_sizing(m);
     const auto& obs = js.at("obstacles");
@@ -136,7 +135,7 @@ class SolidRunner : public Simulation {
       }
       static_ = is_static(s);
       try {
-        const solid::NewmarkSettings settings = newmark_settings(s, js, h_);
+        const solid::NewmarkSettings settings = newmark_settings(s, js);
         b.model = std::make_unique<solid::TetModel>(tets, material, tet_model_options(mat));
         b.bc = solid::make_conditions(region_conditions(s, static_), loaded_mesh(tets, *b.model));
         const solid::ElasticModel* model = b.model.get();
@@ -200,9 +199,9 @@ class SolidRunner : public Simulation {
                mat["constitutive"].get<std::string>());
       bodies_.push_back(std::move(b));
     }
-    log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), h_);
+    log.info("solid runner: {} tet solid(s), step {} s", bodies_.size(), time_steps.fixed_step());
     watchdog_ = watchdog_settings(sim);
-    max_step_halvings_ = sim.at("max_step_halvings").get<int>();
+    max_step_halvings_ = time_steps.max_step_halvings;
   }
 
   bool time_dependent() const override { return !static_; }
@@ -212,7 +211,7 @@ class SolidRunner : public Simulation {
     return {"kinetic", "strain", "gravity_potential", "total_energy", "solver_iterations", "inverted", "contacts",
             "load_potential", "substeps"};
   }
-  double max_dt() const override { return h_; }
+  double max_dt(const scene::TimeStepPolicy& time_steps) const override { return time_steps.fixed_step(); }
   std::vector<double> load_factors() const override {
     return static_ && !bodies_.empty() ? bodies_.front().steps.load_factors : std::vector<double>{};
   }
@@ -400,7 +399,6 @@ class SolidRunner : public Simulation {
   }
 
   std::vector<Body> bodies_;
-  double h_ = 0;
   bool static_ = false;
   double selected_ = -1;  // static: the load factor probe() answers for (-1: the final state)
   WatchdogSettings watchdog_;

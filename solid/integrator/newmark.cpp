@@ -16,7 +16,6 @@ NewmarkScheme parse_newmark_scheme(const std::string& name) {
 
 NewmarkIntegrator::NewmarkIntegrator(const ElasticModel& model, const NewmarkSettings& settings)
     : model_(model), settings_(settings), solver_(settings.solver, settings.cg_tolerance) {
-  if (!(settings_.time_step > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
   if (!(settings_.rayleigh_alpha >= 0) || !(settings_.rayleigh_beta >= 0))
     throw SolidError("solid integrator: Rayleigh alpha and beta must be >= 0");
   if (!settings_.gravity.allFinite()) throw SolidError("solid integrator: gravity must be finite");
@@ -82,7 +81,7 @@ void NewmarkIntegrator::add_spring(const LinearSpring& s) {
 }
 
 void NewmarkIntegrator::form_system(double h, SparseMatrix& A, Eigen::VectorXd& b) {
-  if (!(h > 0)) throw SolidError("solid integrator: time_step must be > 0 [s]");
+  if (!(h > 0)) throw SolidError("solid integrator: the step h must be > 0 [s]");
   const int next = step_ + 1;
   if (!model_.evaluate(d_, K_force_, &K_tangent_))
     throw SolidError("solid step " + std::to_string(next) + " (t = " + number_text(time_) +

@@ -56,7 +56,6 @@ NewmarkScheme parse_newmark_scheme(const std::string& name);
 
 struct NewmarkSettings {
   NewmarkScheme scheme = NewmarkScheme::kChentanez;
-  double time_step = 1.0 / 30.0;                     ///< h [s] of step() (step(h) takes its own)
   double rayleigh_alpha = 0.0;                       ///< C = alpha M + beta K' [1/s]
   double rayleigh_beta = 0.0;                        ///< [s]
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< [m/s^2]
@@ -175,7 +174,7 @@ class NewmarkIntegrator {
   int num_active_contacts() const { return static_cast<int>(active_.size()); }
 
   // ---- whole step ----
-  /// form_system + solve + advance. With obstacles, contact is part of the implicit solve
+  /// One step of length h [s] (the caller's: the settings hold no step): form_system + solve + advance. With obstacles, contact is part of the implicit solve
   /// (active set): every free node whose end-of-step position would lie inside an obstacle
   /// gets the constraint n.u^{n+1} = -2 phi^n / h - n.u^n (it lands on the surface at t^{n+1}
   /// by eq. 5), imposed by a stiff penalty kappa n n^T on its diagonal block (kappa =
@@ -193,8 +192,6 @@ class NewmarkIntegrator {
   /// a closed volume. Nodes still inside are projected (StaticObstacles::project).
   /// @throws SolidError (see above)
   const StepStats& step(double h);
-  /// One step of length settings().time_step.
-  const StepStats& step() { return step(settings_.time_step); }
 
   // ---- state ----
   const Eigen::VectorXd& displacement() const { return d_; }

@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 #include "apps/scene/docs.hpp"
+#include "apps/scene/input_error.hpp"
 #include "apps/scene/scene.hpp"
+#include "apps/scene/time_step_policy.hpp"
 #include "apps/scene/validate.hpp"
 #include "tests/test_support.hpp"
 
@@ -146,4 +149,57 @@ TEST(SceneSchema, EveryEnumValueAppearsInItsRow) {
   const std::string doc = schema_markdown(scene_schema());
   EXPECT_NE(doc.find("| `open_faces` | array of strings, each `x-` \\| `x+`"), std::string::npos);
   EXPECT_EQ(doc.find("/domain/open_faces/*"), std::string::npos);
+}
+
+namespace {
+
+/// A resolved scene of one solid box with this /simulation block.
+Json scene_with_simulation(const std::string& simulation) {
+  return parse_scene(R"({"simulation": )" + simulation + R"(,
+      "solids": [{"name": "b", "geometry": {"type": "box", "size": [1, 1, 1]},
+                  "material": {"density": 1, "youngs_modulus": 2, "poissons_ratio": 0.25}}]})",
+                     "mem.json")
+      .json;
+}
+
+}  // namespace
+
+TEST(TimeStepPolicy, ReadsTheSimulationBlockOnceWithItsDefaults) {
+  const TimeStepPolicy p = read_time_step_policy(scene_with_simulation(R"({"end_time": 2, "frame_rate": 40})"));
+  EXPECT_FALSE(p.dt.has_value());
+  EXPECT_EQ(p.cfl, 0.5);
+  EXPECT_EQ(p.frame_rate, 40);
+  EXPECT_EQ(p.frame_interval(), 1.0 / 40);
+  EXPECT_EQ(p.fixed_step(), 1.0 / 40);  // no dt: one frame for the runners without a CFL step
+  EXPECT_EQ(p.end_time, 2);
+  EXPECT_EQ(p.max_steps, 1000000);
+  EXPECT_EQ(p.max_step_halvings, 6);
+  const TimeStepPolicy fixed = read_time_step_policy(scene_with_simulation(R"({"end_time": 1, "dt": 0.01})"));
+  ASSERT_TRUE(fixed.dt.has_value());
+  EXPECT_EQ(*fixed.dt, 0.01);
+  EXPECT_EQ(fixed.fixed_step(), 0.01);
+}
+
+TEST(TimeStepPolicy, ABadValueIsAnInputErrorNamingItsKey) {
+  const Json good = scene_with_simulation(R"({"end_time": 1, "dt": 0.01})");
+  const auto message = [&](const char* key, Json value) {
+    Json j = good;
+    if (value.is_null()) j["simulation"].erase(key);
+    else j["simulation"][key] = value;
+    try {
+      read_time_step_policy(j);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("dt", -1), "/simulation/dt: expected a finite number > 0, got -1");
+  EXPECT_EQ(message("dt", "fast"), "/simulation/dt: expected a number, got \"fast\"");
+  EXPECT_EQ(message("end_time", nullptr), "/simulation/end_time: missing");
+  EXPECT_EQ(message("frame_rate", 0), "/simulation/frame_rate: expected a finite number > 0, got 0");
+  EXPECT_EQ(message("cfl", std::numeric_limits<double>::infinity()).rfind("/simulation/cfl: ", 0), 0u);
+  EXPECT_EQ(message("max_steps", 0.5), "/simulation/max_steps: expected a finite integer >= 1 and <= 2147483647, got 0.5");
+  EXPECT_EQ(message("max_step_halvings", 21),
+            "/simulation/max_step_halvings: expected a finite integer >= 0 and <= 20, got 21");
+  EXPECT_THROW(read_time_step_policy(Json::object()), InputError);
 }

@@ -22,7 +22,7 @@ std::vector<StepState> run(coupling::CoupledSolverKind kind, int steps) {
   auto scene = test::make_block_scene(test::block_in_box(12), kind, options);
   std::vector<StepState> states;
   for (int k = 0; k < steps; ++k) {
-    const auto rep = scene->step();
+    const auto rep = scene->step(test::kBlockTimeStep);
     EXPECT_LE(rep.solve.residual.max(), 1e-10) << rep.solve.solver;
     states.push_back({scene->solid(0).velocity(), scene->fluid().pressure(), rep.solve.solver});
   }
@@ -52,5 +52,5 @@ TEST(CoupledBlock, FastPathThrowsWhenTheIterationCapIsTooSmall) {
   options.tolerance = 1e-10;
   options.max_iterations = 3;
   auto scene = test::make_block_scene(test::block_in_box(12), coupling::CoupledSolverKind::SchurCG, options);
-  EXPECT_THROW(scene->step(), coupling::CoupledSolveError);
+  EXPECT_THROW(scene->step(test::kBlockTimeStep), coupling::CoupledSolveError);
 }

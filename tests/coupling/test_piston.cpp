@@ -35,7 +35,7 @@ PistonRun run_piston(const PistonSetup& s, double periods, double v0 = 1e-3) {
   for (int k = 0; k < steps; ++k) {
     coupling::CoupledStepReport rep;
     try {
-      rep = stepper->step();
+      rep = stepper->step(s.time_step);
     } catch (const std::exception& e) {
       if (std::getenv("TETFSI_TEST_VERBOSE")) std::fprintf(stderr, "step %d: %s\n", k, e.what());
       run.diverged = true;  // detected and reported as an error: counts as blown up
@@ -123,7 +123,7 @@ TEST(Piston, ThreeSolversAgreeOnTheSameStep) {
     PistonSetup s;
     s.solver = kind;
     auto stepper = test::make_piston(s, 1e-3);
-    const auto rep = stepper->step();
+    const auto rep = stepper->step(s.time_step);
     EXPECT_LE(rep.solve.residual.max(), 1e-10) << rep.solve.solver;
     velocities.push_back(stepper->solid(0).velocity());
   }

@@ -21,6 +21,8 @@ using namespace tetfsi;
 
 namespace {
 
+constexpr double kStep = 1.0 / 200;  ///< h [s]
+
 struct BalloonRun {
   double volume_drift = 0;         ///< max |V − V₀| / V₀ over the run
   double max_energy_growth = -1;   ///< max (E_{n+1} − E_n) / E₀ over the steps
@@ -47,7 +49,6 @@ BalloonRun run_balloon(solid::NewmarkScheme scheme, double speed, int steps, boo
   mat.poisson_ratio = 0.3;
   mat.law = solid::ConstitutiveLaw::kStVK;
   coupling::CoupledSettings cs;
-  cs.time_step = 1.0 / 200;
   cs.newmark = scheme;
   cs.mean_constraint = mean_constraint;
   cs.keep_closed_volumes = keep_closed_volumes;
@@ -75,7 +76,7 @@ BalloonRun run_balloon(solid::NewmarkScheme scheme, double speed, int steps, boo
   const double E0 = shell.energies().total() + fluid_kinetic;
   double E = E0;
   for (int s = 0; s < steps; ++s) {
-    const coupling::CoupledStepReport rep = stepper.step();
+    const coupling::CoupledStepReport rep = stepper.step(kStep);
     run.volume_drift = std::max(run.volume_drift, std::abs(stepper.fluid_volume() / V0 - 1));
     run.max_energy_growth = std::max(run.max_energy_growth, (rep.total_energy() - E) / E0);
     E = rep.total_energy();

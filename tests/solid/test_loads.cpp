@@ -204,7 +204,7 @@ TEST(FollowerPressure, DampedDynamicCubeSettlesAtExactStretch) {
   const auto bc = make_conditions(faces, b.loaded);
   const FollowerLoadedModel loaded(*b.model, bc.pressures);
   NewmarkSettings settings;
-  settings.time_step = 0.01;
+  const double time_step = 0.01;
   settings.rayleigh_alpha = 40;
   NewmarkIntegrator integ(loaded, settings);
   for (int axis = 0; axis < 3; ++axis) {
@@ -214,7 +214,7 @@ TEST(FollowerPressure, DampedDynamicCubeSettlesAtExactStretch) {
     held[axis] = true;
     integ.fix_components(vertices_in_box(b.loaded.vertices, lo, hi, 1e-9), held);
   }
-  for (int k = 0; k < 300; ++k) integ.step();
+  for (int k = 0; k < 300; ++k) integ.step(time_step);
   const double lame = kE * kNu / ((1 + kNu) * (1 - 2 * kNu)), mu = kE / (2 * (1 + kNu));
   const double bulk = lame + 2 * mu / 3;
   const double stretch = (std::sqrt(p * p + 9 * bulk * bulk) - p) / (3 * bulk);

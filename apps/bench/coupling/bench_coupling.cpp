@@ -31,7 +31,7 @@ double piston_frequency(const test::PistonSetup& s, double periods) {
   double prev = 0, first = -1, last = -1;
   int n = 0;
   for (int k = 0; k < steps; ++k) {
-    stepper->step();
+    stepper->step(s.time_step);
     const double x = test::plug_displacement(*stepper);
     if (k > 0 && prev < 0 && x >= 0) {
       const double t = stepper->time() - s.time_step * x / (x - prev);
@@ -89,14 +89,14 @@ void compare_solvers(int cells, bool with_umfpack) {
     // The untimed first step of schur_cg factorizes A and sets up BoomerAMG (its cost is shown
     // in its row); the timed steps after it solve with those blocks lagged (block_gmres).
     const double first_solve = direct ? 0.0 : [&] {
-      const auto first = scene->step();
+      const auto first = scene->step(test::kBlockTimeStep);
       return first.solve.setup_seconds + first.solve.solve_seconds;
     }();
     coupling::CoupledStepReport rep;
     step[kind] = solve[kind] = moved[kind] = 1e300;
     for (int k = 0; k < (direct ? 1 : kTimedSteps); ++k) {
       bench::Stopwatch clock;
-      rep = scene->step();
+      rep = scene->step(test::kBlockTimeStep);
       step[kind] = std::min(step[kind], clock.seconds());
       moved[kind] = std::min(moved[kind], clock.seconds() - rep.mesh_update.seconds);
       solve[kind] = std::min(solve[kind], rep.solve.setup_seconds + rep.solve.solve_seconds);

@@ -1,6 +1,14 @@
-#include "apps/scene/blocks/blocks.hpp"
+#include <cmath>
+#include <limits>
 
-namespace tetfsi::scene::blocks {
+#include <fmt/format.h>
+
+#include "apps/scene/blocks/blocks.hpp"
+#include "apps/scene/input_error.hpp"
+#include "apps/scene/time_step_policy.hpp"
+
+namespace tetfsi::scene {
+namespace blocks {
 
 Field simulation() {
   return Field::object("simulation", "Time stepping and global settings.", {
@@ -49,4 +57,42 @@ Field simulation() {
   });
 }
 
-}  // namespace tetfsi::scene::blocks
+}  // namespace blocks
+
+namespace {
+
+/// /simulation/<key> as a finite number in [lo, hi] (`above_lo`: > lo); `integer`: a whole number.
+double simulation_number(const Json& sim, const char* key, double lo, bool above_lo, double hi, bool integer) {
+  const std::string where = fmt::format("/simulation/{}", key);
+  if (!sim.contains(key)) throw InputError(where + ": missing");
+  const Json& v = sim.at(key);
+  if (!v.is_number()) throw InputError(fmt::format("{}: expected a number, got {}", where, v.dump()));
+  const double x = v.get<double>();
+  const bool in_range = std::isfinite(x) && (above_lo ? x > lo : x >= lo) && x <= hi;
+  if (!in_range || (integer && std::floor(x) != x))
+    throw InputError(fmt::format("{}: expected a finite {} {} {}{}, got {}", where, integer ? "integer" : "number",
+                                 above_lo ? ">" : ">=", lo,
+                                 hi < std::numeric_limits<double>::max() ? fmt::format(" and <= {}", hi) : "",
+                                 v.dump()));
+  return x;
+}
+
+}  // namespace
+
+/// The reader of the block above (time_step_policy.hpp): its keys once, checked as the schema does.
+TimeStepPolicy read_time_step_policy(const Json& scene) {
+  if (!scene.contains("simulation") || !scene.at("simulation").is_object())
+    throw InputError("/simulation: missing (it holds the end time)");
+  const Json& sim = scene.at("simulation");
+  constexpr double kAny = std::numeric_limits<double>::max();
+  TimeStepPolicy p;
+  if (sim.contains("dt")) p.dt = simulation_number(sim, "dt", 0, true, kAny, false);
+  p.cfl = simulation_number(sim, "cfl", 0, true, kAny, false);
+  p.frame_rate = simulation_number(sim, "frame_rate", 0, true, kAny, false);
+  p.end_time = simulation_number(sim, "end_time", 0, true, kAny, false);
+  p.max_steps = static_cast<long>(simulation_number(sim, "max_steps", 1, false, 2147483647.0, true));
+  p.max_step_halvings = static_cast<int>(simulation_number(sim, "max_step_halvings", 0, false, 20, true));
+  return p;
+}
+
+}  // namespace tetfsi::scene
