@@ -46,7 +46,9 @@ struct MeshSizing {
 
 /// Meshes the box [lo, hi] filled with fluid and containing the given closed, outward-oriented,
 /// pairwise disjoint solid surfaces.
-/// @throws MeshError if a solid is not strictly inside the box, or meshing loses a subdomain
+/// @throws MeshError if a solid is not strictly inside the box, meshing loses a subdomain, or a
+/// solid's tets hold a volume more than 25% away from what its surface encloses (a solid thinner
+/// than the tets near it, collapsed into slivers)
 TetMesh build_complex(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                       const std::vector<SurfaceMesh>& solids, const MeshSizing& sizing);
 

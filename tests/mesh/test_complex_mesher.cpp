@@ -167,6 +167,30 @@ TEST(ComplexMesher, BadInputsAreNamed) {
   EXPECT_THROW(build_complex({-1, -1, -1}, {1, 1, 1}, {}, zero), MeshError);
 }
 
+// A 3 mm sheet next to 3 cm tets, its edges not kept sharp, collapses in the joint mesh into a few
+// slivers holding 0.015% of its volume (smoke_sheets_ci with thin sheets ran on with them). That is
+// refused, naming the solid and the cure; the same sheet 3 cm thick is accepted.
+TEST(ComplexMesher, SheetThinnerThanItsTetsIsRefused) {
+  MeshSizing sizing;
+  sizing.edge_length = 0.12;
+  sizing.edge_length_near_solids = 0.03;
+  sizing.grading_distance = 0.2;
+  sizing.solid_feature_angle_deg = 0;
+  const auto meshed = [&](double thickness) {
+    SurfaceMesh sheet = make_sheet(0.36, 0.3, thickness);
+    for (auto& v : sheet.vertices) v += Eigen::Vector3d(0, 0.4, 0);
+    return build_complex({-0.6, 0, -0.4}, {0.6, 0.8, 0.5}, {sheet}, sizing);
+  };
+  try {
+    meshed(0.003);
+    ADD_FAILURE() << "the collapsed 3 mm sheet was accepted";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("solid 0: its tets hold"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("edge_length_near_solids"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(meshed(0.03));
+}
+
 // A size CGAL cannot resolve (a denormal edge length) makes Mesh_3 fail an internal check; that
 // failure is a MeshError, and CGAL's debug dump (dump-bug.*) is not written into the working
 // directory (it was, before CGAL's dump was switched off in complex_mesher.cpp).
