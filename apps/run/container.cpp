@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <regex>
 
 #include "apps/run/scene_values.hpp"
 #include "apps/run/solid_geometry.hpp"
@@ -35,6 +36,21 @@ mesh::SurfaceMesh container_surface(const scene::Json& domain) {
   }
   for (auto& v : s.vertices) v += center;
   return s;
+}
+
+InputError meshing_failure(const mesh::MeshError& error, const std::vector<std::string>& names) {
+  static const std::regex solid_index("solid ([0-9]+)");
+  const std::string what = error.what();
+  std::string message;
+  auto from = what.cbegin();
+  for (std::sregex_iterator m(what.begin(), what.end(), solid_index), end; m != end; ++m) {
+    message.append(from, (*m)[0].first);
+    const std::size_t i = std::stoul((*m)[1].str());
+    message += i < names.size() ? "solid '" + names[i] + "' (/solids/" + std::to_string(i) + ")" : (*m)[0].str();
+    from = (*m)[0].second;
+  }
+  message.append(from, what.cend());
+  return InputError("meshing failed: " + message);
 }
 
 mesh::TetMesh mesh_container(const scene::Json& domain, const std::vector<mesh::SurfaceMesh>& solids,

@@ -3,8 +3,10 @@
 /// The fluid's container from /domain: the domain box, or the sphere or cylinder of
 /// /domain/container (docs/scene_format.md). Shared by the runners that mesh a fluid and by the
 /// preflight checks, so `validate` and `run` see the same container.
+#include <string>
 #include <vector>
 
+#include "apps/run/errors.hpp"
 #include "apps/scene/scene.hpp"
 #include "mesh/complex_mesher.hpp"
 #include "solid/contact/static_obstacles.hpp"
@@ -17,6 +19,11 @@ namespace tetfsi::run {
 /// Empty when the container is the box. @throws InputError for a `mesh` file that is unreadable,
 /// open, non-manifold or self-intersecting
 mesh::SurfaceMesh container_surface(const scene::Json& domain);
+
+/// The InputError of a failed meshing, "meshing failed: ...", with mesh::build_complex's solid
+/// indices ("solid 2") named as the scene names them ("solid 'flag' (/solids/2)"); `names` are
+/// the /solids names in order.
+InputError meshing_failure(const mesh::MeshError& error, const std::vector<std::string>& names);
 
 /// mesh::build_complex of the scene's container (the box [/domain/lo, /domain/hi] or the
 /// container surface) with the solids and their cavities (empty or one per solid).

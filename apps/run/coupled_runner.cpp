@@ -93,7 +93,7 @@ class CoupledRunner : public Simulation {
       complex = cavity_only ? mesh::mesh_filled_shell(surfaces[0], cavities[0], sizing)
                             : mesh_container(js["domain"], surfaces, sizing, cavities);
     } catch (const mesh::MeshError& e) {
-      throw InputError(std::string("meshing failed: ") + e.what());
+      throw meshing_failure(e, names_);
     }
     const mesh::QualityReport quality = mesh::quality_report(complex);
     log.info("mesh quality: {}", quality.summary());

@@ -97,7 +97,7 @@ class FluidRunner : public Simulation {
     try {
       complex_ = mesh_container(js.at("domain"), surfaces, sizing);
     } catch (const mesh::MeshError& e) {
-      throw InputError(std::string("meshing failed: ") + e.what());
+      throw meshing_failure(e, names_);
     }
     rest_ = complex_.vertices;
     const auto q = mesh::quality_report(complex_, mesh::kFluidSubdomain);

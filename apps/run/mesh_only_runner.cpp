@@ -52,7 +52,7 @@ class MeshOnlyRunner : public Simulation {
         }
       }
     } catch (const mesh::MeshError& e) {
-      throw InputError(std::string("meshing failed: ") + e.what());
+      throw meshing_failure(e, names_);
     }
     if (complex_.subdomain.empty()) complex_.subdomain.assign(complex_.tets.size(), mesh::kFluidSubdomain);
     report_.phase_seconds = {clock.seconds()};

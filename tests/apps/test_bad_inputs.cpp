@@ -479,6 +479,22 @@ TEST(BadInputs, UnsupportedMixesAndProbesAreRefused) {
 
 // Liquid regions that hold no liquid (issue 41): validate passed them; run then stopped after
 // meshing ("the level set holds no liquid") or, with another region beside them, ran without them.
+// A 3 mm sheet next to 3 cm tets, its edges not kept sharp, collapses into slivers in the joint
+// fluid-solid mesh (mesh::build_complex refuses it). validate does not mesh, so only run sees it:
+// exit 2, the solid named as the scene names it, no internal error.
+TEST(BadInputs, ASheetThatCollapsesInTheJointMeshStopsTheRunNamingIt) {
+  tetfsi::test::TempDir dir("bad_inputs_sheet");
+  json s = coupled_scene();
+  s["mesh"] = {{"edge_length", 0.12}, {"edge_length_near_solids", 0.03}, {"grading_distance", 0.2},
+               {"feature_angle_deg", 0}};
+  s["solids"][0]["name"] = "deflector";
+  s["solids"][0]["geometry"] = {{"type", "sheet"}, {"size", {0.36, 0.3}}, {"thickness", 0.003}};
+  const Result r = tetfsi_in(dir.path(), "run " + write(dir.path(), "sheet", s) + " --out out --quiet --threads 1");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("solid 'deflector' (/solids/0): its tets hold"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("internal error"), std::string::npos) << r.out;
+}
+
 TEST(BadInputs, LiquidRegionsThatHoldNoLiquidAreRefused) {
   const auto regions = [](const json& r) {
     auto s = container_scene();
