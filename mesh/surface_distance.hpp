@@ -28,6 +28,9 @@ class SurfaceDistance {
   /// Signed distance [m] from `x` to the surface, negative inside. Not thread-safe (the inside
   /// test shares one tree); call from one thread.
   double operator()(const Eigen::Vector3d& x) const;
+  /// Unsigned distance |d(x)| [m] from `x` to the surface: the closest-point query alone, without
+  /// the inside test (for sizing fields, which need no sign). Not thread-safe, as above.
+  double unsigned_distance(const Eigen::Vector3d& x) const;
   /// The same, and the point of the surface nearest to x [m] in `closest`.
   double operator()(const Eigen::Vector3d& x, Eigen::Vector3d& closest) const;
 

@@ -60,9 +60,13 @@ double SurfaceDistance::operator()(const Eigen::Vector3d& x, Eigen::Vector3d& cl
   return side == CGAL::ON_BOUNDED_SIDE ? -d : d;
 }
 
+double SurfaceDistance::unsigned_distance(const Eigen::Vector3d& x) const {
+  return std::sqrt(CGAL::to_double(impl_->tree.squared_distance(K::Point_3(x.x(), x.y(), x.z()))));
+}
+
 double SurfaceDistance::operator()(const Eigen::Vector3d& x) const {
   const K::Point_3 p(x.x(), x.y(), x.z());
-  const double d = std::sqrt(CGAL::to_double(impl_->tree.squared_distance(p)));
+  const double d = unsigned_distance(x);
   const auto side = (*impl_->inside)(p);
   if (side == CGAL::ON_BOUNDARY) return 0.0;
   return side == CGAL::ON_BOUNDED_SIDE ? -d : d;

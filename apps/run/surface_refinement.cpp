@@ -114,7 +114,7 @@ std::function<double(const Eigen::Vector3d&)> solid_graded_field(const mesh::Tet
   }
   if (surface.triangles.empty()) return {};
   auto distance = std::make_shared<mesh::SurfaceDistance>(surface);
-  return [=](const Eigen::Vector3d& x) { return near + (far - near) * std::min(1.0, std::abs((*distance)(x)) / grading); };
+  return [=](const Eigen::Vector3d& x) { return near + (far - near) * std::min(1.0, distance->unsigned_distance(x) / grading); };
 }
 
 }  // namespace tetfsi::run
